@@ -1,0 +1,31 @@
+// scan_blocks.comp - stage `scan_blocks`: exclusive scan of the big triangles' tile counts within each
+// block of SCAN_GROUP_SIZE, in place in bigOffsets; each block's total goes to scanSums.
+// One thread per big-list entry; groups = ceil(setupCapacity / SCAN_GROUP_SIZE), idle past the count.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "raster_shared.h"
+#include "buffers.glsl"
+
+layout(local_size_x = SCAN_GROUP_SIZE) in;
+
+shared uint partial[SCAN_GROUP_SIZE];
+
+void main()
+{
+    uint count = counters[COUNTER_BIG];
+    if (gl_WorkGroupID.x * uint(SCAN_GROUP_SIZE) >= count) return;  // uniform across the group
+    uint i = gl_GlobalInvocationID.x;
+    uint lane = gl_LocalInvocationID.x;
+    uint value = i < count ? bigOffsets[i] : 0u;
+    // Hillis-Steele inclusive scan: after the step with offset d each entry sums its last 2d inputs.
+    partial[lane] = value;
+    barrier();
+    for (uint d = 1u; d < uint(SCAN_GROUP_SIZE); d <<= 1u) {
+        uint add = lane >= d ? partial[lane - d] : 0u;
+        barrier();
+        partial[lane] += add;
+        barrier();
+    }
+    if (i < count) bigOffsets[i] = partial[lane] - value;
+    if (lane == uint(SCAN_GROUP_SIZE) - 1u) scanSums[gl_WorkGroupID.x] = partial[lane];
+}

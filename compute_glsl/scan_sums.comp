@@ -1,0 +1,38 @@
+// scan_sums.comp - stage `scan_sums`: exclusive scan of the block totals in scanSums, in place, and the
+// grand total of tile work items into counters[COUNTER_TILES]. One group of SCAN_GROUP_SIZE threads.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "raster_shared.h"
+#include "buffers.glsl"
+
+layout(local_size_x = SCAN_GROUP_SIZE) in;
+
+shared uint partial[SCAN_GROUP_SIZE];
+
+void main()
+{
+    uint lane = gl_LocalInvocationID.x;
+    uint blocks = (counters[COUNTER_BIG] + uint(SCAN_GROUP_SIZE) - 1u) / uint(SCAN_GROUP_SIZE);
+    uint64_t carry = 0ul;  // every thread keeps the same running total
+    for (uint base = 0u; base < blocks; base += uint(SCAN_GROUP_SIZE)) {
+        uint i = base + lane;
+        uint value = i < blocks ? scanSums[i] : 0u;
+        partial[lane] = value;
+        barrier();
+        for (uint d = 1u; d < uint(SCAN_GROUP_SIZE); d <<= 1u) {
+            uint add = lane >= d ? partial[lane - d] : 0u;
+            barrier();
+            partial[lane] += add;
+            barrier();
+        }
+        if (i < blocks) scanSums[i] = uint(carry) + partial[lane] - value;
+        carry += uint64_t(partial[SCAN_GROUP_SIZE - 1]);
+        barrier();
+    }
+    if (lane == 0u) {
+        // Work item indices are uint; a total past 2^31 is reported instead of wrapping silently.
+        bool overflow = carry >= (uint64_t(1) << 31);
+        counters[COUNTER_TILES] = overflow ? 0u : uint(carry);
+        counters[COUNTER_WORK_OVERFLOW] = overflow ? 1u : 0u;
+    }
+}

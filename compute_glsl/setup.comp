@@ -1,0 +1,58 @@
+// setup.comp - stage `setup`: per input triangle, cull, clip, snap and append TriSetup records, each
+// to the small list (one thread walks its bbox) or the big list (walked tile by tile).
+// One thread per triangle; groups = ceil(triangleCount / GROUP_SIZE).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "raster_shared.h"
+#include "buffers.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+// Appends one record. A full list still counts the record, so the host sees the overflow, grows the
+// buffers and redraws; nothing is written past the capacity.
+void emitTriangle(TriSetup t)
+{
+    uint slot = atomicAdd(counters[COUNTER_SETUP], 1u);
+    if (slot >= params.setupCapacity) return;
+    setupTris[slot] = t;
+    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    if (isSmallTriangle(bounds)) {
+        smallTris[atomicAdd(counters[COUNTER_SMALL], 1u)] = slot;
+    } else {
+        uint i = atomicAdd(counters[COUNTER_BIG], 1u);
+        bigTris[i] = slot;
+        bigOffsets[i] = tileCount(bounds);
+    }
+}
+
+void main()
+{
+    uint tri = gl_GlobalInvocationID.x;
+    if (tri >= params.triangleCount) return;
+    uint i0 = indices[3u * tri];
+    uint i1 = indices[3u * tri + 1u];
+    uint i2 = indices[3u * tri + 2u];
+    if (max(i0, max(i1, i2)) >= params.vertexCount) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(clipPos[i0], clipPos[i1], clipPos[i2], params.guardBand, poly, count);
+    if (kind == PREPARE_INVALID) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    uint emitted = 0u;
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                          params.height, t)) {
+            emitTriangle(t);
+            ++emitted;
+        }
+    }
+    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
+}

@@ -1,0 +1,34 @@
+// buffers.cuh - the device buffer table as the CUDA stages see it: the BUF_* bindings of
+// raster_shared.h with the same names as compute_glsl/buffers.glsl.
+#ifndef RASTER_CUDA_BUFFERS_CUH
+#define RASTER_CUDA_BUFFERS_CUH
+
+#include "raster_shared.h"
+
+namespace sr {
+
+struct Buffers {
+    const vec4* positions;           // BUF_POSITIONS
+    const vec4* normals;             // BUF_NORMALS
+    const vec4* colors;              // BUF_COLORS
+    const uint* indices;             // BUF_INDICES
+    const uint* triFlags;            // BUF_TRI_FLAGS
+    vec4* clipPos;                   // BUF_CLIP_POS
+    vec4* viewPos;                   // BUF_VIEW_POS
+    vec4* viewNormal;                // BUF_VIEW_NORMAL
+    TriSetup* setupTris;             // BUF_SETUP_TRIS
+    uint* smallTris;                 // BUF_SMALL_TRIS
+    uint* bigTris;                   // BUF_BIG_TRIS
+    uint* bigOffsets;                // BUF_BIG_OFFSETS
+    uint* scanSums;                  // BUF_SCAN_SUMS
+    uint* counters;                  // BUF_COUNTERS
+    unsigned long long* visibility;  // BUF_VISIBILITY (CUDA's 64-bit atomics take unsigned long long)
+    uint* framebuffer;               // BUF_FRAMEBUFFER
+};
+
+// Thread index in a 1D grid, as gl_GlobalInvocationID.x.
+__device__ inline uint globalThreadId() { return blockIdx.x * blockDim.x + threadIdx.x; }
+
+}  // namespace sr
+
+#endif  // RASTER_CUDA_BUFFERS_CUH

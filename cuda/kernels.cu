@@ -1,0 +1,85 @@
+// kernels.cu - the thin __global__ shells around the stage functions of cuda/<stage>.cuh, one per
+// stage, each taking the frame parameters and the buffer table by value (kernel parameter space).
+#include "kernels.h"
+
+#include "clear.cuh"
+#include "raster_small.cuh"
+#include "raster_tiles.cuh"
+#include "scan_add.cuh"
+#include "scan_blocks.cuh"
+#include "scan_sums.cuh"
+#include "setup.cuh"
+#include "shade.cuh"
+#include "vertex.cuh"
+
+namespace sr {
+
+__global__ void __launch_bounds__(GROUP_SIZE) clearKernel(const RasterParams params, const Buffers b)
+{
+    clearStage(params, b);
+}
+__global__ void __launch_bounds__(GROUP_SIZE) vertexKernel(const RasterParams params, const Buffers b)
+{
+    vertexStage(params, b);
+}
+__global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
+{
+    setupStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanBlocksKernel(const RasterParams params, const Buffers b)
+{
+    scanBlocksStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanSumsKernel(const RasterParams params, const Buffers b)
+{
+    scanSumsStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanAddKernel(const RasterParams params, const Buffers b)
+{
+    scanAddStage(params, b);
+}
+__global__ void __launch_bounds__(GROUP_SIZE) rasterSmallKernel(const RasterParams params, const Buffers b)
+{
+    rasterSmallStage(params, b);
+}
+__global__ void __launch_bounds__(TILE_SIZE * TILE_SIZE) rasterTilesKernel(const RasterParams params, const Buffers b)
+{
+    rasterTilesStage(params, b);
+}
+__global__ void __launch_bounds__(GROUP_SIZE) shadeKernel(const RasterParams params, const Buffers b)
+{
+    shadeStage(params, b);
+}
+
+uint stageBlockSize(uint stage)
+{
+    switch (stage) {
+    case STAGE_SCAN_BLOCKS:
+    case STAGE_SCAN_SUMS:
+    case STAGE_SCAN_ADD: return SCAN_GROUP_SIZE;
+    case STAGE_RASTER_TILES: return TILE_SIZE * TILE_SIZE;
+    default: return GROUP_SIZE;
+    }
+}
+
+cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, const Buffers& buffers,
+                        cudaStream_t stream)
+{
+    if (blocks == 0) return cudaSuccess;
+    uint threads = stageBlockSize(stage);
+    switch (stage) {
+    case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SETUP: setupKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SCAN_ADD: scanAddKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_RASTER_SMALL: rasterSmallKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_RASTER_TILES: rasterTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    default: return cudaErrorInvalidValue;
+    }
+    return cudaGetLastError();
+}
+
+}  // namespace sr

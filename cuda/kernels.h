@@ -1,0 +1,20 @@
+// kernels.h - launching the CUDA stages by id (STAGE_*), the CUDA side of ComputeDevice::run.
+#ifndef RASTER_CUDA_KERNELS_H
+#define RASTER_CUDA_KERNELS_H
+
+#include <cuda_runtime.h>
+
+#include "buffers.cuh"
+
+namespace sr {
+
+// Threads per block of `stage`; equals local_size_x of compute_glsl/<stage>.comp.
+uint stageBlockSize(uint stage);
+
+// Enqueues `blocks` blocks of stage `stage` on `stream`; returns the launch error, if any.
+cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, const Buffers& buffers,
+                        cudaStream_t stream);
+
+}  // namespace sr
+
+#endif  // RASTER_CUDA_KERNELS_H

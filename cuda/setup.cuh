@@ -1,0 +1,55 @@
+// setup.cuh - stage `setup`: per input triangle, cull, clip, snap and append TriSetup records, each
+// to the small list (one thread walks its bbox) or the big list (walked tile by tile).
+// One thread per triangle; blocks = ceil(triangleCount / GROUP_SIZE).
+namespace sr {
+
+// Appends one record. A full list still counts the record, so the host sees the overflow, grows the
+// buffers and redraws; nothing is written past the capacity.
+__device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t)
+{
+    uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
+    if (slot >= params.setupCapacity) return;
+    b.setupTris[slot] = t;
+    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    if (isSmallTriangle(bounds)) {
+        b.smallTris[atomicAdd(&b.counters[COUNTER_SMALL], 1u)] = slot;
+    } else {
+        uint i = atomicAdd(&b.counters[COUNTER_BIG], 1u);
+        b.bigTris[i] = slot;
+        b.bigOffsets[i] = tileCount(bounds);
+    }
+}
+
+__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
+{
+    uint tri = globalThreadId();
+    if (tri >= params.triangleCount) return;
+    uint i0 = b.indices[3u * tri];
+    uint i1 = b.indices[3u * tri + 1u];
+    uint i2 = b.indices[3u * tri + 2u];
+    if (max(i0, max(i1, i2)) >= params.vertexCount) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(b.clipPos[i0], b.clipPos[i1], b.clipPos[i2], params.guardBand, poly, count);
+    if (kind == PREPARE_INVALID) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+    bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    uint emitted = 0u;
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                          params.height, t)) {
+            emitTriangle(params, b, t);
+            ++emitted;
+        }
+    }
+    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+}
+
+}  // namespace sr

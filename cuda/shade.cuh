@@ -1,0 +1,27 @@
+// shade.cuh - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
+// triangle's vertex outputs perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
+// One thread per pixel; blocks = ceil(width * height / GROUP_SIZE).
+namespace sr {
+
+__device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
+{
+    uint i = globalThreadId();
+    if (i >= params.width * params.height) return;
+    uint id = visibilityId(b.visibility[i]);
+    vec3 color = vec3(params.background.x, params.background.y, params.background.z);
+    if (id != EMPTY_ID) {
+        uint i0 = b.indices[3u * id];
+        uint i1 = b.indices[3u * id + 1u];
+        uint i2 = b.indices[3u * id + 2u];
+        vec4 white = vec4(1.0f);
+        bool hasColors = params.hasColors != 0u;
+        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), b.clipPos[i0],
+                                b.clipPos[i1], b.clipPos[i2], b.viewPos[i0], b.viewPos[i1], b.viewPos[i2],
+                                b.viewNormal[i0], b.viewNormal[i1], b.viewNormal[i2],
+                                hasColors ? b.colors[i0] : white, hasColors ? b.colors[i1] : white,
+                                hasColors ? b.colors[i2] : white);
+    }
+    b.framebuffer[i] = packRgba8(color);
+}
+
+}  // namespace sr

@@ -1,0 +1,44 @@
+// compare.h - `raster compare`: image and AOV differences with an idiff-style report.
+#ifndef RASTER_COMPARE_H
+#define RASTER_COMPARE_H
+
+#include <cstdint>
+#include <string>
+
+#include "image_io.h"
+#include "result.h"
+
+namespace sr {
+
+struct CompareTolerance {
+    int colorLsb = 0;            // largest allowed per-channel difference of 8-bit colour
+    uint64_t maxIdMismatches = 0;  // AOVs: pixels whose triangle id may differ
+    float depthTolerance = 0.0f;   // AOVs: largest allowed |Z_a - Z_b| where both are covered
+};
+
+struct CompareReport {
+    uint32_t width = 0, height = 0;
+    // Colour (PNG): per-channel differences in 8-bit units over R, G, B.
+    double meanError = 0.0, rmsError = 0.0, psnr = 0.0;
+    int maxError = 0;
+    uint32_t maxX = 0, maxY = 0;
+    uint64_t pixelsOverTolerance = 0;
+    // AOV (EXR).
+    uint64_t idMismatches = 0;        // both covered, different triangle
+    uint64_t coverageMismatches = 0;  // covered in one, background in the other
+    double maxDepthDiff = 0.0, meanDepthDiff = 0.0;
+    bool isAov = false;
+    bool pass = false;
+    RgbaImage heatmap;  // per-pixel difference, black (none) through red and yellow to white
+};
+
+Result<CompareReport> compareColor(const RgbaImage& a, const RgbaImage& b, const CompareTolerance& tol);
+Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const CompareTolerance& tol);
+// Reads both files (.png colour or .exr AOV, by extension) and compares them.
+Result<CompareReport> compareFiles(const std::string& a, const std::string& b, const CompareTolerance& tol);
+// The report as printed by `raster compare`, ending in PASS or FAILURE.
+std::string formatReport(const CompareReport& report, const CompareTolerance& tol);
+
+}  // namespace sr
+
+#endif  // RASTER_COMPARE_H

@@ -1,0 +1,74 @@
+// compute_device.h - what a backend must provide to run the pipeline.
+//
+// The pipeline itself (buffer sizes, stage order, group counts, grow-and-redraw) is written once in
+// host/renderer.cpp. A backend only allocates the buffers named in raster_shared.h (BUF_*), copies
+// data, and runs a list of stage dispatches with a full barrier between consecutive dispatches,
+// timing each one on the GPU. CUDA (cuda/cuda_device.cu) and Vulkan (host/vulkan_device.cpp)
+// implement it; the backend is chosen at run time in one place, makeComputeDevice().
+#ifndef RASTER_COMPUTE_DEVICE_H
+#define RASTER_COMPUTE_DEVICE_H
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "raster_shared.h"
+#include "result.h"
+
+namespace sr {
+
+enum class BackendKind { Auto, Cuda, Vulkan };
+
+// Name of stage `stage` (STAGE_*), matching cuda/<name>.cuh and compute_glsl/<name>.comp.
+const char* stageName(uint32_t stage);
+
+struct DeviceInfo {
+    std::string backend;   // "cuda" or "vulkan"
+    std::string name;      // device name as the API reports it
+    std::string driver;    // driver / runtime version string
+    bool isCpu = false;    // true for lavapipe and other CPU implementations
+    uint32_t rasterGroups = 0;  // groups to launch for the grid-stride raster stages
+};
+
+struct Dispatch {
+    uint32_t stage = 0;   // STAGE_*
+    uint32_t groups = 0;  // number of groups (1D); group sizes are fixed per stage in the kernels
+};
+
+class ComputeDevice {
+public:
+    virtual ~ComputeDevice() = default;
+    virtual const DeviceInfo& info() const = 0;
+
+    // (Re)allocates buffer `buffer` (BUF_*) to at least `bytes` (>= 16); contents become undefined.
+    // BUF_PARAMS is managed by the device and never passed here.
+    virtual Status resize(uint32_t buffer, size_t bytes) = 0;
+    virtual size_t size(uint32_t buffer) const = 0;
+    virtual Status upload(uint32_t buffer, const void* data, size_t bytes) = 0;
+    virtual Status download(uint32_t buffer, void* data, size_t bytes) = 0;
+
+    // Runs the dispatches in order with a full memory barrier between each, with `params` visible to
+    // every stage, waits for completion, and stores each dispatch's GPU time in ms (same order).
+    virtual Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
+                       std::vector<double>& gpuMs) = 0;
+
+    // Bytes currently allocated on the device by this object, and the peak over its lifetime.
+    virtual size_t allocatedBytes() const = 0;
+    virtual size_t peakAllocatedBytes() const = 0;
+};
+
+// Vulkan: device `index` among the physical devices that support the pipeline (GPUs first, CPU
+// implementations such as lavapipe last); -1 picks the first. Validation layers are enabled when the
+// environment sets SR_VULKAN_VALIDATION=1, and any validation error then fails the call that caused it.
+Result<std::unique_ptr<ComputeDevice>> makeVulkanDevice(int index);
+// CUDA: device `index` (-1 = 0). Fails with a one-line error when CUDA or a CUDA GPU is absent, or when
+// the binary was built without CUDA.
+Result<std::unique_ptr<ComputeDevice>> makeCudaDevice(int index);
+// The one place the backend is chosen: Auto = CUDA when a CUDA GPU is present, else Vulkan.
+Result<std::unique_ptr<ComputeDevice>> makeComputeDevice(BackendKind kind, int index);
+
+}  // namespace sr
+
+#endif  // RASTER_COMPUTE_DEVICE_H

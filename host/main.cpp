@@ -1,0 +1,203 @@
+// main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
+//
+//   raster render [SCENE] [--backend auto|cuda|vulkan] [--device N] [--width W --height H]
+//                 [--camera auto|gltf:N|orbit:AZ,EL,DIST] [-o out.png] [--aov out.exr]
+//                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
+//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id]
+//                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
+//   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "camera.h"
+#include "compare.h"
+#include "compute_device.h"
+#include "image_io.h"
+#include "renderer.h"
+#include "scene.h"
+#include "stats_json.h"
+
+namespace sr {
+namespace {
+
+struct RenderCommand {
+    std::string scenePath;
+    std::string backend = "auto";
+    int device = -1;
+    std::string camera = "auto";
+    std::string output = "render.png";
+    std::string aovPath;
+    std::string statsPath;
+    std::string cull = "back";
+    std::string shading = "blinn-phong";
+    std::string lightDir, lightColor, background;
+    bool quiet = false;
+    RenderSettings settings;
+};
+
+const std::map<std::string, uint32_t> kCullModes = {
+    {"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}};
+const std::map<std::string, uint32_t> kShadingModes = {
+    {"lambert", SHADING_LAMBERT}, {"phong", SHADING_PHONG},     {"blinn-phong", SHADING_BLINN_PHONG},
+    {"flat", SHADING_FLAT},       {"normals", SHADING_NORMALS}, {"depth", SHADING_DEPTH},
+    {"id", SHADING_PRIMITIVE_ID}};
+const std::map<std::string, BackendKind> kBackends = {
+    {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
+
+// "X,Y,Z" with three finite numbers.
+Result<glm::vec3> parseVec3(const std::string& option, const std::string& text)
+{
+    glm::vec3 v;
+    char c1 = 0, c2 = 0;
+    std::istringstream in(text);
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof() ||
+        !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        return makeError(ExitCode::Usage, "invalid {} '{}': expected three numbers X,Y,Z", option, text);
+    return v;
+}
+
+void printStageTable(const RenderOutput& out)
+{
+    fmt::print("{:<14} {:>10} {:>10} {:>10}\n", "stage (ms)", "min", "median", "max");
+    for (const StageTiming& t : out.stages)
+        fmt::print("{:<14} {:>10.4f} {:>10.4f} {:>10.4f}\n", t.name, t.minMs, t.medianMs, t.maxMs);
+    fmt::print("{:<14} {:>10.4f} {:>10.4f} {:>10.4f}\n", "total", out.total.minMs, out.total.medianMs,
+               out.total.maxMs);
+}
+
+Status runRender(RenderCommand& cmd)
+{
+    RenderSettings& s = cmd.settings;
+    s.cullMode = kCullModes.at(cmd.cull);
+    s.shadingMode = kShadingModes.at(cmd.shading);
+    if (!cmd.lightDir.empty()) {
+        auto v = parseVec3("--light-dir", cmd.lightDir);
+        if (!v) return v.error();
+        s.lightDirView = *v;
+    }
+    if (!cmd.lightColor.empty()) {
+        auto v = parseVec3("--light-color", cmd.lightColor);
+        if (!v) return v.error();
+        s.lightColor = *v;
+    }
+    if (!cmd.background.empty()) {
+        auto v = parseVec3("--background", cmd.background);
+        if (!v) return v.error();
+        s.background = *v;
+    }
+
+    auto cameraSpec = parseCameraSpec(cmd.camera);
+    if (!cameraSpec) return cameraSpec.error();
+    Result<Scene> scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
+    if (!scene) return scene.error();
+    auto camera = resolveCamera(*cameraSpec, *scene, s.width, s.height);
+    if (!camera) return camera.error();
+    auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
+    if (!device) return device.error();
+    auto out = renderScene(**device, *scene, *camera, s);
+    if (!out) return out.error();
+
+    SR_TRY(writePng(cmd.output, out->color));
+    if (!cmd.aovPath.empty()) SR_TRY(writeAovExr(cmd.aovPath, out->aov));
+    std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
+    if (!cmd.statsPath.empty()) SR_TRY(writeJson(cmd.statsPath, statsJson(*out, s, sceneName)));
+    if (!cmd.quiet) {
+        const RenderStats& st = out->stats;
+        fmt::print("{}: {}x{} on {} ({}), {} triangles: {} culled, {} clipped, {} rasterized\n", cmd.output,
+                   s.width, s.height, out->device.backend, out->device.name, st.trianglesIn, st.culled,
+                   st.clipped, st.rasterized);
+        printStageTable(*out);
+    }
+    return okStatus();
+}
+
+struct CompareCommand {
+    std::string a, b;
+    std::string diffPath;
+    CompareTolerance tolerance;
+};
+
+// Exit code 0 within tolerance, 1 outside it (ExitCode::CompareFailed), 2 for unreadable inputs.
+Result<bool> runCompare(const CompareCommand& cmd)
+{
+    auto report = compareFiles(cmd.a, cmd.b, cmd.tolerance);
+    if (!report) return report.error();
+    fmt::print("Comparing \"{}\" and \"{}\" ({}x{})\n{}", cmd.a, cmd.b, report->width, report->height,
+               formatReport(*report, cmd.tolerance));
+    if (!cmd.diffPath.empty()) SR_TRY(writePng(cmd.diffPath, report->heatmap));
+    return report->pass;
+}
+
+}  // namespace
+}  // namespace sr
+
+int main(int argc, char** argv)
+{
+    using namespace sr;
+    CLI::App app{"raster: a software rasterization pipeline on CUDA and Vulkan compute"};
+    app.require_subcommand(1);
+
+    RenderCommand cmd;
+    CLI::App* render = app.add_subcommand("render", "render a scene (built-in when SCENE is omitted)");
+    render->add_option("scene", cmd.scenePath, "glTF 2.0 (.gltf/.glb) or OBJ file");
+    render->add_option("--backend", cmd.backend, "auto (CUDA if present, else Vulkan), cuda or vulkan")
+        ->check(CLI::IsMember({"auto", "cuda", "vulkan"}));
+    render->add_option("--device", cmd.device, "device index within the backend (default: first)");
+    render->add_option("--width", cmd.settings.width, "image width in pixels")
+        ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
+    render->add_option("--height", cmd.settings.height, "image height in pixels")
+        ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
+    render->add_option("--camera", cmd.camera, "auto, gltf:N or orbit:AZ,EL,DIST (degrees, scene units)");
+    render->add_option("-o,--output", cmd.output, "colour image (PNG, sRGB)");
+    render->add_option("--aov", cmd.aovPath, "EXR with channels id (UINT) and Z (FLOAT)");
+    render->add_option("--stats", cmd.statsPath, "JSON statistics and per-stage GPU times");
+    render->add_option("--repeat", cmd.settings.repeat, "timed runs")->check(CLI::Range(1, 100000));
+    render->add_option("--warmup", cmd.settings.warmup, "untimed runs first")->check(CLI::Range(0, 100000));
+    render->add_option("--cull", cmd.cull, "back, front or none (glTF doubleSided is never culled)")
+        ->check(CLI::IsMember({"back", "front", "none"}));
+    render->add_option("--shading", cmd.shading, "lambert, phong, blinn-phong, flat, normals, depth or id")
+        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id"}));
+    render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
+    render->add_option("--light-color", cmd.lightColor, "R,G,B linear light colour");
+    render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));
+    render->add_option("--background", cmd.background, "R,G,B linear background colour");
+    render->add_flag("-q,--quiet", cmd.quiet, "print nothing on success");
+
+    CompareCommand compare;
+    CLI::App* cmp = app.add_subcommand("compare", "compare two PNG images or two EXR AOVs (idiff-style report)");
+    cmp->add_option("a", compare.a, "reference (.png or .exr)")->required();
+    cmp->add_option("b", compare.b, "test image of the same kind")->required();
+    cmp->add_option("-o,--output", compare.diffPath, "difference heat map (PNG)");
+    cmp->add_option("--tolerance", compare.tolerance.colorLsb, "largest allowed 8-bit channel difference")
+        ->check(CLI::Range(0, 255));
+    cmp->add_option("--max-id-mismatches", compare.tolerance.maxIdMismatches,
+                    "AOVs: pixels allowed to differ in id or coverage");
+    cmp->add_option("--depth-tolerance", compare.tolerance.depthTolerance, "AOVs: largest allowed depth difference")
+        ->check(CLI::Range(0.0, 1.0));
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help
+        fmt::print(stderr, "raster: error: {}\n", e.what());
+        return int(ExitCode::Usage);
+    }
+
+    Status status = okStatus();
+    if (render->parsed()) status = runRender(cmd);
+    if (cmp->parsed()) {
+        auto pass = runCompare(compare);
+        if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);
+        if (!pass.ok()) status = pass.error();
+    }
+    if (!status.ok()) {
+        fmt::print(stderr, "raster: error: {}\n", status.error().message);
+        return int(status.error().code);
+    }
+    return int(ExitCode::Ok);
+}

@@ -1,0 +1,198 @@
+// renderer.cpp - buffer sizing, stage dispatch, grow-and-redraw and timing statistics, shared by the
+// CUDA and Vulkan backends.
+#include "renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+namespace sr {
+namespace {
+
+uint32_t groupsFor(uint64_t threads, uint32_t groupSize)
+{
+    return uint32_t((threads + groupSize - 1) / groupSize);
+}
+
+template <typename T>
+Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>& data)
+{
+    SR_TRY(device.resize(buffer, data.size() * sizeof(T)));
+    return device.upload(buffer, data.data(), data.size() * sizeof(T));
+}
+
+// (Re)allocates the per-triangle lists for `capacity` records. Work and memory grow with the scene:
+// nothing here depends on a worst case such as pixels x triangles.
+Status allocateLists(ComputeDevice& device, uint32_t capacity)
+{
+    SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(capacity) * sizeof(TriSetup)));
+    SR_TRY(device.resize(BUF_SMALL_TRIS, size_t(capacity) * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_BIG_TRIS, size_t(capacity) * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_BIG_OFFSETS, size_t(capacity) * sizeof(uint32_t)));
+    return device.resize(BUF_SCAN_SUMS, size_t(groupsFor(capacity, SCAN_GROUP_SIZE)) * sizeof(uint32_t));
+}
+
+std::vector<Dispatch> frameDispatches(const RasterParams& p)
+{
+    uint64_t pixels = uint64_t(p.width) * p.height;
+    uint32_t scanGroups = groupsFor(p.setupCapacity, SCAN_GROUP_SIZE);
+    return {
+        {STAGE_CLEAR, groupsFor(std::max<uint64_t>(pixels, COUNTER_COUNT), GROUP_SIZE)},
+        {STAGE_VERTEX, groupsFor(p.vertexCount, GROUP_SIZE)},
+        {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
+        {STAGE_SCAN_BLOCKS, scanGroups},
+        {STAGE_SCAN_SUMS, 1},
+        {STAGE_SCAN_ADD, scanGroups},
+        {STAGE_RASTER_SMALL, p.rasterGroups},
+        {STAGE_RASTER_TILES, p.rasterGroups},
+        {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
+    };
+}
+
+RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
+                         uint32_t capacity, uint32_t rasterGroups)
+{
+    RasterParams p{};
+    p.clipFromWorld = camera.clipFromWorld;
+    p.viewFromWorld = camera.viewFromWorld;
+    p.normalFromWorld = glm::inverseTranspose(camera.viewFromWorld);
+    glm::vec3 l = glm::length(s.lightDirView) > 0.0f ? glm::normalize(s.lightDirView) : glm::vec3(0, 0, 1);
+    p.lightDirView = glm::vec4(l, 0.0f);
+    p.lightColor = glm::vec4(s.lightColor, s.ambient);
+    p.background = glm::vec4(s.background, 1.0f);
+    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, 0.0f);
+    p.guardBand = glm::vec4(float(GUARD_BAND_PX) / (0.5f * float(s.width)),
+                            float(GUARD_BAND_PX) / (0.5f * float(s.height)), 0.0f, 0.0f);
+    p.width = s.width;
+    p.height = s.height;
+    p.vertexCount = uint32_t(scene.vertexCount());
+    p.triangleCount = uint32_t(scene.triangleCount());
+    p.cullMode = s.cullMode;
+    p.shadingMode = s.shadingMode;
+    p.hasColors = scene.colors.empty() ? 0u : 1u;
+    p.setupCapacity = capacity;
+    p.rasterGroups = rasterGroups;
+    return p;
+}
+
+StageTiming summarize(std::string name, const std::vector<double>& ms)
+{
+    StageTiming t;
+    t.name = std::move(name);
+    t.minMs = *std::min_element(ms.begin(), ms.end());
+    t.maxMs = *std::max_element(ms.begin(), ms.end());
+    t.medianMs = median(ms);
+    return t;
+}
+
+}  // namespace
+
+double median(std::vector<double> values)
+{
+    std::sort(values.begin(), values.end());
+    size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
+                                 const RenderSettings& settings)
+{
+    if (settings.width < 1 || settings.height < 1 || settings.width > MAX_FRAMEBUFFER_DIM ||
+        settings.height > MAX_FRAMEBUFFER_DIM)
+        return makeError(ExitCode::Usage, "resolution {}x{} is outside 1..{} per side", settings.width,
+                         settings.height, MAX_FRAMEBUFFER_DIM);
+    if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
+    if (scene.triangleCount() == 0) return makeError(ExitCode::Usage, "the scene has no triangles");
+    // Triangle ids share 32 bits with EMPTY_ID and index math runs in uint.
+    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.vertexCount() >= (uint64_t(1) << 31))
+        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} vertices)",
+                         scene.triangleCount(), scene.vertexCount());
+    if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
+        return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
+                         scene.vertexCount());
+
+    const uint64_t pixels = uint64_t(settings.width) * settings.height;
+    const uint64_t tris = scene.triangleCount();
+    // Most triangles set up as one record; clipping adds a few. Overflow is detected, not assumed away.
+    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris + tris / 8 + 64;
+
+    SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
+    SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
+    if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
+    SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
+    SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
+    for (uint32_t buffer : {BUF_CLIP_POS, BUF_VIEW_POS, BUF_VIEW_NORMAL})
+        SR_TRY(device.resize(buffer, scene.vertexCount() * sizeof(glm::vec4)));
+    SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
+    SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
+    SR_TRY(allocateLists(device, uint32_t(capacity)));
+
+    RenderOutput out;
+    out.device = device.info();
+    std::vector<std::vector<double>> stageMs(STAGE_COUNT);
+    std::vector<double> totalMs;
+    uint32_t counters[COUNTER_COUNT] = {};
+    RasterParams params{};
+    for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
+        params = frameParams(scene, camera, settings, uint32_t(capacity), device.info().rasterGroups);
+        std::vector<Dispatch> dispatches = frameDispatches(params);
+        std::vector<double> gpuMs;
+        SR_TRY(device.run(params, dispatches, gpuMs));
+        SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
+        if (counters[COUNTER_WORK_OVERFLOW])
+            return makeError(ExitCode::Runtime, "too much raster work: more than 2^31 tiles in one frame");
+        if (counters[COUNTER_SETUP] > capacity) {
+            // The lists overflowed: the frame is incomplete. Grow with headroom and draw it again.
+            capacity = uint64_t(counters[COUNTER_SETUP]) + counters[COUNTER_SETUP] / 4 + 64;
+            if (capacity >= (uint64_t(1) << 32))
+                return makeError(ExitCode::Runtime, "triangle lists would need {} entries", capacity);
+            SR_TRY(allocateLists(device, uint32_t(capacity)));
+            ++out.stats.redraws;
+            continue;
+        }
+        if (run >= settings.warmup) {
+            double total = 0.0;
+            for (size_t i = 0; i < dispatches.size(); ++i) {
+                stageMs[dispatches[i].stage].push_back(gpuMs[i]);
+                total += gpuMs[i];
+            }
+            totalMs.push_back(total);
+        }
+        ++run;
+    }
+
+    for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage)
+        out.stages.push_back(summarize(stageName(stage), stageMs[stage]));
+    out.total = summarize("total", totalMs);
+    out.params = params;
+    out.peakDeviceBytes = device.peakAllocatedBytes();
+
+    RenderStats& st = out.stats;
+    st.trianglesIn = tris;
+    st.culled = counters[COUNTER_CULLED];
+    st.clipped = counters[COUNTER_CLIPPED];
+    st.invalid = counters[COUNTER_INVALID];
+    st.rasterized = counters[COUNTER_SETUP];
+    st.smallTris = counters[COUNTER_SMALL];
+    st.bigTris = counters[COUNTER_BIG];
+    st.tiles = counters[COUNTER_TILES];
+    st.setupCapacity = uint32_t(capacity);
+
+    out.color.width = out.aov.width = settings.width;
+    out.color.height = out.aov.height = settings.height;
+    out.color.pixels.resize(pixels);
+    SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
+    std::vector<uint64_t> visibility(pixels);
+    SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), pixels * sizeof(uint64_t)));
+    out.aov.id.resize(pixels);
+    out.aov.depth.resize(pixels);
+    for (uint64_t i = 0; i < pixels; ++i) {
+        out.aov.id[i] = visibilityId(visibility[i]);
+        out.aov.depth[i] = visibilityDepth(visibility[i]);
+    }
+    return out;
+}
+
+}  // namespace sr

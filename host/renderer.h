@@ -1,0 +1,77 @@
+// renderer.h - the pipeline, written once for every backend.
+//
+// Sizes every buffer from the scene and the resolution, uploads the scene, runs the stages of
+// raster_shared.h (STAGE_*) through a ComputeDevice, grows the triangle lists and redraws when the
+// device reports an overflow, and gathers images, statistics and per-stage GPU times.
+#ifndef RASTER_RENDERER_H
+#define RASTER_RENDERER_H
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "camera.h"
+#include "compute_device.h"
+#include "image_io.h"
+#include "raster_shared.h"
+#include "result.h"
+#include "scene.h"
+
+namespace sr {
+
+struct RenderSettings {
+    uint32_t width = 512;
+    uint32_t height = 512;
+    uint32_t cullMode = CULL_BACK;                     // CULL_*
+    uint32_t shadingMode = SHADING_BLINN_PHONG;        // SHADING_*
+    glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};      // towards the light, view space (+z to the eye)
+    glm::vec3 lightColor{1.0f, 1.0f, 1.0f};
+    float ambient = 0.15f;
+    glm::vec3 background{0.02f, 0.02f, 0.025f};        // linear RGB
+    float specularPower = 32.0f;
+    uint32_t warmup = 1;                               // untimed runs before the timed ones
+    uint32_t repeat = 1;                               // timed runs (>= 1)
+    uint32_t initialSetupCapacity = 0;                 // 0: sized from the scene; tests force tiny ones
+};
+
+struct StageTiming {
+    std::string name;
+    double minMs = 0.0, medianMs = 0.0, maxMs = 0.0;  // over the timed runs
+};
+
+struct RenderStats {
+    uint64_t trianglesIn = 0;  // triangles handed to the GPU
+    uint64_t culled = 0;       // input triangles that produced nothing to rasterize
+    uint64_t clipped = 0;      // input triangles that went through the clipper
+    uint64_t invalid = 0;      // input triangles dropped on the GPU for NaN/Inf positions
+    uint64_t rasterized = 0;   // (sub-)triangles set up for rasterization
+    uint64_t smallTris = 0;    // of which walked by one thread
+    uint64_t bigTris = 0;      // of which walked tile by tile
+    uint64_t tiles = 0;        // (big triangle, tile) work items
+    uint32_t redraws = 0;      // frames redrawn after growing an overflowing buffer
+    uint32_t setupCapacity = 0;  // final capacity of the triangle lists
+};
+
+struct RenderOutput {
+    RgbaImage color;
+    AovImage aov;
+    RenderStats stats;
+    std::vector<StageTiming> stages;  // in dispatch order
+    StageTiming total;                // GPU time of the whole frame
+    size_t peakDeviceBytes = 0;
+    DeviceInfo device;
+    RasterParams params{};
+};
+
+// Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
+Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
+                                 const RenderSettings& settings);
+
+// Median of a non-empty list (mean of the two middle values for even sizes).
+double median(std::vector<double> values);
+
+}  // namespace sr
+
+#endif  // RASTER_RENDERER_H

@@ -1,0 +1,68 @@
+// result.h - errors as values for the host code.
+//
+// Library-style host functions return Result<T>: either a value or an Error holding a one-line
+// message and the process exit code it maps to. Only main() turns an Error into output and an exit
+// code (host/main.cpp), so every failure path reports exactly one line.
+#ifndef RASTER_RESULT_H
+#define RASTER_RESULT_H
+
+#include <string>
+#include <utility>
+#include <variant>
+
+#include <fmt/format.h>
+
+namespace sr {
+
+// Exit codes of the `raster` tool.
+enum class ExitCode : int {
+    Ok = 0,
+    CompareFailed = 1,  // `raster compare` found a difference beyond tolerance
+    Usage = 2,          // bad arguments, missing backend, unreadable or malformed input
+    Runtime = 3,        // a GPU API call failed at run time
+};
+
+struct Error {
+    std::string message;  // one line, no trailing newline
+    ExitCode code = ExitCode::Usage;
+};
+
+template <typename... Args>
+Error makeError(ExitCode code, fmt::format_string<Args...> f, Args&&... args)
+{
+    return Error{fmt::format(f, std::forward<Args>(args)...), code};
+}
+
+template <typename T>
+class [[nodiscard]] Result {
+public:
+    Result(T value) : v_(std::move(value)) {}
+    Result(Error error) : v_(std::move(error)) {}
+
+    bool ok() const { return v_.index() == 0; }
+    explicit operator bool() const { return ok(); }
+    T& value() { return std::get<0>(v_); }
+    const T& value() const { return std::get<0>(v_); }
+    T& operator*() { return value(); }
+    T* operator->() { return &value(); }
+    const Error& error() const { return std::get<1>(v_); }
+
+private:
+    std::variant<T, Error> v_;
+};
+
+// Result of an operation with no value.
+struct Unit {};
+using Status = Result<Unit>;
+inline Status okStatus() { return Unit{}; }
+
+}  // namespace sr
+
+// Propagates an error from an expression returning Result/Status: `SR_TRY(device.upload(...));`
+#define SR_TRY(expr)                                  \
+    do {                                              \
+        auto sr_try_result_ = (expr);                 \
+        if (!sr_try_result_.ok()) return sr_try_result_.error(); \
+    } while (0)
+
+#endif  // RASTER_RESULT_H

@@ -1,0 +1,157 @@
+// scene.cpp - loader dispatch and the checks every loaded scene goes through.
+#include "scene.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+namespace sr {
+namespace {
+
+// Limits that keep every index, triangle id and byte offset the backends compute inside 31 bits.
+constexpr uint64_t kMaxIndices = (uint64_t(1) << 31) / 3;
+constexpr uint64_t kMaxVertices = uint64_t(1) << 31;
+
+std::string lowerExtension(const std::string& path)
+{
+    size_t slash = path.find_last_of("/\\");
+    size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string ext = path.substr(dot);
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+bool finitePosition(const glm::vec4& p)
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+}
+
+// `warnAs` names the scene in warnings and `errorPrefix` starts every error message, so that file
+// loaders can report "cannot load '<path>': ..." while other callers get "<what>: ...".
+Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& errorPrefix)
+{
+    if (scene.indices.size() > kMaxIndices || scene.positions.size() > kMaxVertices) {
+        return makeError(ExitCode::Usage, "{}: scene too large ({} vertices, {} triangles)",
+                         errorPrefix, scene.positions.size(), scene.indices.size() / 3);
+    }
+    if (scene.indices.size() % 3 != 0) {
+        return makeError(ExitCode::Usage, "{}: index count {} is not a multiple of 3", errorPrefix,
+                         scene.indices.size());
+    }
+    if (scene.normals.size() != scene.positions.size()) {
+        return makeError(ExitCode::Usage, "{}: {} normals for {} vertices", errorPrefix,
+                         scene.normals.size(), scene.positions.size());
+    }
+    if (!scene.colors.empty() && scene.colors.size() != scene.positions.size()) {
+        return makeError(ExitCode::Usage, "{}: {} colours for {} vertices", errorPrefix,
+                         scene.colors.size(), scene.positions.size());
+    }
+
+    size_t triangles = scene.indices.size() / 3;
+    scene.triFlags.resize(triangles, 0u);
+
+    // Compact in place; the relative order of the kept triangles (their ids) is preserved.
+    size_t kept = 0;
+    for (size_t t = 0; t < triangles; ++t) {
+        const uint32_t* tri = &scene.indices[3 * t];
+        bool valid = true;
+        for (int k = 0; k < 3; ++k) {
+            if (tri[k] >= scene.positions.size() || !finitePosition(scene.positions[tri[k]])) {
+                valid = false;
+                break;
+            }
+        }
+        if (!valid) continue;
+        if (kept != t) {
+            std::copy(tri, tri + 3, &scene.indices[3 * kept]);
+            scene.triFlags[kept] = scene.triFlags[t];
+        }
+        ++kept;
+    }
+    uint64_t dropped = triangles - kept;
+    scene.indices.resize(3 * kept);
+    scene.triFlags.resize(kept);
+    if (dropped > 0) {
+        scene.droppedTriangles += dropped;
+        fmt::print(stderr,
+                   "warning: {}: dropped {} triangle(s) with out-of-range indices or non-finite "
+                   "positions\n",
+                   warnAs, dropped);
+    }
+    if (kept == 0) return makeError(ExitCode::Usage, "{}: no triangles to draw", errorPrefix);
+
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (uint32_t i : scene.indices) {
+        glm::vec3 p(scene.positions[i]);
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    scene.boundsMin = lo;
+    scene.boundsMax = hi;
+    return okStatus();
+}
+
+}  // namespace
+
+std::string flattenMessage(const std::string& text)
+{
+    // Library messages are newline-separated and may repeat a line per offending element
+    // (tinyobjloader warns once per degenerate face, as "Degenerated face found\n."): keep each
+    // distinct line once, with a count, and bound the length of the result.
+    constexpr size_t kMaxLength = 400;
+    auto isFiller = [](char c) {
+        return std::isspace(static_cast<unsigned char>(c)) || c == '.' || c == ';';
+    };
+    std::vector<std::string> order;
+    std::unordered_map<std::string, size_t> counts;
+    size_t start = 0;
+    while (start < text.size()) {
+        size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+        size_t first = start, last = end;
+        while (first < last && isFiller(text[first])) ++first;
+        while (last > first && isFiller(text[last - 1])) --last;
+        if (last > first) {
+            std::string line = text.substr(first, last - first);
+            if (counts[line]++ == 0) order.push_back(line);
+        }
+        start = end + 1;
+    }
+    std::string out;
+    for (const std::string& line : order) {
+        if (!out.empty()) out += "; ";
+        out += line;
+        if (counts[line] > 1) out += fmt::format(" ({} times)", counts[line]);
+        if (out.size() > kMaxLength) {
+            out.resize(kMaxLength - 3);
+            out += "...";
+            break;
+        }
+    }
+    return out;
+}
+
+Result<Scene> loadScene(const std::string& path)
+{
+    std::string ext = lowerExtension(path);
+    if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
+    if (ext == ".obj") return loadObj(path);
+    return makeError(ExitCode::Usage,
+                     "cannot load '{}': unknown file extension '{}' (expected .gltf, .glb or .obj)",
+                     path, ext);
+}
+
+Status finalizeScene(Scene& scene, const std::string& what)
+{
+    return finalizeImpl(scene, what, what);
+}
+
+Status finalizeLoadedScene(Scene& scene, const std::string& path)
+{
+    return finalizeImpl(scene, path, fmt::format("cannot load '{}'", path));
+}
+
+}  // namespace sr

@@ -1,0 +1,597 @@
+// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle list, through tinygltf.
+//
+// tinygltf parses the JSON and resolves buffers (external files, data URIs, the GLB chunk); every
+// index, offset and count it hands over is validated here before any byte is read, so a malformed
+// file becomes a one-line error instead of an out-of-bounds read.
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "raster_shared.h"
+#include "scene.h"
+
+namespace sr {
+namespace {
+
+// Stands for "no such vertex"; finalizeScene drops every triangle that uses it and counts it.
+constexpr uint32_t kInvalidIndex = 0xffffffffu;
+// Same bound as finalizeScene's, checked early so a huge count fails before it is allocated.
+constexpr size_t kMaxVertices = size_t(1) << 31;
+
+Error fail(const std::string& reason)
+{
+    return Error{reason, ExitCode::Usage};
+}
+
+// Image payloads are never used by the rasterizer; skipping their decoding keeps a broken or exotic
+// texture from failing the load of the geometry.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+               const unsigned char*, int, void*)
+{
+    return true;
+}
+
+int componentSize(int componentType)
+{
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+    }
+}
+
+// A bounds-checked view of an accessor's elements.
+struct AccessorView {
+    const unsigned char* base = nullptr;  // null: accessor without buffer view, all zeros (spec)
+    size_t stride = 0;
+    size_t count = 0;
+    int type = 0;
+    int componentType = 0;
+
+    // Component c of element i as a float: floats as stored, unsigned integers normalised.
+    float component(size_t i, int c) const
+    {
+        if (!base) return 0.0f;
+        const unsigned char* p = base + i * stride + size_t(c) * componentSize(componentType);
+        switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float f;
+            std::memcpy(&f, p, sizeof f);
+            return f;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return float(p[0]) / 255.0f;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t u;
+            std::memcpy(&u, p, sizeof u);
+            return float(u) / 65535.0f;
+        }
+        default: return 0.0f;
+        }
+    }
+
+    uint32_t index(size_t i) const
+    {
+        if (!base) return 0;
+        const unsigned char* p = base + i * stride;
+        switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t u;
+            std::memcpy(&u, p, sizeof u);
+            return u;
+        }
+        default: {
+            uint32_t u;
+            std::memcpy(&u, p, sizeof u);
+            return u;
+        }
+        }
+    }
+
+    glm::vec3 vec3(size_t i) const { return {component(i, 0), component(i, 1), component(i, 2)}; }
+};
+
+Result<AccessorView> viewAccessor(const tinygltf::Model& model, int index)
+{
+    if (index < 0 || size_t(index) >= model.accessors.size())
+        return fail(fmt::format("accessor {} does not exist", index));
+    const tinygltf::Accessor& a = model.accessors[size_t(index)];
+    if (a.sparse.isSparse)
+        return fail(
+            fmt::format("accessor {} is sparse (sparse accessors are not supported)", index));
+    int components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    int size = componentSize(a.componentType);
+    if (components <= 0 || size <= 0)
+        return fail(fmt::format("accessor {} has an unsupported type or component type", index));
+    if (a.count > kMaxVertices)
+        return fail(fmt::format("accessor {} has too many elements ({})", index, a.count));
+
+    AccessorView view;
+    view.count = a.count;
+    view.type = a.type;
+    view.componentType = a.componentType;
+    if (a.bufferView < 0) return view;
+    if (size_t(a.bufferView) >= model.bufferViews.size())
+        return fail(fmt::format("accessor {} uses buffer view {}, which does not exist", index,
+                                a.bufferView));
+    const tinygltf::BufferView& bv = model.bufferViews[size_t(a.bufferView)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model.buffers.size())
+        return fail(fmt::format("buffer view {} uses buffer {}, which does not exist", a.bufferView,
+                                bv.buffer));
+    const std::vector<unsigned char>& data = model.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+        return fail(
+            fmt::format("buffer view {} (offset {}, length {}) lies outside buffer {} "
+                        "({} bytes)",
+                        a.bufferView, bv.byteOffset, bv.byteLength, bv.buffer, data.size()));
+    int stride = a.ByteStride(bv);
+    if (stride <= 0)
+        return fail(fmt::format("accessor {} has an invalid byte stride {}", index, bv.byteStride));
+    view.stride = size_t(stride);
+    if (a.count == 0) return view;
+    // Written to avoid overflow: offset + (count - 1) * stride + element size <= view length.
+    size_t element = size_t(components) * size_t(size);
+    bool inside = a.byteOffset <= bv.byteLength && bv.byteLength - a.byteOffset >= element &&
+                  (a.count - 1) <= (bv.byteLength - a.byteOffset - element) / view.stride;
+    if (inside) view.base = data.data() + bv.byteOffset + a.byteOffset;
+    if (!inside)
+        return fail(
+            fmt::format("accessor {} ({} elements, offset {}, stride {}) reads past the end "
+                        "of buffer view {} ({} bytes)",
+                        index, a.count, a.byteOffset, view.stride, a.bufferView, bv.byteLength));
+    return view;
+}
+
+// Local transform of a node: its matrix, or T * R * S.
+Result<glm::dmat4> localMatrix(const tinygltf::Node& node, int index)
+{
+    glm::dmat4 m(1.0);
+    if (!node.matrix.empty()) {
+        if (node.matrix.size() != 16)
+            return fail(
+                fmt::format("node {} has a matrix with {} values", index, node.matrix.size()));
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];
+        return m;
+    }
+    if ((!node.translation.empty() && node.translation.size() != 3) ||
+        (!node.rotation.empty() && node.rotation.size() != 4) ||
+        (!node.scale.empty() && node.scale.size() != 3))
+        return fail(fmt::format("node {} has a malformed translation, rotation or scale", index));
+    glm::dmat4 r(1.0);
+    if (!node.rotation.empty()) {
+        double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2];
+        double w = node.rotation[3];
+        double len = std::sqrt(x * x + y * y + z * z + w * w);
+        if (!(len > 0.0) || !std::isfinite(len))
+            return fail(fmt::format("node {} has a zero or non-finite rotation", index));
+        x /= len, y /= len, z /= len, w /= len;
+        // Unit quaternion (x, y, z, w) to a rotation matrix, indexed [column][row] like glm.
+        r[0][0] = 1 - 2 * (y * y + z * z);
+        r[0][1] = 2 * (x * y + w * z);
+        r[0][2] = 2 * (x * z - w * y);
+        r[1][0] = 2 * (x * y - w * z);
+        r[1][1] = 1 - 2 * (x * x + z * z);
+        r[1][2] = 2 * (y * z + w * x);
+        r[2][0] = 2 * (x * z + w * y);
+        r[2][1] = 2 * (y * z - w * x);
+        r[2][2] = 1 - 2 * (x * x + y * y);
+    }
+    glm::dmat4 s(1.0);
+    if (!node.scale.empty()) {
+        s[0][0] = node.scale[0];
+        s[1][1] = node.scale[1];
+        s[2][2] = node.scale[2];
+    }
+    glm::dmat4 t(1.0);
+    if (!node.translation.empty())
+        t[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
+    return t * r * s;
+}
+
+glm::vec3 safeNormalize(glm::dvec3 v)
+{
+    double len = glm::length(v);
+    if (!(len > 0.0) || !std::isfinite(len)) return {0.0f, 0.0f, 1.0f};
+    return glm::vec3(v / len);
+}
+
+const char* lineModeName(int mode)
+{
+    switch (mode) {
+    case TINYGLTF_MODE_POINTS: return "POINTS";
+    case TINYGLTF_MODE_LINE: return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
+    default: return "LINE_STRIP";
+    }
+}
+
+class GltfFlattener {
+public:
+    GltfFlattener(const tinygltf::Model& model, const std::string& path)
+        : model_(model), path_(path)
+    {
+    }
+
+    Status run();
+    Scene& scene() { return scene_; }
+
+private:
+    Status visitTree(int root);
+    Status addMesh(int meshIndex, const glm::dmat4& world);
+    Status addPrimitive(const tinygltf::Primitive& prim, const std::string& where,
+                        const glm::dmat4& world, const glm::dmat3& normalMatrix, bool flip);
+    Status addCamera(int cameraIndex, int nodeIndex, const glm::dmat4& world);
+    void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c);
+
+    const tinygltf::Model& model_;
+    const std::string& path_;
+    Scene scene_;
+    std::vector<bool> visited_;
+    std::array<size_t, 4> skippedLineModes_{};  // indexed by TINYGLTF_MODE_POINTS..LINE_STRIP
+    size_t skippedWithoutPositions_ = 0;
+    bool anyNonWhite_ = false;
+};
+
+Status GltfFlattener::run()
+{
+    for (const std::string& ext : model_.extensionsRequired) {
+        if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
+            ext == "KHR_meshopt_compression")
+            return fail(fmt::format("the file requires the unsupported extension {}", ext));
+    }
+
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+        int sceneIndex = model_.defaultScene;
+        if (sceneIndex < 0 || size_t(sceneIndex) >= model_.scenes.size()) sceneIndex = 0;
+        roots = model_.scenes[size_t(sceneIndex)].nodes;
+    } else {
+        // No scenes: every node that is nobody's child is a root, in document order.
+        std::vector<bool> isChild(model_.nodes.size(), false);
+        for (const tinygltf::Node& node : model_.nodes)
+            for (int child : node.children)
+                if (child >= 0 && size_t(child) < isChild.size()) isChild[size_t(child)] = true;
+        for (size_t i = 0; i < model_.nodes.size(); ++i)
+            if (!isChild[i]) roots.push_back(int(i));
+    }
+
+    visited_.assign(model_.nodes.size(), false);
+    for (int root : roots) SR_TRY(visitTree(root));
+
+    for (int mode = TINYGLTF_MODE_POINTS; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
+        if (skippedLineModes_[size_t(mode)] == 0) continue;
+        fmt::print(stderr,
+                   "warning: {}: skipping {} primitive(s) with mode {} (lines/points not supported "
+                   "yet)\n",
+                   path_, skippedLineModes_[size_t(mode)], lineModeName(mode));
+    }
+    if (skippedWithoutPositions_ > 0) {
+        fmt::print(stderr, "warning: {}: skipping {} primitive(s) without POSITION\n", path_,
+                   skippedWithoutPositions_);
+    }
+    if (!anyNonWhite_) scene_.colors.clear();
+    return okStatus();
+}
+
+// Depth-first, children in listed order; an explicit stack so that deep hierarchies cannot
+// overflow the call stack.
+Status GltfFlattener::visitTree(int root)
+{
+    struct Pending {
+        int node;
+        glm::dmat4 parentWorld;
+    };
+    std::vector<Pending> stack{{root, glm::dmat4(1.0)}};
+    while (!stack.empty()) {
+        Pending item = stack.back();
+        stack.pop_back();
+        if (item.node < 0 || size_t(item.node) >= model_.nodes.size())
+            return fail(fmt::format("node {} does not exist", item.node));
+        // The spec requires disjoint trees; a node reached twice means a cycle or a shared child.
+        if (visited_[size_t(item.node)])
+            return fail(
+                fmt::format("node {} is reached twice (the node hierarchy must be a set "
+                            "of disjoint trees)",
+                            item.node));
+        visited_[size_t(item.node)] = true;
+        const tinygltf::Node& node = model_.nodes[size_t(item.node)];
+        Result<glm::dmat4> local = localMatrix(node, item.node);
+        if (!local) return local.error();
+        glm::dmat4 world = item.parentWorld * *local;
+        if (node.mesh >= 0) SR_TRY(addMesh(node.mesh, world));
+        if (node.camera >= 0) SR_TRY(addCamera(node.camera, item.node, world));
+        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
+            stack.push_back({*it, world});
+    }
+    return okStatus();
+}
+
+Status GltfFlattener::addMesh(int meshIndex, const glm::dmat4& world)
+{
+    if (size_t(meshIndex) >= model_.meshes.size())
+        return fail(fmt::format("mesh {} does not exist", meshIndex));
+    glm::dmat3 linear(world);
+    double det = glm::determinant(linear);
+    // Inverse transpose up to a positive factor, written as the cofactor matrix so that it stays
+    // defined for singular (zero-scale) transforms; the sign keeps mirrored normals pointing out.
+    glm::dmat3 cofactor(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                        glm::cross(linear[0], linear[1]));
+    glm::dmat3 normalMatrix = det < 0.0 ? -cofactor : cofactor;
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        std::string where = fmt::format("mesh {} primitive {}", meshIndex, p);
+        SR_TRY(addPrimitive(mesh.primitives[p], where, world, normalMatrix, det < 0.0));
+    }
+    return okStatus();
+}
+
+void GltfFlattener::pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c)
+{
+    scene_.positions.emplace_back(p, 1.0f);
+    scene_.normals.emplace_back(n, 0.0f);
+    scene_.colors.push_back(c);
+    if (c != glm::vec4(1.0f)) anyNonWhite_ = true;
+}
+
+Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::string& where,
+                                   const glm::dmat4& world, const glm::dmat3& normalMatrix,
+                                   bool flip)
+{
+    int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
+        ++skippedLineModes_[size_t(mode)];
+        return okStatus();
+    }
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        return fail(fmt::format("{} has unknown mode {}", where, mode));
+
+    auto attribute = [&](const char* name) {
+        auto it = prim.attributes.find(name);
+        return it == prim.attributes.end() ? -1 : it->second;
+    };
+    int positionIndex = attribute("POSITION");
+    if (positionIndex < 0) {
+        ++skippedWithoutPositions_;
+        return okStatus();
+    }
+    Result<AccessorView> positions = viewAccessor(model_, positionIndex);
+    if (!positions) return positions.error();
+    if (positions->type != TINYGLTF_TYPE_VEC3 ||
+        positions->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        return fail(fmt::format("{}: POSITION must be VEC3 float", where));
+    size_t vertexCount = positions->count;
+
+    AccessorView normals;
+    bool hasNormals = attribute("NORMAL") >= 0;
+    if (hasNormals) {
+        Result<AccessorView> view = viewAccessor(model_, attribute("NORMAL"));
+        if (!view) return view.error();
+        normals = *view;
+        if (normals.type != TINYGLTF_TYPE_VEC3 ||
+            normals.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+            return fail(fmt::format("{}: NORMAL must be VEC3 float", where));
+        if (normals.count != vertexCount)
+            return fail(
+                fmt::format("{}: {} normals for {} positions", where, normals.count, vertexCount));
+    }
+
+    AccessorView colors;
+    bool hasColors = attribute("COLOR_0") >= 0;
+    if (hasColors) {
+        Result<AccessorView> view = viewAccessor(model_, attribute("COLOR_0"));
+        if (!view) return view.error();
+        colors = *view;
+        bool typeOk = colors.type == TINYGLTF_TYPE_VEC3 || colors.type == TINYGLTF_TYPE_VEC4;
+        bool componentOk = colors.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                           colors.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                           colors.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        if (!typeOk || !componentOk)
+            return fail(
+                fmt::format("{}: COLOR_0 must be VEC3 or VEC4 of float, unsigned byte or "
+                            "unsigned short",
+                            where));
+        if (colors.count != vertexCount)
+            return fail(
+                fmt::format("{}: {} colours for {} positions", where, colors.count, vertexCount));
+    }
+
+    glm::vec4 baseColor(1.0f);
+    bool doubleSided = false;
+    if (prim.material >= 0) {
+        if (size_t(prim.material) >= model_.materials.size())
+            return fail(
+                fmt::format("{} uses material {}, which does not exist", where, prim.material));
+        const tinygltf::Material& material = model_.materials[size_t(prim.material)];
+        const std::vector<double>& factor = material.pbrMetallicRoughness.baseColorFactor;
+        if (factor.size() == 4)
+            baseColor =
+                glm::vec4(float(factor[0]), float(factor[1]), float(factor[2]), float(factor[3]));
+        doubleSided = material.doubleSided;
+    }
+    auto colorOf = [&](size_t v) {
+        glm::vec4 c(1.0f);
+        if (hasColors) {
+            c = glm::vec4(colors.component(v, 0), colors.component(v, 1), colors.component(v, 2),
+                          1.0f);
+            if (colors.type == TINYGLTF_TYPE_VEC4) c.w = colors.component(v, 3);
+        }
+        return c * baseColor;
+    };
+
+    // The primitive's vertex sequence: its indices, or 0..count-1 without them.
+    std::vector<uint32_t> sequence;
+    if (prim.indices >= 0) {
+        Result<AccessorView> view = viewAccessor(model_, prim.indices);
+        if (!view) return view.error();
+        bool indexType = view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                         view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+                         view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        if (view->type != TINYGLTF_TYPE_SCALAR || !indexType)
+            return fail(
+                fmt::format("{}: indices must be SCALAR unsigned byte, short or int", where));
+        sequence.resize(view->count);
+        for (size_t i = 0; i < view->count; ++i) sequence[i] = view->index(i);
+    } else {
+        sequence.resize(vertexCount);
+        for (size_t i = 0; i < vertexCount; ++i) sequence[i] = uint32_t(i);
+    }
+
+    // Triangle lists, with the vertex order of the glTF spec (section 3.7.2.1).
+    std::vector<uint32_t> tris;
+    size_t n = sequence.size();
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        tris.assign(sequence.begin(), sequence.begin() + ptrdiff_t(n / 3 * 3));
+    } else if (n >= 3) {
+        tris.reserve(3 * (n - 2));
+        for (size_t i = 0; i + 2 < n; ++i) {
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                // Odd triangles swap their last two vertices so every triangle keeps the winding.
+                size_t odd = i % 2;
+                tris.insert(tris.end(),
+                            {sequence[i], sequence[i + 1 + odd], sequence[i + 2 - odd]});
+            } else {
+                tris.insert(tris.end(), {sequence[i + 1], sequence[i + 2], sequence[0]});
+            }
+        }
+    }
+    if (flip) {
+        // A mirroring transform turns counter-clockwise into clockwise; the spec asks for the
+        // winding to be reversed so the front faces stay front faces.
+        for (size_t t = 0; t + 2 < tris.size(); t += 3) std::swap(tris[t + 1], tris[t + 2]);
+    }
+
+    auto worldPosition = [&](size_t v) {
+        return glm::vec3(world * glm::dvec4(glm::dvec3(positions->vec3(v)), 1.0));
+    };
+    size_t triangleCount = tris.size() / 3;
+    uint32_t flags = doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
+    size_t base = scene_.positions.size();
+    size_t added = hasNormals ? vertexCount : 3 * triangleCount;
+    if (added > kMaxVertices - base)
+        return fail(fmt::format("{}: the scene has more than {} vertices", where, kMaxVertices));
+
+    if (hasNormals) {
+        for (size_t v = 0; v < vertexCount; ++v) {
+            glm::vec3 normal = safeNormalize(normalMatrix * glm::dvec3(normals.vec3(v)));
+            pushVertex(worldPosition(v), normal, colorOf(v));
+        }
+        for (uint32_t local : tris)
+            scene_.indices.push_back(local < vertexCount ? uint32_t(base + local) : kInvalidIndex);
+    } else {
+        // Flat shading: each triangle gets its own three vertices carrying the face normal.
+        for (size_t t = 0; t < triangleCount; ++t) {
+            const uint32_t* tri = &tris[3 * t];
+            if (tri[0] >= vertexCount || tri[1] >= vertexCount || tri[2] >= vertexCount) {
+                scene_.indices.insert(scene_.indices.end(), 3, kInvalidIndex);
+                continue;
+            }
+            glm::vec3 p[3] = {worldPosition(tri[0]), worldPosition(tri[1]), worldPosition(tri[2])};
+            glm::dvec3 e1 = glm::dvec3(p[1]) - glm::dvec3(p[0]);
+            glm::dvec3 e2 = glm::dvec3(p[2]) - glm::dvec3(p[0]);
+            glm::vec3 normal = safeNormalize(glm::cross(e1, e2));
+            for (int k = 0; k < 3; ++k) {
+                scene_.indices.push_back(uint32_t(scene_.positions.size()));
+                pushVertex(p[k], normal, colorOf(tri[k]));
+            }
+        }
+    }
+    scene_.triFlags.insert(scene_.triFlags.end(), triangleCount, flags);
+    return okStatus();
+}
+
+Status GltfFlattener::addCamera(int cameraIndex, int nodeIndex, const glm::dmat4& world)
+{
+    if (size_t(cameraIndex) >= model_.cameras.size())
+        return fail(
+            fmt::format("node {} uses camera {}, which does not exist", nodeIndex, cameraIndex));
+    const tinygltf::Camera& cam = model_.cameras[size_t(cameraIndex)];
+    SceneCamera out;
+    out.name = !cam.name.empty() ? cam.name : model_.nodes[size_t(nodeIndex)].name;
+    // Cameras ignore scale (spec); normalising the axes keeps a rigid view transform.
+    glm::dmat4 m = world;
+    for (int axis = 0; axis < 3; ++axis) {
+        glm::dvec3 column(m[axis]);
+        double len = glm::length(column);
+        if (!(len > 0.0) || !std::isfinite(len))
+            return fail(fmt::format("camera node {} has a degenerate transform", nodeIndex));
+        m[axis] = glm::dvec4(column / len, 0.0);
+    }
+    out.worldFromView = glm::mat4(m);
+    bool valid = false;
+    if (cam.type == "perspective") {
+        const tinygltf::PerspectiveCamera& p = cam.perspective;
+        out.perspective = true;
+        out.yfov = float(p.yfov);
+        out.aspectRatio = float(p.aspectRatio);
+        out.znear = float(p.znear);
+        out.zfar = float(p.zfar);
+        valid = out.yfov > 0.0f && out.yfov < 3.14159f && out.aspectRatio >= 0.0f &&
+                out.znear > 0.0f && (out.zfar == 0.0f || out.zfar > out.znear);
+    } else if (cam.type == "orthographic") {
+        const tinygltf::OrthographicCamera& o = cam.orthographic;
+        out.perspective = false;
+        out.xmag = float(std::fabs(o.xmag));
+        out.ymag = float(std::fabs(o.ymag));
+        out.znear = float(o.znear);
+        out.zfar = float(o.zfar);
+        valid = out.xmag > 0.0f && out.ymag > 0.0f && out.znear >= 0.0f &&
+                (out.zfar == 0.0f || out.zfar > out.znear);
+    } else {
+        return fail(fmt::format("camera {} has unknown type '{}'", cameraIndex, cam.type));
+    }
+    if (!valid || !std::isfinite(out.zfar))
+        return fail(fmt::format("camera {} has invalid projection parameters", cameraIndex));
+    scene_.cameras.push_back(out);
+    return okStatus();
+}
+
+}  // namespace
+
+Result<Scene> loadGltf(const std::string& path)
+{
+    // Open the file once here: a clear "No such file" beats tinygltf's wording, and the magic
+    // number decides between .glb and .gltf whatever the extension says.
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file)
+        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
+    char magic[4] = {};
+    size_t got = std::fread(magic, 1, sizeof magic, file);
+    std::fclose(file);
+    bool binary = got == sizeof magic && std::memcmp(magic, "glTF", 4) == 0;
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&skipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                     : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) {
+        std::string reason = flattenMessage(err.empty() ? warn : err + "\n" + warn);
+        if (reason.empty()) reason = "tinygltf could not parse the file";
+        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
+    }
+    if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+
+    GltfFlattener flattener(model, path);
+    Status flattened = flattener.run();
+    if (!flattened)
+        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, flattened.error().message);
+    Scene& scene = flattener.scene();
+    SR_TRY(finalizeLoadedScene(scene, path));
+    return std::move(scene);
+}
+
+}  // namespace sr

@@ -1,0 +1,61 @@
+// stats_json.cpp - JSON statistics through nlohmann::json.
+#include "stats_json.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+namespace sr {
+namespace {
+
+nlohmann::json timingJson(const StageTiming& t)
+{
+    return {{"min", t.minMs}, {"median", t.medianMs}, {"max", t.maxMs}};
+}
+
+}  // namespace
+
+nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings, const std::string& scene)
+{
+    nlohmann::json clip = nlohmann::json::array();
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) clip.push_back(out.params.clipFromWorld[c][r]);
+    nlohmann::json stages = nlohmann::json::object();
+    for (const StageTiming& t : out.stages) stages[t.name] = timingJson(t);
+    const RenderStats& s = out.stats;
+    return {
+        {"backend", out.device.backend},
+        {"device", out.device.name},
+        {"driver", out.device.driver},
+        {"scene", scene},
+        {"resolution", {settings.width, settings.height}},
+        {"clip_from_world", clip},
+        {"triangles",
+         {{"in", s.trianglesIn},
+          {"culled", s.culled},
+          {"clipped", s.clipped},
+          {"invalid", s.invalid},
+          {"rasterized", s.rasterized},
+          {"small", s.smallTris},
+          {"big", s.bigTris},
+          {"tiles", s.tiles}}},
+        {"stages_ms", stages},
+        {"gpu_total_ms", timingJson(out.total)},
+        {"peak_device_bytes", out.peakDeviceBytes},
+        {"warmup", settings.warmup},
+        {"repeat", settings.repeat},
+        {"redraws", s.redraws},
+        {"setup_capacity", s.setupCapacity},
+    };
+}
+
+Status writeJson(const std::string& path, const nlohmann::json& json)
+{
+    std::ofstream file(path);
+    if (!file) return makeError(ExitCode::Usage, "cannot write '{}': {}", path, std::strerror(errno));
+    file << json.dump(2) << '\n';
+    if (!file) return makeError(ExitCode::Usage, "cannot write '{}': write failed", path);
+    return okStatus();
+}
+
+}  // namespace sr

@@ -1,0 +1,202 @@
+// image_io_test.cpp - PNG and AOV EXR round trips must be bit exact; failures are one-line errors.
+#include <stdlib.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <tinyexr.h>
+
+#include "image_io.h"
+
+namespace sr {
+namespace {
+
+class ScratchDir {
+public:
+    ScratchDir()
+    {
+        std::string pattern = ::testing::TempDir() + "sr_image_XXXXXX";
+        if (mkdtemp(pattern.data())) path_ = pattern;
+    }
+    ~ScratchDir()
+    {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+    }
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+    std::string path_;
+};
+
+template <typename T>
+void expectOneLineError(const Result<T>& result, const std::string& path)
+{
+    ASSERT_FALSE(result.ok());
+    EXPECT_NE(result.error().message.find("'" + path + "'"), std::string::npos)
+        << result.error().message;
+    EXPECT_EQ(result.error().message.find('\n'), std::string::npos);
+}
+
+float floatFromBits(uint32_t bits)
+{
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+uint32_t bitsOf(float f)
+{
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return bits;
+}
+
+TEST(ImageIo, PngRoundTripIsExact)
+{
+    RgbaImage image;
+    image.width = 37;  // odd sizes catch row-stride mistakes
+    image.height = 23;
+    std::mt19937 rng(1234);
+    for (uint32_t i = 0; i < image.width * image.height; ++i) image.pixels.push_back(rng());
+    image.pixels[0] = 0x000000ffu;            // pure red, transparent
+    image.pixels[1] = 0xff00ff00u;            // pure green, opaque
+    image.pixels[image.width] = 0x80ff0000u;  // first pixel of row 1: blue
+    ScratchDir dir;
+    std::string path = dir.file("round.png");
+    ASSERT_TRUE(writePng(path, image).ok());
+    Result<RgbaImage> back = readPng(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->width, image.width);
+    EXPECT_EQ(back->height, image.height);
+    EXPECT_EQ(back->pixels, image.pixels);
+}
+
+TEST(ImageIo, PngErrors)
+{
+    ScratchDir dir;
+    std::string missing = dir.file("missing.png");
+    expectOneLineError(readPng(missing), missing);
+
+    std::string notPng = dir.file("text.png");
+    std::ofstream(notPng) << "this is not an image\n";
+    expectOneLineError(readPng(notPng), notPng);
+
+    RgbaImage image;
+    image.width = 2;
+    image.height = 2;
+    image.pixels.assign(4, 0xffffffffu);
+    std::string noDir = dir.file("no/such/dir/out.png");
+    expectOneLineError(writePng(noDir, image), noDir);
+
+    image.pixels.pop_back();  // 3 pixels for 2x2
+    std::string wrongSize = dir.file("wrong.png");
+    expectOneLineError(writePng(wrongSize, image), wrongSize);
+}
+
+TEST(ImageIo, AovExrRoundTripIsBitExact)
+{
+    AovImage aov;
+    aov.width = 19;
+    aov.height = 11;
+    size_t n = size_t(aov.width) * aov.height;
+    std::mt19937 rng(99);
+    for (size_t i = 0; i < n; ++i) {
+        aov.id.push_back(rng());
+        // Random bit patterns cover denormals, infinities and NaNs with payloads.
+        aov.depth.push_back(floatFromBits(rng()));
+    }
+    aov.id[0] = 0xffffffffu;
+    aov.id[1] = 0u;
+    aov.id[2] = 0x7fffffffu;
+    aov.depth[0] = 1.0f;
+    aov.depth[1] = 0.0f;
+    aov.depth[2] = floatFromBits(0x80000000u);  // -0
+    aov.depth[3] = floatFromBits(0x00000001u);  // smallest denormal
+    aov.depth[4] = floatFromBits(0x7fc00001u);  // quiet NaN with payload
+    aov.depth[5] = 0.99999994f;                 // largest float below 1
+
+    ScratchDir dir;
+    std::string path = dir.file("aov.exr");
+    Status written = writeAovExr(path, aov);
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    Result<AovImage> back = readAovExr(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->width, aov.width);
+    EXPECT_EQ(back->height, aov.height);
+    EXPECT_EQ(back->id, aov.id);
+    ASSERT_EQ(back->depth.size(), n);
+    for (size_t i = 0; i < n; ++i)
+        ASSERT_EQ(bitsOf(back->depth[i]), bitsOf(aov.depth[i])) << "pixel " << i;
+}
+
+TEST(ImageIo, AovExrIsAnOrdinaryScanlineFile)
+{
+    AovImage aov;
+    aov.width = 4;
+    aov.height = 3;
+    aov.id.assign(12, 7u);
+    aov.depth.assign(12, 0.5f);
+    ScratchDir dir;
+    std::string path = dir.file("layout.exr");
+    ASSERT_TRUE(writeAovExr(path, aov).ok());
+
+    // Read the header with tinyexr directly: two channels, the expected types, lossless.
+    EXRVersion version;
+    ASSERT_EQ(ParseEXRVersionFromFile(&version, path.c_str()), TINYEXR_SUCCESS);
+    EXPECT_FALSE(version.tiled);
+    EXPECT_FALSE(version.multipart);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    ASSERT_EQ(ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err), TINYEXR_SUCCESS);
+    ASSERT_EQ(header.num_channels, 2);
+    EXPECT_STREQ(header.channels[0].name, "Z");
+    EXPECT_EQ(header.pixel_types[0], TINYEXR_PIXELTYPE_FLOAT);
+    EXPECT_STREQ(header.channels[1].name, "id");
+    EXPECT_EQ(header.pixel_types[1], TINYEXR_PIXELTYPE_UINT);
+    EXPECT_TRUE(header.compression_type == TINYEXR_COMPRESSIONTYPE_ZIP ||
+                header.compression_type == TINYEXR_COMPRESSIONTYPE_NONE);
+    FreeEXRHeader(&header);
+}
+
+TEST(ImageIo, AovExrErrors)
+{
+    ScratchDir dir;
+    std::string missing = dir.file("missing.exr");
+    expectOneLineError(readAovExr(missing), missing);
+
+    std::string notExr = dir.file("text.exr");
+    std::ofstream(notExr) << "not an exr\n";
+    expectOneLineError(readAovExr(notExr), notExr);
+
+    // A valid EXR without the id channel (plain RGBA written by tinyexr).
+    std::string rgba = dir.file("rgba.exr");
+    std::vector<float> pixels(2 * 2 * 4, 0.25f);
+    const char* err = nullptr;
+    ASSERT_EQ(SaveEXR(pixels.data(), 2, 2, 4, 0, rgba.c_str(), &err), TINYEXR_SUCCESS);
+    Result<AovImage> noId = readAovExr(rgba);
+    expectOneLineError(noId, rgba);
+    if (!noId.ok()) {
+        EXPECT_NE(noId.error().message.find("'id'"), std::string::npos);
+    }
+
+    AovImage aov;
+    aov.width = 2;
+    aov.height = 2;
+    aov.id.assign(4, 1u);
+    aov.depth.assign(3, 1.0f);
+    std::string wrongSize = dir.file("wrong.exr");
+    expectOneLineError(Result<Unit>(writeAovExr(wrongSize, aov)), wrongSize);
+
+    aov.depth.assign(4, 1.0f);
+    std::string noDir = dir.file("no/such/dir/out.exr");
+    expectOneLineError(Result<Unit>(writeAovExr(noDir, aov)), noDir);
+}
+
+}  // namespace
+}  // namespace sr

@@ -1,0 +1,280 @@
+// render_test.cpp - the whole pipeline end to end on each backend (Vulkan on lavapipe here, CUDA
+// where a GPU exists), checked against analytic coverage and depth, plus the `raster` command line.
+// A missing backend fails these tests unless SR_ALLOW_MISSING_BACKENDS names it.
+#include <cmath>
+#include <fstream>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+class RenderTest : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override
+    {
+        bool skip = false;
+        device_ = openBackend(GetParam(), skip);
+        if (skip) GTEST_SKIP() << GetParam() << " absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        ASSERT_TRUE(device_);
+    }
+
+    RenderOutput render(const Scene& scene, const RenderSettings& settings,
+                        const CameraMatrices& camera = identityCamera())
+    {
+        auto out = renderScene(*device_, scene, camera, settings);
+        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
+        return out.ok() ? std::move(*out) : RenderOutput{};
+    }
+
+    std::unique_ptr<ComputeDevice> device_;
+};
+
+// Two triangles forming an axis-aligned rectangle in NDC at depth z.
+std::vector<glm::vec4> quad(float x0, float y0, float x1, float y1, float z)
+{
+    return {{x0, y0, z, 1}, {x1, y0, z, 1}, {x1, y1, z, 1}, {x0, y0, z, 1}, {x1, y1, z, 1}, {x0, y1, z, 1}};
+}
+
+template <typename T>
+std::vector<T> concat(std::vector<T> a, const std::vector<T>& b)
+{
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+TEST_P(RenderTest, QuadCoversExactlyTheLeftHalf)
+{
+    const uint32_t w = 64, h = 48;
+    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 0, 1, 0.5f)), testSettings(w, h));
+    ASSERT_EQ(out.aov.id.size(), size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            uint32_t id = out.aov.id[y * w + x];
+            if (x < w / 2) {
+                ASSERT_TRUE(id == 0 || id == 1) << x << "," << y;
+                ASSERT_EQ(out.aov.depth[y * w + x], 0.5f);
+            } else {
+                ASSERT_EQ(id, EMPTY_ID) << x << "," << y;
+                ASSERT_EQ(out.aov.depth[y * w + x], 1.0f);
+            }
+        }
+    EXPECT_EQ(out.stats.rasterized, 2u);
+    EXPECT_EQ(out.stats.culled, 0u);
+}
+
+TEST_P(RenderTest, NearerSurfaceWinsWhateverTheOrder)
+{
+    const uint32_t w = 40, h = 40;
+    for (bool nearFirst : {true, false}) {
+        auto nearQuad = quad(-1, -1, 1, 1, 0.3f), farQuad = quad(-0.5f, -1, 1, 0.5f, 0.7f);
+        Scene scene = clipSpaceScene(nearFirst ? concat(nearQuad, farQuad) : concat(farQuad, nearQuad));
+        RenderOutput out = render(scene, testSettings(w, h));
+        uint32_t nearBase = nearFirst ? 0 : 2;
+        for (size_t i = 0; i < out.aov.id.size(); ++i) {
+            ASSERT_TRUE(out.aov.id[i] == nearBase || out.aov.id[i] == nearBase + 1) << i;
+            ASSERT_EQ(out.aov.depth[i], 0.3f);
+        }
+    }
+}
+
+TEST_P(RenderTest, EqualDepthsResolveToTheLowestTriangleId)
+{
+    Scene scene = clipSpaceScene(concat(quad(-1, -1, 1, 1, 0.5f), quad(-1, -1, 1, 1, 0.5f)));
+    RenderOutput out = render(scene, testSettings(32, 32));
+    for (uint32_t id : out.aov.id) ASSERT_TRUE(id == 0 || id == 1);
+}
+
+TEST_P(RenderTest, FrontBackAndDoubleSidedCulling)
+{
+    // Left: counter-clockwise on screen (front); right: clockwise (back). NDC y = -1 is the top
+    // row.
+    std::vector<glm::vec4> tris = {{-0.9f, -0.8f, 0.5f, 1}, {-0.9f, 0.8f, 0.5f, 1}, {-0.1f, -0.8f, 0.5f, 1},
+                                   {0.1f, -0.8f, 0.5f, 1},  {0.9f, -0.8f, 0.5f, 1}, {0.1f, 0.8f, 0.5f, 1}};
+    RenderSettings s = testSettings(64, 64);
+    s.cullMode = CULL_BACK;
+    RenderOutput back = render(clipSpaceScene(tris), s);
+    EXPECT_GT(countId(back.aov, 0), 100u);
+    EXPECT_EQ(countId(back.aov, 1), 0u);
+    s.cullMode = CULL_FRONT;
+    RenderOutput front = render(clipSpaceScene(tris), s);
+    EXPECT_EQ(countId(front.aov, 0), 0u);
+    EXPECT_EQ(countId(front.aov, 1), countId(back.aov, 0));  // mirror images: same pixel count
+    RenderOutput twoSided = render(clipSpaceScene(tris, {TRI_FLAG_DOUBLE_SIDED, TRI_FLAG_DOUBLE_SIDED}), s);
+    EXPECT_EQ(countId(twoSided.aov, 0), countId(back.aov, 0));
+    EXPECT_EQ(countId(twoSided.aov, 1), countId(front.aov, 1));
+}
+
+// A ground plane y = -1 under a camera at the origin looking down -z, reaching far behind the
+// camera (vertices with w < 0). With a 90-degree fov the horizon is the middle row: exactly the
+// lower half of the image is covered, with no inside-out or exploding triangles.
+TEST_P(RenderTest, GroundPlaneThroughTheNearPlaneCoversTheLowerHalf)
+{
+    Scene scene;
+    const float e = 1e4f;
+    for (glm::vec4 p : {glm::vec4(-e, -1, 10, 1), glm::vec4(e, -1, 10, 1), glm::vec4(e, -1, -e, 1),
+                        glm::vec4(-e, -1, -e, 1)}) {
+        scene.positions.push_back(p);
+        scene.normals.push_back(glm::vec4(0, 1, 0, 0));
+    }
+    scene.indices = {0, 1, 2, 0, 2, 3};
+    scene.triFlags = {0, 0};
+    CameraMatrices camera;
+    camera.znear = 0.1f;
+    camera.zfar = 1e6f;
+    camera.clipFromView = perspectiveVulkan(float(M_PI / 2), 1.0f, camera.znear, camera.zfar);
+    camera.clipFromWorld = camera.clipFromView;
+    const uint32_t n = 64;
+    RenderSettings s = testSettings(n, n);
+    s.cullMode = CULL_BACK;  // the plane faces up, towards the camera: front-facing
+    RenderOutput out = render(scene, s, camera);
+    EXPECT_EQ(out.stats.clipped, 2u);
+    for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+            bool below = y >= n / 2;
+            ASSERT_EQ(out.aov.id[y * n + x] != EMPTY_ID, below) << x << "," << y;
+            if (below) {
+                // Analytic depth of the plane at this pixel centre: view distance d = 1 / ndcY. Vertices
+                // snap to 1/256 pixel, which may shift the plane by up to that much: allow the depth
+                // change over one subpixel on top of float rounding.
+                auto planeDepth = [&](float row) {
+                    float ndcY = (row + 0.5f) * 2.0f / float(n) - 1.0f;
+                    glm::vec4 c = camera.clipFromView * glm::vec4(0, -1, -1.0f / ndcY, 1);
+                    return c.z / c.w;
+                };
+                float expected = planeDepth(float(y));
+                float tolerance = 1e-6f + std::abs(planeDepth(float(y) + 1.0f / 256.0f) - expected);
+                ASSERT_NEAR(out.aov.depth[y * n + x], expected, tolerance) << x << "," << y;
+            }
+        }
+}
+
+TEST_P(RenderTest, HugeTriangleCoversEveryPixelOnce)
+{
+    for (float size : {1e3f, 1e5f, 1e7f}) {
+        Scene scene = clipSpaceScene(
+            {{-size, -size, 0.25f, 1}, {size * 2, -size, 0.25f, 1}, {-size, size * 2, 0.25f, 1}});
+        RenderOutput out = render(scene, testSettings(48, 32));
+        EXPECT_EQ(countId(out.aov, 0), 48u * 32u) << size;
+        for (float d : out.aov.depth) ASSERT_EQ(d, 0.25f);
+    }
+}
+
+TEST_P(RenderTest, NonFiniteVerticesAreDroppedAndTheRestDrawn)
+{
+    auto tris = concat(quad(-1, -1, 0, 1, 0.5f), std::vector<glm::vec4>{{NAN, 0, 0.5f, 1},
+                                                                        {1, 0, 0.5f, 1},
+                                                                        {1, 1, 0.5f, 1},
+                                                                        {0, 0, 0.5f, 1},
+                                                                        {INFINITY, 0, 0.5f, 1},
+                                                                        {1, 1, 0.5f, 1}});
+    RenderOutput out = render(clipSpaceScene(tris), testSettings(32, 32));
+    EXPECT_EQ(out.stats.invalid, 2u);
+    EXPECT_EQ(countId(out.aov, 0) + countId(out.aov, 1), 32u * 16u);
+    EXPECT_EQ(countId(out.aov, EMPTY_ID), 32u * 16u);
+}
+
+TEST_P(RenderTest, OverflowingListsGrowAndRedrawIdentically)
+{
+    Scene scene = builtinScene();
+    auto camera = resolveCamera(CameraSpec{}, scene, 96, 96);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings s = testSettings(96, 96);
+    s.cullMode = CULL_BACK;
+    RenderOutput normal = render(scene, s, *camera);
+    s.initialSetupCapacity = 1;
+    RenderOutput tiny = render(scene, s, *camera);
+    EXPECT_EQ(normal.stats.redraws, 0u);
+    EXPECT_GE(tiny.stats.redraws, 1u);
+    EXPECT_EQ(tiny.aov.id, normal.aov.id);
+    EXPECT_EQ(tiny.aov.depth, normal.aov.depth);
+    EXPECT_EQ(tiny.color.pixels, normal.color.pixels);
+}
+
+TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
+{
+    Scene scene = builtinScene();
+    auto camera = resolveCamera(CameraSpec{}, scene, 128, 96);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings s = testSettings(128, 96);
+    s.cullMode = CULL_BACK;
+    RenderOutput first = render(scene, s, *camera);
+    size_t covered = first.aov.id.size() - countId(first.aov, EMPTY_ID);
+    EXPECT_GT(covered, first.aov.id.size() / 10);
+    std::set<uint32_t> colours(first.color.pixels.begin(), first.color.pixels.end());
+    EXPECT_GT(colours.size(), 100u);
+    std::set<uint32_t> ids(first.aov.id.begin(), first.aov.id.end());
+    EXPECT_GT(ids.size(), 200u);
+    for (int run = 0; run < 4; ++run) {
+        RenderOutput again = render(scene, s, *camera);
+        ASSERT_EQ(again.aov.id, first.aov.id);
+        ASSERT_EQ(again.aov.depth, first.aov.depth);
+        ASSERT_EQ(again.color.pixels, first.color.pixels);
+    }
+}
+
+TEST_P(RenderTest, TimingsAndMemoryAreReported)
+{
+    RenderSettings s = testSettings(32, 32);
+    s.warmup = 1;
+    s.repeat = 3;
+    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 1, 1, 0.5f)), s);
+    ASSERT_EQ(out.stages.size(), size_t(STAGE_COUNT));
+    for (const StageTiming& t : out.stages) {
+        EXPECT_LE(t.minMs, t.medianMs);
+        EXPECT_LE(t.medianMs, t.maxMs);
+        EXPECT_GE(t.minMs, 0.0);
+    }
+    EXPECT_GE(out.peakDeviceBytes, 32u * 32u * 12u);  // visibility + framebuffer at least
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RenderTest, ::testing::Values("vulkan", "cuda"),
+                         [](const auto& info) { return info.param; });
+
+// ---- the `raster` tool
+// ---------------------------------------------------------------------------
+
+TEST(RasterTool, RendersTheBuiltinSceneWithAllOutputs)
+{
+    std::string dir = ::testing::TempDir();
+    ToolRun run = runTool("render --backend vulkan --width 96 --height 64 -o " + dir + "t.png --aov " + dir +
+                          "t.exr --stats " + dir + "t.json --repeat 2");
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    auto aov = readAovExr(dir + "t.exr");
+    ASSERT_TRUE(aov.ok()) << aov.error().message;
+    EXPECT_EQ(aov->width, 96u);
+    auto png = readPng(dir + "t.png");
+    ASSERT_TRUE(png.ok());
+    EXPECT_EQ(png->height, 64u);
+    std::ifstream in(dir + "t.json");
+    nlohmann::json stats = nlohmann::json::parse(in);
+    EXPECT_EQ(stats["backend"], "vulkan");
+    EXPECT_EQ(stats["resolution"][0], 96);
+    EXPECT_EQ(stats["clip_from_world"].size(), 16u);
+    EXPECT_GT(stats["triangles"]["in"].get<int>(), 1000);
+    EXPECT_TRUE(stats["stages_ms"].contains("raster_tiles"));
+    EXPECT_GT(stats["peak_device_bytes"].get<int64_t>(), 0);
+}
+
+TEST(RasterTool, BadInputGivesOneLineAndExitCode2)
+{
+    std::string dir = ::testing::TempDir();
+    std::ofstream(dir + "broken.gltf") << "{ \"asset\": {\"version\": \"2.0\"}, \"meshes\": [ {";
+    std::ofstream(dir + "garbage.obj") << "v 1 2\nf 1 2 99999\nf a b c\n";
+    for (std::string args : std::vector<std::string>{"render /nonexistent/scene.gltf", "render " + dir + "broken.gltf",
+                             "render " + dir + "garbage.obj", "render --width 0", "render --camera orbit:1,2",
+                             "render --backend metal", "render --light-dir 1,2"}) {
+        ToolRun run = runTool(args + " -o " + dir + "never.png");
+        EXPECT_EQ(run.exitCode, 2) << args << ": " << run.stderrText;
+        EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1)
+            << args << ": " << run.stderrText;
+        EXPECT_EQ(run.stderrText.rfind("raster: error: ", 0), 0u) << run.stderrText;
+    }
+}
+
+}  // namespace
+}  // namespace sr::test

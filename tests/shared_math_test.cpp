@@ -1,0 +1,270 @@
+// shared_math_test.cpp - the maths of common/raster_shared.h, run on the host against hand-derived
+// values: deterministic reciprocal, snapping and its rounding, edge functions and the top-left
+// rule, culling, clipping, depth interpolation, perspective-correct barycentrics and the visibility
+// key.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "raster_shared.h"
+
+namespace sr {
+namespace {
+
+constexpr uint32_t kSize = 256;  // power of two: window <-> NDC conversions below are exact
+
+// Clip-space vertex (w = 1) landing exactly on window position (x, y) of a kSize x kSize image.
+vec4 atWindow(float x, float y, float z = 0.5f)
+{
+    return vec4(x * 2.0f / float(kSize) - 1.0f, y * 2.0f / float(kSize) - 1.0f, z, 1.0f);
+}
+
+// Pixels of a kSize^2 image covered by the triangle (window coordinates), in row-major order.
+std::vector<int> coveredPixels(vec2 a, vec2 b, vec2 c)
+{
+    TriSetup t;
+    std::vector<int> pixels;
+    if (!setupTriangle(atWindow(a.x, a.y), atWindow(b.x, b.y), atWindow(c.x, c.y), 0, true, CULL_NONE, kSize,
+                       kSize, t))
+        return pixels;
+    ivec4 bounds = setupPixelBounds(t, kSize, kSize);
+    for (int y = bounds.y; y <= bounds.w; ++y)
+        for (int x = bounds.x; x <= bounds.z; ++x) {
+            float depth;
+            if (rasterPixel(t, x, y, depth)) pixels.push_back(y * int(kSize) + x);
+        }
+    return pixels;
+}
+
+TEST(SharedMath, RecipDetIsExactForPowersOfTwoAndWithinOneUlpOtherwise)
+{
+    for (float b : {1.0f, 2.0f, 0.5f, 1024.0f, -0.25f}) EXPECT_EQ(recipDet(b), 1.0f / b) << b;
+    for (float b : {3.0f, 7.0f, 1e-3f, 123456.7f, -5.0f, 0.3f, 1.5e30f, 6e-30f}) {
+        double exact = 1.0 / double(b);
+        EXPECT_LE(std::abs(double(recipDet(b)) - exact), std::abs(exact) * std::ldexp(1.0, -23)) << b;
+    }
+    EXPECT_TRUE(std::isinf(recipDet(0.0f)));
+    EXPECT_EQ(recipDet(1e38f), 0.0f);
+    EXPECT_EQ(divDet(6.0f, 2.0f), 3.0f);
+}
+
+TEST(SharedMath, RecipAreaMatchesDivision)
+{
+    for (int64_t area : {int64_t(1), int64_t(3), int64_t(255), int64_t(65536), int64_t(123456789),
+                         int64_t(1) << 40, (int64_t(1) << 60) + 12345}) {
+        double exact = 1.0 / double(area);
+        EXPECT_LE(std::abs(double(recipArea(area)) - exact), exact * std::ldexp(1.0, -23)) << area;
+    }
+}
+
+TEST(SharedMath, SnapRoundsHalfSubpixelsToEven)
+{
+    ivec2 xy;
+    float z;
+    // 10 + 1/512 px = 2560.5 subpixels -> 2560; 10 + 3/512 px = 2561.5 -> 2562.
+    ASSERT_TRUE(snapVertex(atWindow(10.0f + 1.0f / 512.0f, 7.0f + 3.0f / 512.0f), kSize, kSize, xy, z));
+    EXPECT_EQ(xy.x, 2560);
+    EXPECT_EQ(xy.y, 7 * 256 + 2);
+    ASSERT_TRUE(snapVertex(atWindow(10.0f + 3.0f / 512.0f, 0.0f), kSize, kSize, xy, z));
+    EXPECT_EQ(xy.x, 2562);
+    EXPECT_EQ(z, 0.5f);
+    // w <= 0 never snaps: such vertices must have been clipped away.
+    EXPECT_FALSE(snapVertex(vec4(0.0f, 0.0f, 0.5f, -1.0f), kSize, kSize, xy, z));
+    EXPECT_FALSE(snapVertex(vec4(0.0f, 0.0f, 0.0f, 0.0f), kSize, kSize, xy, z));
+}
+
+TEST(SharedMath, EdgeFunctionAndAreaByHand)
+{
+    // Edge (0,0)->(4,0) at (1,2): 4*2 - 0*1 = 8; area2 of (0,0),(4,0),(0,4) = 16 (clockwise in
+    // y-down).
+    EXPECT_EQ(edgeFunction(ivec2(0, 0), ivec2(4, 0), ivec2(1, 2)), 8);
+    EXPECT_EQ(signedArea2(ivec2(0, 0), ivec2(4, 0), ivec2(0, 4)), 16);
+    EXPECT_EQ(signedArea2(ivec2(0, 0), ivec2(0, 4), ivec2(4, 0)), -16);
+    // Products near 2^58 stay exact in int64.
+    int64_t big = int64_t(1) << 29;
+    EXPECT_EQ(edgeFunction(ivec2(-int(big), 0), ivec2(int(big), 0), ivec2(0, int(big))), (2 * big) * big);
+    EXPECT_TRUE(isTopLeftEdge(ivec2(0, 0), ivec2(4, 0)));   // top: horizontal, interior below
+    EXPECT_TRUE(isTopLeftEdge(ivec2(0, 4), ivec2(0, 0)));   // left: going up in y-down
+    EXPECT_FALSE(isTopLeftEdge(ivec2(4, 0), ivec2(0, 4)));  // right edge
+    EXPECT_FALSE(isTopLeftEdge(ivec2(4, 4), ivec2(0, 4)));  // bottom: horizontal, interior above
+}
+
+// The D3D rasterization-rules example: two triangles sharing the diagonal of a 5x5 pixel square get
+// 15 and 10 pixels; the 5 pixel centres on the diagonal go to the triangle for which it is a left
+// edge.
+TEST(SharedMath, TopLeftRuleSplitsSharedDiagonal)
+{
+    std::vector<int> upper = coveredPixels(vec2(0, 0), vec2(5, 0), vec2(5, 5));
+    std::vector<int> lower = coveredPixels(vec2(0, 5), vec2(0, 0), vec2(5, 5));
+    EXPECT_EQ(upper.size(), 15u);
+    EXPECT_EQ(lower.size(), 10u);
+    for (int p : upper) EXPECT_EQ(std::count(lower.begin(), lower.end(), p), 0) << p;
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(std::count(upper.begin(), upper.end(), i * int(kSize) + i), 1);
+}
+
+TEST(SharedMath, SamplesOnTopAndLeftEdgesAreInsideBottomAndRightAreNot)
+{
+    // Top edge on the centres of row 0 and left edge on the centres of column 0: both included.
+    std::vector<int> a = coveredPixels(vec2(0.5f, 0.5f), vec2(8.5f, 0.5f), vec2(0.5f, 8.5f));
+    // Centres (x+0.5, y+0.5) with x + y <= 7 for the hypotenuse x + y + 1 < 8.5 -> 36 pixels, and
+    // the hypotenuse passes through no centre.
+    EXPECT_EQ(a.size(), 36u);
+    EXPECT_EQ(std::count(a.begin(), a.end(), 0), 1);
+    // The same shape mirrored: bottom edge on the centres of row 8 and right edge on column 8:
+    // excluded.
+    std::vector<int> b = coveredPixels(vec2(8.5f, 8.5f), vec2(0.5f, 8.5f), vec2(8.5f, 0.5f));
+    for (int p : b) {
+        EXPECT_NE(p / int(kSize), 8);
+        EXPECT_NE(p % int(kSize), 8);
+    }
+    // Centres strictly inside: x + y > 8 with x, y <= 7 -> 28 pixels.
+    EXPECT_EQ(b.size(), 28u);
+}
+
+// A closed fan of ~1,000 slivers around a rectangle with vertices on the 1/256 grid covers every
+// pixel centre inside exactly once: no cracks, no double hits.
+TEST(SharedMath, ClosedFanIsWatertight)
+{
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<float> step(0.0f, 1.0f);
+    auto snap = [](float v) { return std::round(v * 256.0f) / 256.0f; };
+    std::vector<vec2> ring;
+    const float x0 = 20, y0 = 20, x1 = 180, y1 = 140;
+    for (float x = x0; x < x1; x += step(rng)) ring.push_back(vec2(snap(x), y0));
+    for (float y = y0; y < y1; y += step(rng)) ring.push_back(vec2(x1, snap(y)));
+    for (float x = x1; x > x0; x -= step(rng)) ring.push_back(vec2(snap(x), y1));
+    for (float y = y1; y > y0; y -= step(rng)) ring.push_back(vec2(x0, snap(y)));
+    ASSERT_GT(ring.size(), 500u);
+    vec2 centre(snap(97.3f), snap(61.7f));
+    std::vector<int> hits(kSize * kSize, 0);
+    for (size_t i = 0; i < ring.size(); ++i)
+        for (int p : coveredPixels(centre, ring[i], ring[(i + 1) % ring.size()])) ++hits[p];
+    for (int y = 0; y < int(kSize); ++y)
+        for (int x = 0; x < int(kSize); ++x) {
+            bool inside = x >= int(x0) && x < int(x1) && y >= int(y0) && y < int(y1);
+            ASSERT_EQ(hits[y * kSize + x], inside ? 1 : 0) << x << "," << y;
+        }
+}
+
+TEST(SharedMath, ZeroAreaAndFacingCulling)
+{
+    TriSetup t;
+    // Collinear after snapping.
+    EXPECT_FALSE(
+        setupTriangle(atWindow(1, 1), atWindow(5, 5), atWindow(9, 9), 0, false, CULL_NONE, kSize, kSize, t));
+    // Counter-clockwise on screen (front face): (0,0) -> (0,8) -> (8,0) in y-down.
+    vec4 a = atWindow(0, 0), b = atWindow(0, 8), c = atWindow(8, 0);
+    EXPECT_TRUE(setupTriangle(a, b, c, 0, false, CULL_BACK, kSize, kSize, t));
+    EXPECT_FALSE(setupTriangle(a, b, c, 0, false, CULL_FRONT, kSize, kSize, t));
+    EXPECT_FALSE(setupTriangle(a, c, b, 0, false, CULL_BACK, kSize, kSize, t));
+    EXPECT_TRUE(setupTriangle(a, c, b, 0, false, CULL_FRONT, kSize, kSize, t));
+    EXPECT_TRUE(setupTriangle(a, c, b, 0, true, CULL_BACK, kSize, kSize, t));  // double-sided
+    // Between pixel centres: a sliver inside one pixel covers no centre.
+    EXPECT_FALSE(setupTriangle(atWindow(3.1f, 3.1f), atWindow(3.2f, 3.1f), atWindow(3.1f, 3.2f), 0, true,
+                               CULL_NONE, kSize, kSize, t));
+}
+
+TEST(SharedMath, DepthIsLinearInScreenSpace)
+{
+    TriSetup t;
+    ASSERT_TRUE(setupTriangle(atWindow(0, 0, 0.2f), atWindow(64, 0, 0.6f), atWindow(0, 64, 0.4f), 0, true,
+                              CULL_NONE, kSize, kSize, t));
+    for (int y = 0; y < 60; y += 7)
+        for (int x = 0; x < 60 - y; x += 5) {
+            float depth;
+            ASSERT_TRUE(rasterPixel(t, x, y, depth));
+            double expected = 0.2 + 0.4 * (x + 0.5) / 64.0 + 0.2 * (y + 0.5) / 64.0;
+            EXPECT_NEAR(depth, expected, 1e-6) << x << "," << y;
+        }
+}
+
+TEST(SharedMath, PerspectiveBarycentricsRecoverTheWeightsOfA3DPoint)
+{
+    // A simple projection: clip = (x, y, z + 2, -z), i.e. w is the view depth.
+    auto project = [](vec3 p) { return vec4(p.x, p.y, p.z + 2.0f, -p.z); };
+    vec3 v0(-1.0f, -0.5f, -2.0f), v1(2.0f, -1.0f, -9.0f), v2(0.5f, 1.5f, -4.0f);
+    vec3 weights(0.2f, 0.3f, 0.5f);
+    vec3 q = v0 * weights.x + v1 * weights.y + v2 * weights.z;
+    vec4 cq = project(q);
+    vec3 b = perspectiveBarycentrics(project(v0), project(v1), project(v2), vec2(cq.x / cq.w, cq.y / cq.w));
+    EXPECT_NEAR(b.x, 0.2f, 1e-5f);
+    EXPECT_NEAR(b.y, 0.3f, 1e-5f);
+    EXPECT_NEAR(b.z, 0.5f, 1e-5f);
+    // Screen-space (affine) weights differ markedly here, so the test can tell the two apart.
+    EXPECT_GT(std::abs(cq.x / cq.w - (0.2f * v0.x / 2.0f + 0.3f * v1.x / 9.0f + 0.5f * v2.x / 4.0f)), 0.01f);
+}
+
+TEST(SharedMath, NearPlaneClipCutsAtTheExpectedPoint)
+{
+    vec4 poly[MAX_CLIP_VERTS];
+    vec4 guard(1000.0f, 1000.0f, 0.0f, 0.0f);
+    vec4 c0(0.0f, 0.0f, 0.5f, 1.0f), c1(0.5f, 0.0f, 0.5f, 1.0f), c2(0.0f, 0.5f, -2.0f, -1.0f);
+    uint count = 0;
+    ASSERT_EQ(prepareTriangle(c0, c1, c2, guard, poly, count), PREPARE_CLIPPED);
+    ASSERT_EQ(count, 4u);
+    // Edge c1 -> c2 crosses z = 0 at t = 0.5 / 2.5 = 0.2: (0.4, 0.1, 0, 0.6).
+    bool found = false;
+    for (uint i = 0; i < count; ++i) {
+        EXPECT_GE(poly[i].z, -1e-6f);
+        EXPECT_GT(poly[i].w, 0.0f);
+        if (std::abs(poly[i].x - 0.4f) < 1e-6f && std::abs(poly[i].y - 0.1f) < 1e-6f &&
+            std::abs(poly[i].w - 0.6f) < 1e-6f)
+            found = true;
+    }
+    EXPECT_TRUE(found);
+    // All three vertices behind the camera: nothing left.
+    EXPECT_EQ(prepareTriangle(vec4(0, 0, -1, -1), vec4(1, 0, -1, -1), vec4(0, 1, -1, -1), guard, poly, count),
+              PREPARE_CULLED);
+    EXPECT_EQ(prepareTriangle(vec4(NAN, 0, 0.5f, 1), c1, c0, guard, poly, count), PREPARE_INVALID);
+    EXPECT_EQ(
+        prepareTriangle(vec4(2, 0, 0.5f, 1), vec4(3, 0, 0.5f, 1), vec4(2, 1, 0.5f, 1), guard, poly, count),
+        PREPARE_CULLED);
+}
+
+TEST(SharedMath, SharedClippedEdgeGivesBitIdenticalPoints)
+{
+    vec4 guard(1000.0f, 1000.0f, 0.0f, 0.0f);
+    vec4 a(0.3f, -0.7f, 0.9f, 1.3f), b(-0.2f, 0.4f, -1.7f, -0.6f);
+    vec4 c(0.9f, 0.8f, 0.2f, 1.1f), d(-0.9f, -0.8f, 0.4f, 0.9f);
+    vec4 p[MAX_CLIP_VERTS] = {a, b, c};
+    vec4 q[MAX_CLIP_VERTS] = {b, a, d};
+    uint n = clipPolygonAgainstPlane(p, 3, 0, guard);
+    uint m = clipPolygonAgainstPlane(q, 3, 0, guard);
+    int shared = 0;
+    for (uint i = 0; i < n; ++i)
+        for (uint j = 0; j < m; ++j)
+            if (std::memcmp(&p[i], &q[j], sizeof(vec4)) == 0) ++shared;
+    EXPECT_EQ(shared, 2);  // vertex a and the cut point on edge a-b
+}
+
+TEST(SharedMath, VisibilityKeyOrdersByDepthThenId)
+{
+    EXPECT_LT(packVisibility(0.25f, 900), packVisibility(0.5f, 1));
+    EXPECT_LT(packVisibility(0.5f, 1), packVisibility(0.5f, 2));
+    EXPECT_LT(packVisibility(1.0f, 0xfffffffeu), ~uint64_t(0));
+    EXPECT_EQ(visibilityId(packVisibility(0.75f, 1234)), 1234u);
+    EXPECT_EQ(visibilityDepth(packVisibility(0.75f, 1234)), 0.75f);
+    EXPECT_EQ(visibilityId(~uint64_t(0)), EMPTY_ID);
+    EXPECT_EQ(visibilityDepth(~uint64_t(0)), 1.0f);
+}
+
+TEST(SharedMath, PixelSpanFindsCentresInsideTheRange)
+{
+    // Centres of pixels 2, 3 lie at 640 and 896 subpixels.
+    EXPECT_EQ(pixelSpan(640, 896, 100), ivec2(2, 3));
+    EXPECT_EQ(pixelSpan(641, 895, 100), ivec2(3, 2));  // between centres: empty
+    EXPECT_EQ(pixelSpan(-5000, 100000, 100), ivec2(0, 99));
+}
+
+TEST(SharedMath, SrgbEncodingEndpoints)
+{
+    EXPECT_EQ(packRgba8(vec3(0.0f)), 0xff000000u);
+    EXPECT_EQ(packRgba8(vec3(1.0f)), 0xffffffffu);
+    // Linear 0.5 encodes to sRGB 0.7354 -> 188.
+    EXPECT_EQ(packRgba8(vec3(0.5f, 0.0f, 0.0f)) & 0xffu, 188u);
+}
+
+}  // namespace
+}  // namespace sr

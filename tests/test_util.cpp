@@ -1,0 +1,97 @@
+// test_util.cpp - see test_util.h.
+#include "test_util.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace sr::test {
+
+std::unique_ptr<ComputeDevice> openBackend(const std::string& backend, bool& skip)
+{
+    skip = false;
+    setenv("SR_VULKAN_VALIDATION", "1", 0);
+    auto device = backend == "cuda" ? makeCudaDevice(-1) : makeVulkanDevice(-1);
+    if (device) return std::move(*device);
+    const char* allowed = std::getenv("SR_ALLOW_MISSING_BACKENDS");
+    std::string list = allowed ? std::string(",") + allowed + "," : "";
+    if (list.find("," + backend + ",") != std::string::npos) {
+        skip = true;
+        return nullptr;
+    }
+    ADD_FAILURE() << "backend " << backend << " is required but unavailable: " << device.error().message
+                  << " (set SR_ALLOW_MISSING_BACKENDS=" << backend << " to allow its absence)";
+    return nullptr;
+}
+
+Scene clipSpaceScene(const std::vector<glm::vec4>& corners, const std::vector<uint32_t>& flags)
+{
+    Scene scene;
+    for (size_t i = 0; i < corners.size(); ++i) {
+        scene.positions.push_back(corners[i]);
+        scene.normals.push_back(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+        scene.indices.push_back(uint32_t(i));
+    }
+    scene.triFlags = flags.empty() ? std::vector<uint32_t>(corners.size() / 3, 0u) : flags;
+    scene.boundsMin = glm::vec3(-1.0f);
+    scene.boundsMax = glm::vec3(1.0f);
+    return scene;
+}
+
+CameraMatrices identityCamera()
+{
+    CameraMatrices camera;
+    camera.znear = 0.0f;
+    camera.zfar = 1.0f;
+    return camera;
+}
+
+RenderSettings testSettings(uint32_t width, uint32_t height)
+{
+    RenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.warmup = 0;
+    s.repeat = 1;
+    s.cullMode = CULL_NONE;
+    return s;
+}
+
+size_t countId(const AovImage& aov, uint32_t id)
+{
+    size_t n = 0;
+    for (uint32_t v : aov.id) n += v == id;
+    return n;
+}
+
+namespace {
+std::string readFile(const std::string& path)
+{
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+}  // namespace
+
+ToolRun runTool(const std::string& args)
+{
+    // ctest runs tests in parallel processes: name the capture files after this process and call.
+    static int calls = 0;
+    std::string stem = ::testing::TempDir() + "raster_tool_" + std::to_string(getpid()) + "_" + std::to_string(calls++);
+    std::string out = stem + ".out";
+    std::string err = stem + ".err";
+    // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
+    const char* exe = std::getenv("SR_RASTER_EXE");
+    std::string cmd = std::string(exe ? exe : SR_RASTER_EXE) + " " + args + " >" + out + " 2>" + err;
+    int status = std::system(cmd.c_str());
+    ToolRun run;
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.stdoutText = readFile(out);
+    run.stderrText = readFile(err);
+    return run;
+}
+
+}  // namespace sr::test

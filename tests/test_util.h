@@ -1,0 +1,43 @@
+// test_util.h - helpers shared by the test files: backend selection with the explicit
+// missing-backend switch, scenes built straight from clip-space triangles, and small image queries.
+#ifndef RASTER_TEST_UTIL_H
+#define RASTER_TEST_UTIL_H
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "compute_device.h"
+#include "renderer.h"
+#include "scene.h"
+
+namespace sr::test {
+
+// The backend named `backend` ("vulkan" or "cuda"). When it cannot be created the test FAILS, unless
+// the environment variable SR_ALLOW_MISSING_BACKENDS lists it (comma-separated, e.g. "cuda"); then
+// `skip` is set and the caller must GTEST_SKIP(). Vulkan runs with validation (errors fail the call).
+std::unique_ptr<ComputeDevice> openBackend(const std::string& backend, bool& skip);
+
+// A scene whose vertex positions are clip coordinates: render it with identityCamera().
+// Each triangle is given as 3 clip-space vec4s; normals face +z, no colours.
+Scene clipSpaceScene(const std::vector<glm::vec4>& corners, const std::vector<uint32_t>& flags = {});
+CameraMatrices identityCamera();
+
+RenderSettings testSettings(uint32_t width, uint32_t height);
+
+// Number of pixels whose id equals `id`.
+size_t countId(const AovImage& aov, uint32_t id);
+
+// Command line of the `raster` tool built next to the tests, with its exit code and stderr.
+struct ToolRun {
+    int exitCode = -1;
+    std::string stdoutText;
+    std::string stderrText;
+};
+ToolRun runTool(const std::string& args);
+
+}  // namespace sr::test
+
+#endif  // RASTER_TEST_UTIL_H
