@@ -82,7 +82,10 @@ SR_FN float roundEven(float x)
     return std::nearbyint(x);
 #endif
 }
-SR_FN bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u; }
+SR_FN bool isFinite(float x)
+{
+    return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u;
+}
 #else  // GLSL
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define SR_FN
@@ -90,7 +93,10 @@ SR_FN bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f
 #define SR_INOUT(T) inout T
 #define SR_ARRAY_INOUT(T, name, N) inout T name[N]
 #define SR_PRECISE precise
-bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u; }
+bool isFinite(float x)
+{
+    return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u;
+}
 #endif
 
 // ---------------------------------------------------------------------------------------------------
@@ -145,8 +151,8 @@ bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000
 #define SMALL_TRI_SPAN 8     // triangles whose pixel bbox is at most this wide and high are small
 #define SUBPIXEL_BITS 8      // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D
 #define SUBPIXEL_SCALE 256
-#define MAX_CLIP_VERTS 9     // a triangle clipped by the 6 planes below has at most 3 + 6 vertices
-#define CLIP_PLANE_COUNT 6   // near, far, and the four guard-band planes
+#define MAX_CLIP_VERTS 9    // a triangle clipped by the 6 planes below has at most 3 + 6 vertices
+#define CLIP_PLANE_COUNT 6  // near, far, and the four guard-band planes
 // Window coordinates are clipped to +-GUARD_BAND_PX around the viewport centre, so |window x| stays
 // below 8192 + 16384 < 2^15 pixels. There a float still resolves half a subpixel (a wider guard band
 // lets float rounding of clipped vertices move edges by more than the 1/256 snap), snapped coordinates
@@ -171,24 +177,24 @@ bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000
 
 // Per-frame constants. std140 in Vulkan: mat4/vec4 first, then 4-byte scalars, 16-byte total multiple.
 struct RasterParams {
-    mat4 clipFromWorld;      // world -> clip; Vulkan conventions: depth 0..1, NDC y = -1 is the top row
-    mat4 viewFromWorld;      // world -> view space (camera at the origin looking down -z)
-    mat4 normalFromWorld;    // inverse transpose of viewFromWorld; only its 3x3 part is used
-    vec4 lightDirView;       // xyz: unit vector towards the light, view space
-    vec4 lightColor;         // rgb: directional light colour; a: ambient intensity
-    vec4 background;         // rgb: linear background colour
-    vec4 shadeExtra;         // x: specular exponent; y, z: view distances mapped to white/black in depth view
-    vec4 guardBand;          // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
-    uint width;              // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
-    uint height;             // framebuffer height in pixels
-    uint vertexCount;        // entries in the per-vertex buffers
-    uint triangleCount;      // entries in BUF_TRI_FLAGS; BUF_INDICES has 3x as many
-    uint cullMode;           // CULL_*
-    uint shadingMode;        // SHADING_*
-    uint hasColors;          // 1 when BUF_COLORS holds vertexCount colours, else colours are white
-    uint setupCapacity;      // capacity of BUF_SETUP_TRIS, BUF_SMALL_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
-    uint rasterGroups;       // groups launched for raster_small and raster_tiles (grid-stride loops)
-    uint reserved0;          // keeps the struct a multiple of 16 bytes
+    mat4 clipFromWorld;    // world -> clip; Vulkan conventions: depth 0..1, NDC y = -1 is the top row
+    mat4 viewFromWorld;    // world -> view space (camera at the origin looking down -z)
+    mat4 normalFromWorld;  // inverse transpose of viewFromWorld; only its 3x3 part is used
+    vec4 lightDirView;     // xyz: unit vector towards the light, view space
+    vec4 lightColor;       // rgb: directional light colour; a: ambient intensity
+    vec4 background;       // rgb: linear background colour
+    vec4 shadeExtra;       // x: specular exponent; y, z: view distances mapped to white/black in depth view
+    vec4 guardBand;        // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
+    uint width;            // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
+    uint height;           // framebuffer height in pixels
+    uint vertexCount;      // entries in the per-vertex buffers
+    uint triangleCount;    // entries in BUF_TRI_FLAGS; BUF_INDICES has 3x as many
+    uint cullMode;         // CULL_*
+    uint shadingMode;      // SHADING_*
+    uint hasColors;        // 1 when BUF_COLORS holds vertexCount colours, else colours are white
+    uint setupCapacity;    // capacity of BUF_SETUP_TRIS, BUF_SMALL_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
+    uint rasterGroups;     // groups launched for raster_small and raster_tiles (grid-stride loops)
+    uint reserved0;        // keeps the struct a multiple of 16 bytes
     uint reserved1;
     uint reserved2;
 };
@@ -262,12 +268,18 @@ SR_FN void transformVertex(RasterParams params, vec4 position, vec4 normal, SR_O
 SR_FN float planeDistance(vec4 c, uint plane, vec4 guardBand)
 {
     SR_PRECISE float d;
-    if (plane == 0u) d = c.z;
-    else if (plane == 1u) d = c.w - c.z;
-    else if (plane == 2u) d = guardBand.x * c.w - c.x;
-    else if (plane == 3u) d = guardBand.x * c.w + c.x;
-    else if (plane == 4u) d = guardBand.y * c.w - c.y;
-    else d = guardBand.y * c.w + c.y;
+    if (plane == 0u)
+        d = c.z;
+    else if (plane == 1u)
+        d = c.w - c.z;
+    else if (plane == 2u)
+        d = guardBand.x * c.w - c.x;
+    else if (plane == 3u)
+        d = guardBand.x * c.w + c.x;
+    else if (plane == 4u)
+        d = guardBand.y * c.w - c.y;
+    else
+        d = guardBand.y * c.w + c.y;
     return d;
 }
 
@@ -305,12 +317,18 @@ SR_FN vec4 lerpClip(vec4 a, vec4 b, float t)
 SR_FN vec4 projectOntoPlane(vec4 v, uint plane, vec4 guardBand)
 {
     SR_PRECISE vec4 r = v;
-    if (plane == 0u) r.z = 0.0f;
-    else if (plane == 1u) r.z = r.w;
-    else if (plane == 2u) r.x = guardBand.x * r.w;
-    else if (plane == 3u) r.x = -(guardBand.x * r.w);
-    else if (plane == 4u) r.y = guardBand.y * r.w;
-    else r.y = -(guardBand.y * r.w);
+    if (plane == 0u)
+        r.z = 0.0f;
+    else if (plane == 1u)
+        r.z = r.w;
+    else if (plane == 2u)
+        r.x = guardBand.x * r.w;
+    else if (plane == 3u)
+        r.x = -(guardBand.x * r.w);
+    else if (plane == 4u)
+        r.y = guardBand.y * r.w;
+    else
+        r.y = -(guardBand.y * r.w);
     return r;
 }
 
@@ -439,7 +457,10 @@ SR_FN bool isTopLeftEdge(ivec2 a, ivec2 b)
 }
 
 // Bias subtracted from an edge function so that `e - bias >= 0` implements the fill rule.
-SR_FN int64_t edgeBias(ivec2 a, ivec2 b) { return isTopLeftEdge(a, b) ? int64_t(0) : int64_t(1); }
+SR_FN int64_t edgeBias(ivec2 a, ivec2 b)
+{
+    return isTopLeftEdge(a, b) ? int64_t(0) : int64_t(1);
+}
 
 // First and last pixel index whose centre (256 i + 128 subpixels) lies in [lo, hi], clamped to
 // [0, size - 1]. Empty when first > last. Arithmetic shift is floor division for negative values.
@@ -457,7 +478,7 @@ SR_FN float recipArea(int64_t area)
     uint64_t a = uint64_t(area);
     int shift = 0;
     while ((a >> shift) >= (uint64_t(1) << 24)) ++shift;  // a >> shift < 2^24
-    uint64_t q = (uint64_t(1) << 47) / (a >> shift);       // in (2^23, 2^24]
+    uint64_t q = (uint64_t(1) << 47) / (a >> shift);      // in (2^23, 2^24]
     // 1/area ~= q * 2^-(47 + shift); build the float directly from the exact q.
     SR_PRECISE float r = float(q) * uintBitsToFloat(uint(127 - 47 - shift) << 23);
     return r;
@@ -465,8 +486,8 @@ SR_FN float recipArea(int64_t area)
 
 // Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
 // snapped triangle has zero area, faces the culled way, or covers no pixel centre of the viewport.
-SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode,
-                         uint width, uint height, SR_OUT(TriSetup) t)
+SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
+                         uint height, SR_OUT(TriSetup) t)
 {
     ivec2 v0, v1, v2;
     float z0, z1, z2;
@@ -498,10 +519,22 @@ SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided
     return true;
 }
 
-SR_FN ivec2 setupV0(TriSetup t) { return ivec2(t.xy01.x, t.xy01.y); }
-SR_FN ivec2 setupV1(TriSetup t) { return ivec2(t.xy01.z, t.xy01.w); }
-SR_FN ivec2 setupV2(TriSetup t) { return ivec2(t.xy2Id.x, t.xy2Id.y); }
-SR_FN uint setupTriId(TriSetup t) { return uint(t.xy2Id.z); }
+SR_FN ivec2 setupV0(TriSetup t)
+{
+    return ivec2(t.xy01.x, t.xy01.y);
+}
+SR_FN ivec2 setupV1(TriSetup t)
+{
+    return ivec2(t.xy01.z, t.xy01.w);
+}
+SR_FN ivec2 setupV2(TriSetup t)
+{
+    return ivec2(t.xy2Id.x, t.xy2Id.y);
+}
+SR_FN uint setupTriId(TriSetup t)
+{
+    return uint(t.xy2Id.z);
+}
 
 // Inclusive pixel bbox (minX, minY, maxX, maxY), already clamped to the viewport.
 SR_FN ivec4 setupPixelBounds(TriSetup t, uint width, uint height)
@@ -563,7 +596,10 @@ SR_FN uint64_t packVisibility(float depth, uint triId)
 {
     return (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(triId);
 }
-SR_FN uint visibilityId(uint64_t key) { return uint(key & uint64_t(0xffffffffu)); }
+SR_FN uint visibilityId(uint64_t key)
+{
+    return uint(key & uint64_t(0xffffffffu));
+}
 SR_FN float visibilityDepth(uint64_t key)
 {
     return uint(key >> 32) == 0xffffffffu ? 1.0f : uintBitsToFloat(uint(key >> 32));
@@ -592,7 +628,8 @@ SR_FN vec3 perspectiveBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc)
 // NDC of the centre of pixel (px, py).
 SR_FN vec2 pixelCenterNdc(int px, int py, uint width, uint height)
 {
-    return vec2((float(px) + 0.5f) * 2.0f / float(width) - 1.0f, (float(py) + 0.5f) * 2.0f / float(height) - 1.0f);
+    return vec2((float(px) + 0.5f) * 2.0f / float(width) - 1.0f,
+                (float(py) + 0.5f) * 2.0f / float(height) - 1.0f);
 }
 
 SR_FN float linearToSrgb(float c)
@@ -652,7 +689,8 @@ SR_FN vec3 shadePixel(RasterParams params, uint triId, vec3 viewPos, vec3 viewNo
     if (mode == SHADING_NORMALS) return n * 0.5f + vec3(0.5f);
     if (mode == SHADING_DEPTH) {
         float d = -viewPos.z;
-        float s = clamp((params.shadeExtra.z - d) / max(params.shadeExtra.z - params.shadeExtra.y, 1e-20f), 0.0f, 1.0f);
+        float s = clamp((params.shadeExtra.z - d) / max(params.shadeExtra.z - params.shadeExtra.y, 1e-20f),
+                        0.0f, 1.0f);
         return vec3(s * s);
     }
     vec3 l = vec3(params.lightDirView.x, params.lightDirView.y, params.lightDirView.z);

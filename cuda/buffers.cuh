@@ -27,7 +27,10 @@ struct Buffers {
 };
 
 // Thread index in a 1D grid, as gl_GlobalInvocationID.x.
-__device__ inline uint globalThreadId() { return blockIdx.x * blockDim.x + threadIdx.x; }
+__device__ inline uint globalThreadId()
+{
+    return blockIdx.x * blockDim.x + threadIdx.x;
+}
 
 }  // namespace sr
 

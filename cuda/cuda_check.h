@@ -7,12 +7,12 @@
 
 #include "result.h"
 
-#define CUDA_TRY(expr)                                                                       \
-    do {                                                                                     \
-        cudaError_t cuda_try_err_ = (expr);                                                  \
-        if (cuda_try_err_ != cudaSuccess)                                                    \
+#define CUDA_TRY(expr)                                                                            \
+    do {                                                                                          \
+        cudaError_t cuda_try_err_ = (expr);                                                       \
+        if (cuda_try_err_ != cudaSuccess)                                                         \
             return ::sr::makeError(::sr::ExitCode::Runtime, "cuda: {} failed: {} ({}:{})", #expr, \
-                                   cudaGetErrorString(cuda_try_err_), __FILE__, __LINE__);   \
+                                   cudaGetErrorString(cuda_try_err_), __FILE__, __LINE__);        \
     } while (0)
 
 #endif  // RASTER_CUDA_CHECK_H

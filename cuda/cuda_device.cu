@@ -34,7 +34,8 @@ public:
                              err != cudaSuccess ? cudaGetErrorName(err) : "0 devices");
         int device = index < 0 ? 0 : index;
         if (device >= count)
-            return makeError(ExitCode::Usage, "cuda device {} does not exist ({} CUDA device(s))", device, count);
+            return makeError(ExitCode::Usage, "cuda device {} does not exist ({} CUDA device(s))", device,
+                             count);
         CUDA_TRY(cudaSetDevice(device));
         cudaDeviceProp prop{};
         CUDA_TRY(cudaGetDeviceProperties(&prop, device));
@@ -77,8 +78,8 @@ public:
     Status upload(uint32_t buffer, const void* data, size_t bytes) override
     {
         if (buffer >= BUF_COUNT || bytes > bytes_[buffer])
-            return makeError(ExitCode::Runtime, "cuda: upload of {} bytes to buffer {} ({} bytes)", bytes, buffer,
-                             buffer < BUF_COUNT ? bytes_[buffer] : 0);
+            return makeError(ExitCode::Runtime, "cuda: upload of {} bytes to buffer {} ({} bytes)", bytes,
+                             buffer, buffer < BUF_COUNT ? bytes_[buffer] : 0);
         if (bytes) CUDA_TRY(cudaMemcpy(ptr_[buffer], data, bytes, cudaMemcpyHostToDevice));
         return okStatus();
     }

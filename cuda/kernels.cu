@@ -26,7 +26,8 @@ __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams par
 {
     setupStage(params, b);
 }
-__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanBlocksKernel(const RasterParams params, const Buffers b)
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE)
+    scanBlocksKernel(const RasterParams params, const Buffers b)
 {
     scanBlocksStage(params, b);
 }
@@ -42,7 +43,8 @@ __global__ void __launch_bounds__(GROUP_SIZE) rasterSmallKernel(const RasterPara
 {
     rasterSmallStage(params, b);
 }
-__global__ void __launch_bounds__(TILE_SIZE * TILE_SIZE) rasterTilesKernel(const RasterParams params, const Buffers b)
+__global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
+    rasterTilesKernel(const RasterParams params, const Buffers b)
 {
     rasterTilesStage(params, b);
 }

@@ -11,8 +11,10 @@ __device__ inline uint findBigTriangle(const Buffers& b, uint item, uint bigCoun
     uint hi = bigCount - 1u;
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1u;
-        if (b.bigOffsets[mid] <= item) lo = mid;
-        else hi = mid - 1u;
+        if (b.bigOffsets[mid] <= item)
+            lo = mid;
+        else
+            hi = mid - 1u;
     }
     return lo;
 }
@@ -30,7 +32,8 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
         float depth;
         if (p.x >= bounds.x && p.x <= bounds.z && p.y >= bounds.y && p.y <= bounds.w &&
             rasterPixel(t, p.x, p.y, depth))
-            atomicMin(&b.visibility[uint(p.y) * params.width + uint(p.x)], packVisibility(depth, setupTriId(t)));
+            atomicMin(&b.visibility[uint(p.y) * params.width + uint(p.x)],
+                      packVisibility(depth, setupTriId(t)));
     }
 }
 

@@ -63,8 +63,7 @@ void encloseSphere(float dist, float radius, float& znear, float& zfar)
     zfar = std::max((dist + radius) * 1.01f, znear * 2.0f);
 }
 
-CameraMatrices finish(const glm::mat4& viewFromWorld, const glm::mat4& clipFromView, float znear,
-                      float zfar)
+CameraMatrices finish(const glm::mat4& viewFromWorld, const glm::mat4& clipFromView, float znear, float zfar)
 {
     CameraMatrices m;
     m.viewFromWorld = viewFromWorld;
@@ -145,8 +144,8 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
 
     if (spec.kind == CameraSpec::Kind::Gltf) {
         if (spec.gltfIndex < 0 || size_t(spec.gltfIndex) >= scene.cameras.size()) {
-            return makeError(ExitCode::Usage, "--camera gltf:{}: the scene has {} camera(s)",
-                             spec.gltfIndex, scene.cameras.size());
+            return makeError(ExitCode::Usage, "--camera gltf:{}: the scene has {} camera(s)", spec.gltfIndex,
+                             scene.cameras.size());
         }
         const SceneCamera& cam = scene.cameras[size_t(spec.gltfIndex)];
         glm::mat4 viewFromWorld = glm::inverse(cam.worldFromView);
@@ -160,11 +159,9 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
         }
         if (cam.perspective) {
             float camAspect = cam.aspectRatio > 0.0f ? cam.aspectRatio : aspect;
-            return finish(viewFromWorld, perspectiveVulkan(cam.yfov, camAspect, znear, zfar), znear,
-                          zfar);
+            return finish(viewFromWorld, perspectiveVulkan(cam.yfov, camAspect, znear, zfar), znear, zfar);
         }
-        return finish(viewFromWorld, orthographicVulkan(cam.xmag, cam.ymag, znear, zfar), znear,
-                      zfar);
+        return finish(viewFromWorld, orthographicVulkan(cam.xmag, cam.ymag, znear, zfar), znear, zfar);
     }
 
     float azimuth = radians(spec.kind == CameraSpec::Kind::Orbit ? spec.azimuthDeg : 35.0f);
@@ -191,8 +188,7 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
         viewFromWorld[i][1] = up[i];
         viewFromWorld[i][2] = back[i];
     }
-    viewFromWorld[3] =
-        glm::vec4(-glm::dot(right, eye), -glm::dot(up, eye), -glm::dot(back, eye), 1.0f);
+    viewFromWorld[3] = glm::vec4(-glm::dot(right, eye), -glm::dot(up, eye), -glm::dot(back, eye), 1.0f);
     float znear, zfar;
     encloseSphere(dist, sphere.radius, znear, zfar);
     return finish(viewFromWorld, perspectiveVulkan(kDefaultYfov, aspect, znear, zfar), znear, zfar);

@@ -114,7 +114,8 @@ Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const Com
 Result<CompareReport> compareFiles(const std::string& a, const std::string& b, const CompareTolerance& tol)
 {
     if (endsWith(a, ".exr") != endsWith(b, ".exr"))
-        return makeError(ExitCode::Usage, "cannot compare '{}' with '{}': one is an EXR AOV, one is not", a, b);
+        return makeError(ExitCode::Usage, "cannot compare '{}' with '{}': one is an EXR AOV, one is not", a,
+                         b);
     if (endsWith(a, ".exr")) {
         auto ia = readAovExr(a);
         if (!ia) return ia.error();
@@ -135,7 +136,8 @@ std::string formatReport(const CompareReport& r, const CompareTolerance& tol)
     uint64_t pixels = uint64_t(r.width) * r.height;
     auto pct = [&](uint64_t n) { return pixels ? 100.0 * double(n) / double(pixels) : 0.0; };
     if (r.isAov) {
-        s += fmt::format("  Coverage mismatches: {} ({:.4f}%)\n", r.coverageMismatches, pct(r.coverageMismatches));
+        s += fmt::format("  Coverage mismatches: {} ({:.4f}%)\n", r.coverageMismatches,
+                         pct(r.coverageMismatches));
         s += fmt::format("  Id mismatches: {} ({:.4f}%), allowed {} together with coverage\n", r.idMismatches,
                          pct(r.idMismatches), tol.maxIdMismatches);
         s += fmt::format("  Max depth diff: {:.9g} @ ({}, {})\n", r.maxDepthDiff, r.maxX, r.maxY);

@@ -11,7 +11,7 @@
 namespace sr {
 
 struct CompareTolerance {
-    int colorLsb = 0;            // largest allowed per-channel difference of 8-bit colour
+    int colorLsb = 0;              // largest allowed per-channel difference of 8-bit colour
     uint64_t maxIdMismatches = 0;  // AOVs: pixels whose triangle id may differ
     float depthTolerance = 0.0f;   // AOVs: largest allowed |Z_a - Z_b| where both are covered
 };

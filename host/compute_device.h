@@ -25,10 +25,10 @@ enum class BackendKind { Auto, Cuda, Vulkan };
 const char* stageName(uint32_t stage);
 
 struct DeviceInfo {
-    std::string backend;   // "cuda" or "vulkan"
-    std::string name;      // device name as the API reports it
-    std::string driver;    // driver / runtime version string
-    bool isCpu = false;    // true for lavapipe and other CPU implementations
+    std::string backend;        // "cuda" or "vulkan"
+    std::string name;           // device name as the API reports it
+    std::string driver;         // driver / runtime version string
+    bool isCpu = false;         // true for lavapipe and other CPU implementations
     uint32_t rasterGroups = 0;  // groups to launch for the grid-stride raster stages
 };
 

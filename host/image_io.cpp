@@ -22,13 +22,12 @@ Status checkReadable(const std::string& path)
     return okStatus();
 }
 
-Status checkSize(const std::string& path, uint32_t width, uint32_t height, size_t count,
-                 const char* what)
+Status checkSize(const std::string& path, uint32_t width, uint32_t height, size_t count, const char* what)
 {
     if (width == 0 || height == 0 || width > (1u << 16) || height > (1u << 16) ||
         count != size_t(width) * height) {
-        return makeError(ExitCode::Usage, "cannot write '{}': {} holds {} values for {}x{}", path,
-                         what, count, width, height);
+        return makeError(ExitCode::Usage, "cannot write '{}': {} holds {} values for {}x{}", path, what,
+                         count, width, height);
     }
     return okStatus();
 }
@@ -79,16 +78,14 @@ Result<RgbaImage> readPng(const std::string& path)
     int w = 0, h = 0, channels = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &channels, 4),
                                                    stbi_image_free);
-    if (!data)
-        return makeError(ExitCode::Usage, "cannot read '{}': {}", path, stbi_failure_reason());
+    if (!data) return makeError(ExitCode::Usage, "cannot read '{}': {}", path, stbi_failure_reason());
     RgbaImage image;
     image.width = uint32_t(w);
     image.height = uint32_t(h);
     image.pixels.resize(size_t(w) * size_t(h));
     const stbi_uc* p = data.get();
     for (size_t i = 0; i < image.pixels.size(); ++i, p += 4)
-        image.pixels[i] =
-            uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+        image.pixels[i] = uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
     return image;
 }
 
@@ -165,8 +162,7 @@ Result<AovImage> readAovExr(const std::string& path)
         if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
             header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
     }
-    if (depthChannel < 0 || idChannel < 0)
-        return fail("the file needs both an 'id' and a 'Z' channel");
+    if (depthChannel < 0 || idChannel < 0) return fail("the file needs both an 'id' and a 'Z' channel");
     if (header.pixel_types[idChannel] != TINYEXR_PIXELTYPE_UINT)
         return fail("channel 'id' is not of type UINT");
     if (header.pixel_types[depthChannel] == TINYEXR_PIXELTYPE_UINT)

@@ -169,7 +169,8 @@ int main(int argc, char** argv)
     render->add_flag("-q,--quiet", cmd.quiet, "print nothing on success");
 
     CompareCommand compare;
-    CLI::App* cmp = app.add_subcommand("compare", "compare two PNG images or two EXR AOVs (idiff-style report)");
+    CLI::App* cmp =
+        app.add_subcommand("compare", "compare two PNG images or two EXR AOVs (idiff-style report)");
     cmp->add_option("a", compare.a, "reference (.png or .exr)")->required();
     cmp->add_option("b", compare.b, "test image of the same kind")->required();
     cmp->add_option("-o,--output", compare.diffPath, "difference heat map (PNG)");
@@ -177,7 +178,8 @@ int main(int argc, char** argv)
         ->check(CLI::Range(0, 255));
     cmp->add_option("--max-id-mismatches", compare.tolerance.maxIdMismatches,
                     "AOVs: pixels allowed to differ in id or coverage");
-    cmp->add_option("--depth-tolerance", compare.tolerance.depthTolerance, "AOVs: largest allowed depth difference")
+    cmp->add_option("--depth-tolerance", compare.tolerance.depthTolerance,
+                    "AOVs: largest allowed depth difference")
         ->check(CLI::Range(0.0, 1.0));
 
     try {

@@ -24,16 +24,16 @@ namespace sr {
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;
-    uint32_t cullMode = CULL_BACK;                     // CULL_*
-    uint32_t shadingMode = SHADING_BLINN_PHONG;        // SHADING_*
-    glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};      // towards the light, view space (+z to the eye)
+    uint32_t cullMode = CULL_BACK;                 // CULL_*
+    uint32_t shadingMode = SHADING_BLINN_PHONG;    // SHADING_*
+    glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};  // towards the light, view space (+z to the eye)
     glm::vec3 lightColor{1.0f, 1.0f, 1.0f};
     float ambient = 0.15f;
-    glm::vec3 background{0.02f, 0.02f, 0.025f};        // linear RGB
+    glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
     float specularPower = 32.0f;
-    uint32_t warmup = 1;                               // untimed runs before the timed ones
-    uint32_t repeat = 1;                               // timed runs (>= 1)
-    uint32_t initialSetupCapacity = 0;                 // 0: sized from the scene; tests force tiny ones
+    uint32_t warmup = 1;                // untimed runs before the timed ones
+    uint32_t repeat = 1;                // timed runs (>= 1)
+    uint32_t initialSetupCapacity = 0;  // 0: sized from the scene; tests force tiny ones
 };
 
 struct StageTiming {
@@ -42,15 +42,15 @@ struct StageTiming {
 };
 
 struct RenderStats {
-    uint64_t trianglesIn = 0;  // triangles handed to the GPU
-    uint64_t culled = 0;       // input triangles that produced nothing to rasterize
-    uint64_t clipped = 0;      // input triangles that went through the clipper
-    uint64_t invalid = 0;      // input triangles dropped on the GPU for NaN/Inf positions
-    uint64_t rasterized = 0;   // (sub-)triangles set up for rasterization
-    uint64_t smallTris = 0;    // of which walked by one thread
-    uint64_t bigTris = 0;      // of which walked tile by tile
-    uint64_t tiles = 0;        // (big triangle, tile) work items
-    uint32_t redraws = 0;      // frames redrawn after growing an overflowing buffer
+    uint64_t trianglesIn = 0;    // triangles handed to the GPU
+    uint64_t culled = 0;         // input triangles that produced nothing to rasterize
+    uint64_t clipped = 0;        // input triangles that went through the clipper
+    uint64_t invalid = 0;        // input triangles dropped on the GPU for NaN/Inf positions
+    uint64_t rasterized = 0;     // (sub-)triangles set up for rasterization
+    uint64_t smallTris = 0;      // of which walked by one thread
+    uint64_t bigTris = 0;        // of which walked tile by tile
+    uint64_t tiles = 0;          // (big triangle, tile) work items
+    uint32_t redraws = 0;        // frames redrawn after growing an overflowing buffer
     uint32_t setupCapacity = 0;  // final capacity of the triangle lists
 };
 

@@ -54,14 +54,17 @@ private:
 // Result of an operation with no value.
 struct Unit {};
 using Status = Result<Unit>;
-inline Status okStatus() { return Unit{}; }
+inline Status okStatus()
+{
+    return Unit{};
+}
 
 }  // namespace sr
 
 // Propagates an error from an expression returning Result/Status: `SR_TRY(device.upload(...));`
-#define SR_TRY(expr)                                  \
-    do {                                              \
-        auto sr_try_result_ = (expr);                 \
+#define SR_TRY(expr)                                             \
+    do {                                                         \
+        auto sr_try_result_ = (expr);                            \
         if (!sr_try_result_.ok()) return sr_try_result_.error(); \
     } while (0)
 

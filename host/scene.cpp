@@ -35,20 +35,20 @@ bool finitePosition(const glm::vec4& p)
 Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& errorPrefix)
 {
     if (scene.indices.size() > kMaxIndices || scene.positions.size() > kMaxVertices) {
-        return makeError(ExitCode::Usage, "{}: scene too large ({} vertices, {} triangles)",
-                         errorPrefix, scene.positions.size(), scene.indices.size() / 3);
+        return makeError(ExitCode::Usage, "{}: scene too large ({} vertices, {} triangles)", errorPrefix,
+                         scene.positions.size(), scene.indices.size() / 3);
     }
     if (scene.indices.size() % 3 != 0) {
         return makeError(ExitCode::Usage, "{}: index count {} is not a multiple of 3", errorPrefix,
                          scene.indices.size());
     }
     if (scene.normals.size() != scene.positions.size()) {
-        return makeError(ExitCode::Usage, "{}: {} normals for {} vertices", errorPrefix,
-                         scene.normals.size(), scene.positions.size());
+        return makeError(ExitCode::Usage, "{}: {} normals for {} vertices", errorPrefix, scene.normals.size(),
+                         scene.positions.size());
     }
     if (!scene.colors.empty() && scene.colors.size() != scene.positions.size()) {
-        return makeError(ExitCode::Usage, "{}: {} colours for {} vertices", errorPrefix,
-                         scene.colors.size(), scene.positions.size());
+        return makeError(ExitCode::Usage, "{}: {} colours for {} vertices", errorPrefix, scene.colors.size(),
+                         scene.positions.size());
     }
 
     size_t triangles = scene.indices.size() / 3;
@@ -140,8 +140,8 @@ Result<Scene> loadScene(const std::string& path)
     if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
     if (ext == ".obj") return loadObj(path);
     return makeError(ExitCode::Usage,
-                     "cannot load '{}': unknown file extension '{}' (expected .gltf, .glb or .obj)",
-                     path, ext);
+                     "cannot load '{}': unknown file extension '{}' (expected .gltf, .glb or .obj)", path,
+                     ext);
 }
 
 Status finalizeScene(Scene& scene, const std::string& what)

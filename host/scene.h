@@ -23,8 +23,8 @@ struct SceneCamera {
     std::string name;
     glm::mat4 worldFromView{1.0f};  // camera-to-world transform (view looks down -z, +y up)
     bool perspective = true;
-    float yfov = 0.8f;               // radians, perspective only
-    float aspectRatio = 0.0f;        // 0: use the framebuffer aspect
+    float yfov = 0.8f;         // radians, perspective only
+    float aspectRatio = 0.0f;  // 0: use the framebuffer aspect
     float znear = 0.01f;
     float zfar = 0.0f;               // 0: infinite far plane (glTF), resolved from scene bounds
     float xmag = 1.0f, ymag = 1.0f;  // orthographic half extents
@@ -38,7 +38,7 @@ struct Scene {
     std::vector<uint32_t> triFlags;    // one per triangle: TRI_FLAG_* from raster_shared.h
     std::vector<SceneCamera> cameras;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all referenced vertices
-    uint64_t droppedTriangles = 0;     // triangles dropped by the loader (warned about once)
+    uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
 
     size_t vertexCount() const { return positions.size(); }
     size_t triangleCount() const { return indices.size() / 3; }

@@ -31,8 +31,8 @@ Error fail(const std::string& reason)
 
 // Image payloads are never used by the rasterizer; skipping their decoding keeps a broken or exotic
 // texture from failing the load of the geometry.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*)
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+               void*)
 {
     return true;
 }
@@ -108,8 +108,7 @@ Result<AccessorView> viewAccessor(const tinygltf::Model& model, int index)
         return fail(fmt::format("accessor {} does not exist", index));
     const tinygltf::Accessor& a = model.accessors[size_t(index)];
     if (a.sparse.isSparse)
-        return fail(
-            fmt::format("accessor {} is sparse (sparse accessors are not supported)", index));
+        return fail(fmt::format("accessor {} is sparse (sparse accessors are not supported)", index));
     int components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
     int size = componentSize(a.componentType);
     if (components <= 0 || size <= 0)
@@ -123,12 +122,12 @@ Result<AccessorView> viewAccessor(const tinygltf::Model& model, int index)
     view.componentType = a.componentType;
     if (a.bufferView < 0) return view;
     if (size_t(a.bufferView) >= model.bufferViews.size())
-        return fail(fmt::format("accessor {} uses buffer view {}, which does not exist", index,
-                                a.bufferView));
+        return fail(
+            fmt::format("accessor {} uses buffer view {}, which does not exist", index, a.bufferView));
     const tinygltf::BufferView& bv = model.bufferViews[size_t(a.bufferView)];
     if (bv.buffer < 0 || size_t(bv.buffer) >= model.buffers.size())
-        return fail(fmt::format("buffer view {} uses buffer {}, which does not exist", a.bufferView,
-                                bv.buffer));
+        return fail(
+            fmt::format("buffer view {} uses buffer {}, which does not exist", a.bufferView, bv.buffer));
     const std::vector<unsigned char>& data = model.buffers[size_t(bv.buffer)].data;
     if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
         return fail(
@@ -159,8 +158,7 @@ Result<glm::dmat4> localMatrix(const tinygltf::Node& node, int index)
     glm::dmat4 m(1.0);
     if (!node.matrix.empty()) {
         if (node.matrix.size() != 16)
-            return fail(
-                fmt::format("node {} has a matrix with {} values", index, node.matrix.size()));
+            return fail(fmt::format("node {} has a matrix with {} values", index, node.matrix.size()));
         for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];
         return m;
@@ -219,10 +217,7 @@ const char* lineModeName(int mode)
 
 class GltfFlattener {
 public:
-    GltfFlattener(const tinygltf::Model& model, const std::string& path)
-        : model_(model), path_(path)
-    {
-    }
+    GltfFlattener(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
 
     Status run();
     Scene& scene() { return scene_; }
@@ -230,8 +225,8 @@ public:
 private:
     Status visitTree(int root);
     Status addMesh(int meshIndex, const glm::dmat4& world);
-    Status addPrimitive(const tinygltf::Primitive& prim, const std::string& where,
-                        const glm::dmat4& world, const glm::dmat3& normalMatrix, bool flip);
+    Status addPrimitive(const tinygltf::Primitive& prim, const std::string& where, const glm::dmat4& world,
+                        const glm::dmat3& normalMatrix, bool flip);
     Status addCamera(int cameraIndex, int nodeIndex, const glm::dmat4& world);
     void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c);
 
@@ -346,8 +341,7 @@ void GltfFlattener::pushVertex(const glm::vec3& p, const glm::vec3& n, const glm
 }
 
 Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::string& where,
-                                   const glm::dmat4& world, const glm::dmat3& normalMatrix,
-                                   bool flip)
+                                   const glm::dmat4& world, const glm::dmat3& normalMatrix, bool flip)
 {
     int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
     if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
@@ -369,8 +363,7 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
     }
     Result<AccessorView> positions = viewAccessor(model_, positionIndex);
     if (!positions) return positions.error();
-    if (positions->type != TINYGLTF_TYPE_VEC3 ||
-        positions->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+    if (positions->type != TINYGLTF_TYPE_VEC3 || positions->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
         return fail(fmt::format("{}: POSITION must be VEC3 float", where));
     size_t vertexCount = positions->count;
 
@@ -380,12 +373,10 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
         Result<AccessorView> view = viewAccessor(model_, attribute("NORMAL"));
         if (!view) return view.error();
         normals = *view;
-        if (normals.type != TINYGLTF_TYPE_VEC3 ||
-            normals.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        if (normals.type != TINYGLTF_TYPE_VEC3 || normals.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
             return fail(fmt::format("{}: NORMAL must be VEC3 float", where));
         if (normals.count != vertexCount)
-            return fail(
-                fmt::format("{}: {} normals for {} positions", where, normals.count, vertexCount));
+            return fail(fmt::format("{}: {} normals for {} positions", where, normals.count, vertexCount));
     }
 
     AccessorView colors;
@@ -404,28 +395,24 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
                             "unsigned short",
                             where));
         if (colors.count != vertexCount)
-            return fail(
-                fmt::format("{}: {} colours for {} positions", where, colors.count, vertexCount));
+            return fail(fmt::format("{}: {} colours for {} positions", where, colors.count, vertexCount));
     }
 
     glm::vec4 baseColor(1.0f);
     bool doubleSided = false;
     if (prim.material >= 0) {
         if (size_t(prim.material) >= model_.materials.size())
-            return fail(
-                fmt::format("{} uses material {}, which does not exist", where, prim.material));
+            return fail(fmt::format("{} uses material {}, which does not exist", where, prim.material));
         const tinygltf::Material& material = model_.materials[size_t(prim.material)];
         const std::vector<double>& factor = material.pbrMetallicRoughness.baseColorFactor;
         if (factor.size() == 4)
-            baseColor =
-                glm::vec4(float(factor[0]), float(factor[1]), float(factor[2]), float(factor[3]));
+            baseColor = glm::vec4(float(factor[0]), float(factor[1]), float(factor[2]), float(factor[3]));
         doubleSided = material.doubleSided;
     }
     auto colorOf = [&](size_t v) {
         glm::vec4 c(1.0f);
         if (hasColors) {
-            c = glm::vec4(colors.component(v, 0), colors.component(v, 1), colors.component(v, 2),
-                          1.0f);
+            c = glm::vec4(colors.component(v, 0), colors.component(v, 1), colors.component(v, 2), 1.0f);
             if (colors.type == TINYGLTF_TYPE_VEC4) c.w = colors.component(v, 3);
         }
         return c * baseColor;
@@ -440,8 +427,7 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
                          view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
                          view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
         if (view->type != TINYGLTF_TYPE_SCALAR || !indexType)
-            return fail(
-                fmt::format("{}: indices must be SCALAR unsigned byte, short or int", where));
+            return fail(fmt::format("{}: indices must be SCALAR unsigned byte, short or int", where));
         sequence.resize(view->count);
         for (size_t i = 0; i < view->count; ++i) sequence[i] = view->index(i);
     } else {
@@ -460,8 +446,7 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
             if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
                 // Odd triangles swap their last two vertices so every triangle keeps the winding.
                 size_t odd = i % 2;
-                tris.insert(tris.end(),
-                            {sequence[i], sequence[i + 1 + odd], sequence[i + 2 - odd]});
+                tris.insert(tris.end(), {sequence[i], sequence[i + 1 + odd], sequence[i + 2 - odd]});
             } else {
                 tris.insert(tris.end(), {sequence[i + 1], sequence[i + 2], sequence[0]});
             }
@@ -515,8 +500,7 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
 Status GltfFlattener::addCamera(int cameraIndex, int nodeIndex, const glm::dmat4& world)
 {
     if (size_t(cameraIndex) >= model_.cameras.size())
-        return fail(
-            fmt::format("node {} uses camera {}, which does not exist", nodeIndex, cameraIndex));
+        return fail(fmt::format("node {} uses camera {}, which does not exist", nodeIndex, cameraIndex));
     const tinygltf::Camera& cam = model_.cameras[size_t(cameraIndex)];
     SceneCamera out;
     out.name = !cam.name.empty() ? cam.name : model_.nodes[size_t(nodeIndex)].name;
@@ -538,8 +522,8 @@ Status GltfFlattener::addCamera(int cameraIndex, int nodeIndex, const glm::dmat4
         out.aspectRatio = float(p.aspectRatio);
         out.znear = float(p.znear);
         out.zfar = float(p.zfar);
-        valid = out.yfov > 0.0f && out.yfov < 3.14159f && out.aspectRatio >= 0.0f &&
-                out.znear > 0.0f && (out.zfar == 0.0f || out.zfar > out.znear);
+        valid = out.yfov > 0.0f && out.yfov < 3.14159f && out.aspectRatio >= 0.0f && out.znear > 0.0f &&
+                (out.zfar == 0.0f || out.zfar > out.znear);
     } else if (cam.type == "orthographic") {
         const tinygltf::OrthographicCamera& o = cam.orthographic;
         out.perspective = false;
@@ -565,8 +549,7 @@ Result<Scene> loadGltf(const std::string& path)
     // Open the file once here: a clear "No such file" beats tinygltf's wording, and the magic
     // number decides between .glb and .gltf whatever the extension says.
     std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file)
-        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
+    if (!file) return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
     char magic[4] = {};
     size_t got = std::fread(magic, 1, sizeof magic, file);
     std::fclose(file);

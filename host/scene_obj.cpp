@@ -32,8 +32,7 @@ Result<Scene> loadObj(const std::string& path)
 {
     // tinyobjloader reports a missing file without the reason; ask the OS first.
     std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file)
-        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
+    if (!file) return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
     std::fclose(file);
 
     tinyobj::ObjReaderConfig config;
@@ -108,8 +107,7 @@ Result<Scene> loadObj(const std::string& path)
                 scene.positions.emplace_back(glm::vec3(position(int(v))), 1.0f);
                 glm::vec3 normal = faceNormal;
                 if (allNormals) {
-                    const tinyobj::real_t* vn =
-                        &attrib.normals[3 * size_t(corners[k].normal_index)];
+                    const tinyobj::real_t* vn = &attrib.normals[3 * size_t(corners[k].normal_index)];
                     glm::dvec3 given(vn[0], vn[1], vn[2]);
                     double len = glm::length(given);
                     if (len > 0.0 && std::isfinite(len)) normal = glm::vec3(given / len);
@@ -124,19 +122,17 @@ Result<Scene> loadObj(const std::string& path)
                 scene.colors.push_back(color);
             }
             for (size_t k = 1; k + 1 < n; ++k) {
-                scene.indices.insert(scene.indices.end(),
-                                     {base, base + uint32_t(k), base + uint32_t(k + 1)});
+                scene.indices.insert(scene.indices.end(), {base, base + uint32_t(k), base + uint32_t(k + 1)});
             }
         }
     }
     if (!anyNonWhite) scene.colors.clear();
     if (shortFaces > 0) {
-        fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path,
-                   shortFaces);
+        fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
     }
     if (linesAndPoints > 0) {
-        fmt::print(stderr, "warning: {}: skipping {} line/point element(s) (not supported yet)\n",
-                   path, linesAndPoints);
+        fmt::print(stderr, "warning: {}: skipping {} line/point element(s) (not supported yet)\n", path,
+                   linesAndPoints);
     }
     SR_TRY(finalizeLoadedScene(scene, path));
     return scene;

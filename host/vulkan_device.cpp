@@ -67,9 +67,8 @@ const char* const kValidationLayer = "VK_LAYER_KHRONOS_validation";
 // any buffer, so a shader indexing element 0 of a placeholder buffer stays in bounds.
 constexpr VkDeviceSize kMinBufferBytes = 16;
 
-constexpr VkBufferUsageFlags kStorageUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                             VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                             VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkBufferUsageFlags kStorageUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
 // Groups launched for the grid-stride raster stages. A GPU needs thousands of groups in flight to
 // fill its multiprocessors; lavapipe runs one group per CPU thread at a time, and a few per thread
@@ -143,8 +142,7 @@ struct ValidationLog {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                               VkDebugUtilsMessageTypeFlagsEXT,
-                                              const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                              void* user)
+                                              const VkDebugUtilsMessengerCallbackDataEXT* data, void* user)
 {
     std::string text = data && data->pMessage ? data->pMessage : "(no message text)";
     // The layer's messages span several lines at times; the project reports one line per problem.
@@ -163,8 +161,8 @@ VkDebugUtilsMessengerCreateInfoEXT messengerCreateInfo(ValidationLog* log)
 {
     VkDebugUtilsMessengerCreateInfoEXT info{};
     info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-    info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                           VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    info.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
                        VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                        VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
@@ -206,8 +204,7 @@ bool inspectDevice(VkPhysicalDevice device, Candidate& candidate)
     VkPhysicalDeviceProperties basic{};
     vkGetPhysicalDeviceProperties(device, &basic);
     // The *2 queries below are only valid on a device that knows their structures.
-    if (basic.apiVersion < VK_API_VERSION_1_2 || !(basic.limits.timestampPeriod > 0.0f))
-        return false;
+    if (basic.apiVersion < VK_API_VERSION_1_2 || !(basic.limits.timestampPeriod > 0.0f)) return false;
 
     VkPhysicalDeviceDriverProperties driver{};
     driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
@@ -238,8 +235,7 @@ bool inspectDevice(VkPhysicalDevice device, Candidate& candidate)
             candidate.device = device;
             candidate.properties = properties.properties;
             candidate.driver = driver.driverName;
-            if (driver.driverInfo[0] != '\0')
-                candidate.driver += std::string(" ") + driver.driverInfo;
+            if (driver.driverInfo[0] != '\0') candidate.driver += std::string(" ") + driver.driverInfo;
             candidate.maxAllocationSize = maintenance3.maxMemoryAllocationSize;
             candidate.queueFamily = i;
             candidate.timestampValidBits = families[i].timestampValidBits;
@@ -259,11 +255,9 @@ Result<DeviceList> listDevices(VkInstance instance)
         Candidate candidate;
         if (inspectDevice(device, candidate)) list.suitable.push_back(candidate);
     }
-    std::stable_sort(list.suitable.begin(), list.suitable.end(),
-                     [](const Candidate& a, const Candidate& b) {
-                         return deviceTypeRank(a.properties.deviceType) <
-                                deviceTypeRank(b.properties.deviceType);
-                     });
+    std::stable_sort(list.suitable.begin(), list.suitable.end(), [](const Candidate& a, const Candidate& b) {
+        return deviceTypeRank(a.properties.deviceType) < deviceTypeRank(b.properties.deviceType);
+    });
     return list;
 }
 
@@ -401,8 +395,7 @@ VulkanDevice::~VulkanDevice()
         // cannot return the error, only report it.
         VkResult result = vkDeviceWaitIdle(device_);
         if (result != VK_SUCCESS)
-            std::fprintf(stderr, "vulkan: vkDeviceWaitIdle failed: %s\n",
-                         vkResultName(result).c_str());
+            std::fprintf(stderr, "vulkan: vkDeviceWaitIdle failed: %s\n", vkResultName(result).c_str());
         for (GpuBuffer& b : buffers_) destroyBuffer(b);
         destroyBuffer(staging_);
         for (VkPipeline pipeline : pipelines_) vkDestroyPipeline(device_, pipeline, nullptr);
@@ -429,12 +422,11 @@ Status VulkanDevice::init(int index)
     SR_TRY(createCommandObjects());
     // Host-visible so that run() writes the parameters directly; device-local where the device
     // offers such memory (resizable BAR), which makes the reads from every stage cheaper.
-    SR_TRY(allocateBuffer(
-        buffers_[BUF_PARAMS], roundUp(sizeof(RasterParams), kMinBufferBytes),
-        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-        {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
+    SR_TRY(allocateBuffer(buffers_[BUF_PARAMS], roundUp(sizeof(RasterParams), kMinBufferBytes),
+                          VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                          {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                               VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
 
     const VkPhysicalDeviceProperties& p = physical_.properties;
     info_.backend = "vulkan";
@@ -465,10 +457,9 @@ Status VulkanDevice::createInstance()
         SR_VK_CHECK(vkEnumerateInstanceLayerProperties(&count, nullptr));
         std::vector<VkLayerProperties> available(count);
         SR_VK_CHECK(vkEnumerateInstanceLayerProperties(&count, available.data()));
-        bool found =
-            std::any_of(available.begin(), available.end(), [](const VkLayerProperties& l) {
-                return std::strcmp(l.layerName, kValidationLayer) == 0;
-            });
+        bool found = std::any_of(available.begin(), available.end(), [](const VkLayerProperties& l) {
+            return std::strcmp(l.layerName, kValidationLayer) == 0;
+        });
         if (!found)
             return makeError(ExitCode::Usage,
                              "vulkan: SR_VULKAN_VALIDATION=1 but {} is not installed "
@@ -519,19 +510,16 @@ Status VulkanDevice::selectDevice(int index)
     if (!list.ok()) return list.error();
     const std::vector<Candidate>& suitable = list->suitable;
     if (suitable.empty())
-        return makeError(
-            ExitCode::Usage,
-            "vulkan: none of the {} physical device(s) is suitable (needs Vulkan 1.2, a "
-            "compute queue with timestamps, shaderInt64 and 64-bit buffer atomics)",
-            list->physicalCount);
+        return makeError(ExitCode::Usage,
+                         "vulkan: none of the {} physical device(s) is suitable (needs Vulkan 1.2, a "
+                         "compute queue with timestamps, shaderInt64 and 64-bit buffer atomics)",
+                         list->physicalCount);
     if (index < -1 || index >= static_cast<int>(suitable.size())) {
         std::string names;
         for (size_t i = 0; i < suitable.size(); ++i)
-            names +=
-                fmt::format("{}{}: {}", i > 0 ? ", " : "", i, suitable[i].properties.deviceName);
-        return makeError(ExitCode::Usage,
-                         "vulkan: device index {} out of range; {} suitable device(s): {}", index,
-                         suitable.size(), names);
+            names += fmt::format("{}{}: {}", i > 0 ? ", " : "", i, suitable[i].properties.deviceName);
+        return makeError(ExitCode::Usage, "vulkan: device index {} out of range; {} suitable device(s): {}",
+                         index, suitable.size(), names);
     }
     physical_ = suitable[index < 0 ? 0 : static_cast<size_t>(index)];
     vkGetPhysicalDeviceMemoryProperties(physical_.device, &memoryProperties_);
@@ -631,13 +619,12 @@ Status VulkanDevice::createPipelines()
         info.stage.module = module;
         info.stage.pName = "main";
         info.layout = pipelineLayout_;
-        VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr,
-                                                   &pipelines_[stage]);
+        VkResult result =
+            vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipelines_[stage]);
         // The pipeline keeps what it needs of the module.
         vkDestroyShaderModule(device_, module, nullptr);
         if (result != VK_SUCCESS)
-            return vkError(result,
-                           fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)),
+            return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)),
                            __FILE__, __LINE__);
     }
     return okStatus();
@@ -669,8 +656,7 @@ Status VulkanDevice::createCommandObjects()
 uint32_t VulkanDevice::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const
 {
     for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i)
-        if ((typeBits & (1u << i)) &&
-            (memoryProperties_.memoryTypes[i].propertyFlags & wanted) == wanted)
+        if ((typeBits & (1u << i)) && (memoryProperties_.memoryTypes[i].propertyFlags & wanted) == wanted)
             return i;
     return UINT32_MAX;
 }
@@ -699,8 +685,8 @@ Status VulkanDevice::allocateBuffer(GpuBuffer& b, VkDeviceSize bytes, VkBufferUs
         }
     }
     if (type == UINT32_MAX)
-        return makeError(ExitCode::Runtime,
-                         "vulkan: no suitable memory type for a buffer of {} bytes", bytes);
+        return makeError(ExitCode::Runtime, "vulkan: no suitable memory type for a buffer of {} bytes",
+                         bytes);
 
     VkMemoryAllocateInfo allocInfo{};
     allocInfo.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
@@ -731,12 +717,11 @@ Status VulkanDevice::ensureStaging(VkDeviceSize bytes)
     if (staging_.capacity >= bytes) return okStatus();
     destroyBuffer(staging_);
     // Cached memory makes the host's reads of downloads fast; coherent memory needs no flushes.
-    return allocateBuffer(
-        staging_, roundUp(bytes, kMinBufferBytes),
-        VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-        {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT |
-             VK_MEMORY_PROPERTY_HOST_CACHED_BIT,
-         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT});
+    return allocateBuffer(staging_, roundUp(bytes, kMinBufferBytes),
+                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT |
+                               VK_MEMORY_PROPERTY_HOST_CACHED_BIT,
+                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT});
 }
 
 Status VulkanDevice::ensureBindings()
@@ -748,8 +733,7 @@ Status VulkanDevice::ensureBindings()
         // the stages of this run touch it.
         destroyBuffer(b);
         descriptorsDirty_ = true;
-        SR_TRY(allocateBuffer(b, kMinBufferBytes, kStorageUsage,
-                              {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+        SR_TRY(allocateBuffer(b, kMinBufferBytes, kStorageUsage, {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
     }
     if (!descriptorsDirty_) return okStatus();
 
@@ -815,8 +799,8 @@ Status VulkanDevice::checkTransfer(const char* what, uint32_t buffer, size_t byt
     if (buffer <= BUF_PARAMS || buffer >= BUF_COUNT)
         return makeError(ExitCode::Runtime, "vulkan: {} of invalid buffer index {}", what, buffer);
     if (bytes > sizes_[buffer])
-        return makeError(ExitCode::Runtime, "vulkan: {} of {} bytes but buffer {} holds {} bytes",
-                         what, bytes, buffer, sizes_[buffer]);
+        return makeError(ExitCode::Runtime, "vulkan: {} of {} bytes but buffer {} holds {} bytes", what,
+                         bytes, buffer, sizes_[buffer]);
     return okStatus();
 }
 
@@ -828,13 +812,11 @@ Status VulkanDevice::resizeBuffer(uint32_t buffer, size_t bytes)
     // range.
     if (bytes > maxStorageBytes_ ||
         roundUp(std::max<VkDeviceSize>(bytes, kMinBufferBytes), kMinBufferBytes) > maxStorageBytes_)
-        return makeError(
-            ExitCode::Runtime,
-            "vulkan: buffer {} needs {} bytes, more than the device allows per storage "
-            "buffer ({} bytes)",
-            buffer, bytes, maxStorageBytes_);
-    const VkDeviceSize capacity =
-        roundUp(std::max<VkDeviceSize>(bytes, kMinBufferBytes), kMinBufferBytes);
+        return makeError(ExitCode::Runtime,
+                         "vulkan: buffer {} needs {} bytes, more than the device allows per storage "
+                         "buffer ({} bytes)",
+                         buffer, bytes, maxStorageBytes_);
+    const VkDeviceSize capacity = roundUp(std::max<VkDeviceSize>(bytes, kMinBufferBytes), kMinBufferBytes);
     GpuBuffer& b = buffers_[buffer];
     if (b.capacity >= capacity) {
         sizes_[buffer] = bytes;
@@ -864,8 +846,8 @@ Status VulkanDevice::uploadBuffer(uint32_t buffer, const void* data, size_t byte
     // data.
     memoryBarrier(commandBuffer_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                      VK_ACCESS_TRANSFER_WRITE_BIT);
     return submitAndWait();
 }
 
@@ -885,8 +867,7 @@ Status VulkanDevice::downloadBuffer(uint32_t buffer, void* data, size_t bytes)
     return okStatus();
 }
 
-Status VulkanDevice::runDispatches(const RasterParams& params,
-                                   const std::vector<Dispatch>& dispatches,
+Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                                    std::vector<double>& gpuMs)
 {
     gpuMs.clear();
@@ -911,8 +892,8 @@ Status VulkanDevice::runDispatches(const RasterParams& params,
     VkCommandBuffer cmd = commandBuffer_;
     vkCmdResetQueryPool(cmd, queryPool_, 0, queries);
     // All pipelines share one layout, so the set stays bound across the pipeline switches below.
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1,
-                            &descriptorSet_, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1, &descriptorSet_, 0,
+                            nullptr);
     for (size_t i = 0; i < dispatches.size(); ++i) {
         const Dispatch& d = dispatches[i];
         const uint32_t first = static_cast<uint32_t>(2 * i);
@@ -926,15 +907,15 @@ Status VulkanDevice::runDispatches(const RasterParams& params,
         // come after it.
         memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                          VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                          VK_ACCESS_TRANSFER_WRITE_BIT);
     }
     SR_TRY(submitAndWait());
 
     std::vector<uint64_t> ticks(queries);
-    SR_VK_CHECK(vkGetQueryPoolResults(
-        device_, queryPool_, 0, queries, ticks.size() * sizeof(uint64_t), ticks.data(),
-        sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    SR_VK_CHECK(vkGetQueryPoolResults(device_, queryPool_, 0, queries, ticks.size() * sizeof(uint64_t),
+                                      ticks.data(), sizeof(uint64_t),
+                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     const uint32_t validBits = physical_.timestampValidBits;
     const uint64_t mask = validBits >= 64 ? ~uint64_t(0) : (uint64_t(1) << validBits) - 1;
     const double msPerTick = double(physical_.properties.limits.timestampPeriod) * 1e-6;

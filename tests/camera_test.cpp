@@ -20,14 +20,13 @@ glm::vec3 project(const glm::mat4& m, const glm::vec3& p)
     return glm::vec3(c) / c.w;
 }
 
-::testing::AssertionResult near(const glm::vec3& actual, const glm::vec3& expected,
-                                float eps = 1e-5f)
+::testing::AssertionResult near(const glm::vec3& actual, const glm::vec3& expected, float eps = 1e-5f)
 {
     glm::vec3 d = glm::abs(actual - expected);
     if (d.x <= eps && d.y <= eps && d.z <= eps) return ::testing::AssertionSuccess();
     return ::testing::AssertionFailure()
-           << "got (" << actual.x << ", " << actual.y << ", " << actual.z << "), expected ("
-           << expected.x << ", " << expected.y << ", " << expected.z << ")";
+           << "got (" << actual.x << ", " << actual.y << ", " << actual.z << "), expected (" << expected.x
+           << ", " << expected.y << ", " << expected.z << ")";
 }
 
 // A scene whose bounds are the cube [-1, 1]^3: bounding sphere at the origin, radius sqrt(3).

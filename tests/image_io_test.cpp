@@ -37,8 +37,7 @@ template <typename T>
 void expectOneLineError(const Result<T>& result, const std::string& path)
 {
     ASSERT_FALSE(result.ok());
-    EXPECT_NE(result.error().message.find("'" + path + "'"), std::string::npos)
-        << result.error().message;
+    EXPECT_NE(result.error().message.find("'" + path + "'"), std::string::npos) << result.error().message;
     EXPECT_EQ(result.error().message.find('\n'), std::string::npos);
 }
 
@@ -130,8 +129,7 @@ TEST(ImageIo, AovExrRoundTripIsBitExact)
     EXPECT_EQ(back->height, aov.height);
     EXPECT_EQ(back->id, aov.id);
     ASSERT_EQ(back->depth.size(), n);
-    for (size_t i = 0; i < n; ++i)
-        ASSERT_EQ(bitsOf(back->depth[i]), bitsOf(aov.depth[i])) << "pixel " << i;
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(bitsOf(back->depth[i]), bitsOf(aov.depth[i])) << "pixel " << i;
 }
 
 TEST(ImageIo, AovExrIsAnOrdinaryScanlineFile)

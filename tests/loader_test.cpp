@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -54,8 +55,7 @@ void writeFile(const std::string& path, const std::string& bytes)
 
 std::string base64(const std::vector<uint8_t>& data)
 {
-    static const char* kAlphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
     for (size_t i = 0; i < data.size(); i += 3) {
         uint32_t chunk = uint32_t(data[i]) << 16;
@@ -92,13 +92,11 @@ public:
         return int(json_["bufferViews"].size()) - 1;
     }
 
-    int addAccessor(int view, int componentType, size_t count, const std::string& type,
-                    size_t offset = 0, bool normalized = false)
+    int addAccessor(int view, int componentType, size_t count, const std::string& type, size_t offset = 0,
+                    bool normalized = false)
     {
-        Json accessor = {{"bufferView", view},
-                         {"componentType", componentType},
-                         {"count", count},
-                         {"type", type}};
+        Json accessor = {
+            {"bufferView", view}, {"componentType", componentType}, {"count", count}, {"type", type}};
         if (offset != 0) accessor["byteOffset"] = offset;
         if (normalized) accessor["normalized"] = true;
         json_["accessors"].push_back(accessor);
@@ -112,13 +110,11 @@ public:
     }
 
     template <typename T>
-    int integers(const std::vector<T>& values, const std::string& type = "SCALAR",
-                 bool normalized = false)
+    int integers(const std::vector<T>& values, const std::string& type = "SCALAR", bool normalized = false)
     {
         int componentType = sizeof(T) == 1 ? kU8 : sizeof(T) == 2 ? kU16 : kU32;
         int view = addView(values.data(), values.size() * sizeof(T));
-        return addAccessor(view, componentType, values.size() / componentsOf(type), type, 0,
-                           normalized);
+        return addAccessor(view, componentType, values.size() / componentsOf(type), type, 0, normalized);
     }
 
     // A vector, not a Json: a braced list of one element would not become a JSON array.
@@ -150,9 +146,8 @@ public:
     std::string text() const
     {
         Json doc = json_;
-        doc["buffers"] =
-            Json::array({{{"byteLength", bin_.size()},
-                          {"uri", "data:application/octet-stream;base64," + base64(bin_)}}});
+        doc["buffers"] = Json::array(
+            {{{"byteLength", bin_.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin_)}}});
         return doc.dump(1);
     }
 
@@ -238,8 +233,7 @@ glm::vec4 cornerColor(const Scene& scene, size_t triangle, int k)
 // Unnormalised geometric normal of a triangle in index order.
 glm::vec3 faceNormal(const Scene& scene, size_t t)
 {
-    return glm::cross(corner(scene, t, 1) - corner(scene, t, 0),
-                      corner(scene, t, 2) - corner(scene, t, 0));
+    return glm::cross(corner(scene, t, 1) - corner(scene, t, 0), corner(scene, t, 2) - corner(scene, t, 0));
 }
 
 template <typename V>
@@ -258,11 +252,9 @@ template <typename V>
 }
 
 // Checks triangle t's corners, in index order.
-::testing::AssertionResult triangleIs(const Scene& scene, size_t t, glm::vec3 a, glm::vec3 b,
-                                      glm::vec3 c)
+::testing::AssertionResult triangleIs(const Scene& scene, size_t t, glm::vec3 a, glm::vec3 b, glm::vec3 c)
 {
-    if (3 * t + 2 >= scene.indices.size())
-        return ::testing::AssertionFailure() << "no triangle " << t;
+    if (3 * t + 2 >= scene.indices.size()) return ::testing::AssertionFailure() << "no triangle " << t;
     const glm::vec3 expected[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
         auto r = near(corner(scene, t, k), expected[k]);
@@ -295,9 +287,9 @@ TEST(GltfLoader, HierarchyWithTrsAndMatrixNodes)
 {
     // Local normals: +z at corners 0 and 2, (0.6, 0.8, 0) at corner 1.
     GltfDoc doc;
-    int mesh = doc.addMesh({primitive(doc.floats(kTriangle, "VEC3"),
-                                      doc.floats({0, 0, 1, 0.6f, 0.8f, 0, 0, 0, 1}, "VEC3"),
-                                      doc.integers<uint16_t>({0, 1, 2}))});
+    int mesh = doc.addMesh(
+        {primitive(doc.floats(kTriangle, "VEC3"), doc.floats({0, 0, 1, 0.6f, 0.8f, 0, 0, 0, 1}, "VEC3"),
+                   doc.integers<uint16_t>({0, 1, 2}))});
     int childTrs = doc.addNode({{"mesh", mesh}, {"translation", {0, 0, 1}}});
     // Column-major: translate (0, 1, 0) after scaling y by 3.
     int childMatrix =
@@ -406,9 +398,8 @@ TEST(GltfLoader, TriangleStripAndFanBecomeListsWithConsistentWinding)
     int strip = doc.floats({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0}, "VEC3");
     // Fan around (0,0,0) through (1,0), (1,1), (0,1), (-1,1): (v1,v2,v0), (v2,v3,v0), (v3,v4,v0).
     int fan = doc.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 1, 0}, "VEC3");
-    int mesh =
-        doc.addMesh({primitive(strip, -1, -1, kTriangleStrip),
-                     primitive(fan, -1, doc.integers<uint16_t>({0, 1, 2, 3, 4}), kTriangleFan)});
+    int mesh = doc.addMesh({primitive(strip, -1, -1, kTriangleStrip),
+                            primitive(fan, -1, doc.integers<uint16_t>({0, 1, 2, 3, 4}), kTriangleFan)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     ScratchDir dir;
     Result<Scene> scene = loadText(dir, "strip.gltf", doc.text());
@@ -432,8 +423,8 @@ TEST(GltfLoader, DoubleSidedMaterialSetsTriangleFlag)
     int pos = doc.floats(kTriangle, "VEC3");
     int twoSided = doc.addMaterial({{"doubleSided", true}});
     int oneSided = doc.addMaterial({{"name", "plain"}});
-    int mesh = doc.addMesh({primitive(pos, -1, -1, -1, twoSided),
-                            primitive(pos, -1, -1, -1, oneSided), primitive(pos)});
+    int mesh = doc.addMesh(
+        {primitive(pos, -1, -1, -1, twoSided), primitive(pos, -1, -1, -1, oneSided), primitive(pos)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     ScratchDir dir;
     Result<Scene> scene = loadText(dir, "sided.gltf", doc.text());
@@ -456,8 +447,7 @@ TEST(GltfLoader, NegativeScaleReversesWinding)
     for (size_t t = 0; t < 2; ++t) {
         EXPECT_TRUE(triangleIs(*scene, t, {0, 0, 0}, {0, 1, 0}, {-1, 0, 0}));
         EXPECT_GT(faceNormal(*scene, t).z, 0.0f);
-        for (int k = 0; k < 3; ++k)
-            EXPECT_TRUE(near(cornerNormal(*scene, t, k), glm::vec3(0, 0, 1)));
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(cornerNormal(*scene, t, k), glm::vec3(0, 0, 1)));
     }
 }
 
@@ -465,20 +455,17 @@ TEST(GltfLoader, CamerasArePlacedByTheirNodes)
 {
     GltfDoc doc = singleTriangleDoc();
     Json& j = doc.json();
-    j["cameras"] = Json::array(
-        {{{"type", "perspective"},
-          {"name", "persp"},
-          {"perspective", {{"yfov", 0.7}, {"aspectRatio", 1.5}, {"znear", 0.1}, {"zfar", 100}}}},
-         {{"type", "orthographic"},
-          {"orthographic", {{"xmag", 2}, {"ymag", 1.5}, {"znear", 0.5}, {"zfar", 50}}}}});
+    j["cameras"] =
+        Json::array({{{"type", "perspective"},
+                      {"name", "persp"},
+                      {"perspective", {{"yfov", 0.7}, {"aspectRatio", 1.5}, {"znear", 0.1}, {"zfar", 100}}}},
+                     {{"type", "orthographic"},
+                      {"orthographic", {{"xmag", 2}, {"ymag", 1.5}, {"znear", 0.5}, {"zfar", 50}}}}});
     const double h = std::sqrt(0.5);
     // Scale 2 is stripped; the 90-degree turn about +y sends view x to -z and view z to +x.
-    int persp = doc.addNode({{"camera", 0},
-                             {"translation", {0, 1, 5}},
-                             {"rotation", {0, h, 0, h}},
-                             {"scale", {2, 2, 2}}});
-    int orthoChild =
-        doc.addNode({{"camera", 1}, {"name", "orthoNode"}, {"translation", {1, 0, 0}}});
+    int persp = doc.addNode(
+        {{"camera", 0}, {"translation", {0, 1, 5}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}});
+    int orthoChild = doc.addNode({{"camera", 1}, {"name", "orthoNode"}, {"translation", {1, 0, 0}}});
     int orthoParent = doc.addNode({{"translation", {0, 0, 10}}, {"children", {orthoChild}}});
     j["scenes"][0]["nodes"].push_back(persp);
     j["scenes"][0]["nodes"].push_back(orthoParent);
@@ -513,10 +500,8 @@ TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
 {
     GltfDoc doc;
     int pos = doc.floats(kTriangle, "VEC3");
-    int halfRed =
-        doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 1, 1}}}}});
-    int tint =
-        doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1}}}}});
+    int halfRed = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 1, 1}}}}});
+    int tint = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1}}}}});
     Json rgba8 = primitive(pos, -1, -1, -1, halfRed);
     rgba8["attributes"]["COLOR_0"] =
         doc.integers<uint8_t>({255, 0, 0, 255, 0, 255, 0, 51, 0, 0, 255, 255}, "VEC4", true);
@@ -525,8 +510,8 @@ TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
         doc.integers<uint16_t>({65535, 0, 0, 0, 65535, 0, 0, 0, 65535}, "VEC3", true);
     Json rgbFloat = primitive(pos);
     rgbFloat["attributes"]["COLOR_0"] = doc.floats({0.25f, 0.5f, 0.75f, 1, 1, 1, 0, 0, 0}, "VEC3");
-    doc.setRoots({doc.addNode(
-        {{"mesh", doc.addMesh({rgba8, rgb16, rgbFloat, primitive(pos, -1, -1, -1, tint)})}})});
+    doc.setRoots(
+        {doc.addNode({{"mesh", doc.addMesh({rgba8, rgb16, rgbFloat, primitive(pos, -1, -1, -1, tint)})}})});
     ScratchDir dir;
     Result<Scene> scene = loadText(dir, "colors.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
@@ -539,8 +524,7 @@ TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
     EXPECT_TRUE(near(cornerColor(*scene, 2, 0), glm::vec4(0.25f, 0.5f, 0.75f, 1)));
     EXPECT_TRUE(near(cornerColor(*scene, 2, 1), glm::vec4(1, 1, 1, 1)));
     // No COLOR_0: the factor is the vertex colour.
-    for (int k = 0; k < 3; ++k)
-        EXPECT_TRUE(near(cornerColor(*scene, 3, k), glm::vec4(0.2f, 0.4f, 0.6f, 1)));
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(cornerColor(*scene, 3, k), glm::vec4(0.2f, 0.4f, 0.6f, 1)));
 }
 
 TEST(GltfLoader, AllWhiteColoursLeaveColorsEmpty)
@@ -572,8 +556,7 @@ TEST(GltfLoader, BinaryGlbAndExternalBuffer)
     EXPECT_EQ(disguised->triangleCount(), 1u);
 
     writeFile(dir.file("triangle.bin"), doc.bin());
-    Result<Scene> external =
-        loadText(dir, "external.gltf", doc.textWithExternalBuffer("triangle.bin"));
+    Result<Scene> external = loadText(dir, "external.gltf", doc.textWithExternalBuffer("triangle.bin"));
     ASSERT_TRUE(external.ok()) << external.error().message;
     EXPECT_TRUE(triangleIs(*external, 0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
 }
@@ -651,8 +634,8 @@ TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
 {
     GltfDoc doc;
     int pos = doc.floats(kTriangle, "VEC3");
-    int mesh = doc.addMesh({primitive(pos, -1, -1, kLines), primitive(pos),
-                            primitive(pos, -1, -1, kLines), primitive(pos, -1, -1, kPoints)});
+    int mesh = doc.addMesh({primitive(pos, -1, -1, kLines), primitive(pos), primitive(pos, -1, -1, kLines),
+                            primitive(pos, -1, -1, kPoints)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     ScratchDir dir;
     std::string path = dir.file("lines.gltf");
@@ -662,12 +645,11 @@ TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
     std::string warnings = ::testing::internal::GetCapturedStderr();
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->triangleCount(), 1u);
-    EXPECT_EQ(warnings,
-              "warning: " + path +
-                  ": skipping 1 primitive(s) with mode POINTS (lines/points not supported yet)\n"
-                  "warning: " +
-                  path +
-                  ": skipping 2 primitive(s) with mode LINES (lines/points not supported yet)\n");
+    EXPECT_EQ(warnings, "warning: " + path +
+                            ": skipping 1 primitive(s) with mode POINTS (lines/points not supported yet)\n"
+                            "warning: " +
+                            path +
+                            ": skipping 2 primitive(s) with mode LINES (lines/points not supported yet)\n");
 }
 
 TEST(GltfLoader, MalformedInputsAreOneLineErrors)
@@ -714,10 +696,9 @@ TEST(GltfLoader, MalformedInputsAreOneLineErrors)
     // Sparse accessors are not supported.
     {
         GltfDoc doc = singleTriangleDoc();
-        doc.json()["accessors"][0]["sparse"] = {
-            {"count", 1},
-            {"indices", {{"bufferView", 2}, {"componentType", kU16}}},
-            {"values", {{"bufferView", 1}}}};
+        doc.json()["accessors"][0]["sparse"] = {{"count", 1},
+                                                {"indices", {{"bufferView", 2}, {"componentType", kU16}}},
+                                                {"values", {{"bufferView", 1}}}};
         std::string path = dir.file("sparse.gltf");
         writeFile(path, doc.text());
         Result<Scene> r = loadScene(path);
@@ -781,8 +762,7 @@ TEST(SceneLoader, DispatchesOnExtensionCaseInsensitively)
 
 TEST(SceneLoader, FlattenMessageMakesOneLine)
 {
-    EXPECT_EQ(flattenMessage("first\n\nsecond\r\nsecond\n.\n  third.  \n"),
-              "first; second (2 times); third");
+    EXPECT_EQ(flattenMessage("first\n\nsecond\r\nsecond\n.\n  third.  \n"), "first; second (2 times); third");
     EXPECT_EQ(flattenMessage(""), "");
     std::string many;
     for (int i = 0; i < 1000; ++i) many += "line " + std::to_string(i) + "\n";
@@ -796,8 +776,7 @@ TEST(SceneLoader, FlattenMessageMakesOneLine)
 Scene twoTriangleScene()
 {
     Scene scene;
-    for (glm::vec3 p :
-         {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(-2, 3, 4)}) {
+    for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(-2, 3, 4)}) {
         scene.positions.emplace_back(p, 1.0f);
         scene.normals.emplace_back(0.0f, 0.0f, 1.0f, 0.0f);
     }
@@ -877,8 +856,7 @@ TEST(ObjLoader, PolygonsAreFanTriangulatedInFileOrder)
     EXPECT_TRUE(triangleIs(*scene, 5, {2, 0, 0}, {2.5f, 2, 0}, {1.5f, 1, 0}));
     // No vn lines: flat normals, +z for these counter-clockwise faces.
     for (size_t t = 0; t < 6; ++t)
-        for (int k = 0; k < 3; ++k)
-            EXPECT_TRUE(near(cornerNormal(*scene, t, k), glm::vec3(0, 0, 1)));
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(cornerNormal(*scene, t, k), glm::vec3(0, 0, 1)));
     EXPECT_TRUE(scene->colors.empty());
     EXPECT_EQ(scene->triFlags, std::vector<uint32_t>(6, 0u));
 }
@@ -1008,6 +986,13 @@ TEST(BuiltinScene, Deterministic)
 // ---- shipped assets -------------------------------------------------------------------------
 
 #ifdef SR_SOURCE_DIR
+// The checkout's root; SR_SOURCE_DIR in the environment wins for a relocated test binary.
+std::string sourceDir()
+{
+    const char* env = std::getenv("SR_SOURCE_DIR");
+    return env ? env : SR_SOURCE_DIR;
+}
+
 // The hand-written files are consistent: every triangle's winding agrees with its normals.
 void expectWindingMatchesNormals(const Scene& scene)
 {
@@ -1018,7 +1003,7 @@ void expectWindingMatchesNormals(const Scene& scene)
 
 TEST(Assets, HierarchyGltf)
 {
-    Result<Scene> scene = loadScene(std::string(SR_SOURCE_DIR) + "/assets/hierarchy.gltf");
+    Result<Scene> scene = loadScene(sourceDir() + "/assets/hierarchy.gltf");
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->droppedTriangles, 0u);
     EXPECT_EQ(scene->cameras.size(), 1u);
@@ -1038,7 +1023,7 @@ TEST(Assets, HierarchyGltf)
 
 TEST(Assets, ShapesObj)
 {
-    Result<Scene> scene = loadScene(std::string(SR_SOURCE_DIR) + "/assets/shapes.obj");
+    Result<Scene> scene = loadScene(sourceDir() + "/assets/shapes.obj");
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->droppedTriangles, 0u);
     EXPECT_FALSE(scene->colors.empty());

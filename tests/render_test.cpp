@@ -265,9 +265,10 @@ TEST(RasterTool, BadInputGivesOneLineAndExitCode2)
     std::string dir = ::testing::TempDir();
     std::ofstream(dir + "broken.gltf") << "{ \"asset\": {\"version\": \"2.0\"}, \"meshes\": [ {";
     std::ofstream(dir + "garbage.obj") << "v 1 2\nf 1 2 99999\nf a b c\n";
-    for (std::string args : std::vector<std::string>{"render /nonexistent/scene.gltf", "render " + dir + "broken.gltf",
-                             "render " + dir + "garbage.obj", "render --width 0", "render --camera orbit:1,2",
-                             "render --backend metal", "render --light-dir 1,2"}) {
+    for (std::string args : std::vector<std::string>{
+             "render /nonexistent/scene.gltf", "render " + dir + "broken.gltf",
+             "render " + dir + "garbage.obj", "render --width 0", "render --camera orbit:1,2",
+             "render --backend metal", "render --light-dir 1,2"}) {
         ToolRun run = runTool(args + " -o " + dir + "never.png");
         EXPECT_EQ(run.exitCode, 2) << args << ": " << run.stderrText;
         EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1)

@@ -80,7 +80,8 @@ ToolRun runTool(const std::string& args)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.
     static int calls = 0;
-    std::string stem = ::testing::TempDir() + "raster_tool_" + std::to_string(getpid()) + "_" + std::to_string(calls++);
+    std::string stem =
+        ::testing::TempDir() + "raster_tool_" + std::to_string(getpid()) + "_" + std::to_string(calls++);
     std::string out = stem + ".out";
     std::string err = stem + ".err";
     // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).

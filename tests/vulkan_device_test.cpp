@@ -163,11 +163,10 @@ TEST_F(VulkanDeviceTest, TransfersBeyondTheBufferAndBadIndicesAreErrors)
 {
     ASSERT_TRUE(device_->resize(BUF_COUNTERS, 64).ok());
     std::vector<uint8_t> data(128);
-    for (const Status& status : {device_->download(BUF_COUNTERS, data.data(), 128),
-                                 device_->upload(BUF_COUNTERS, data.data(), 65),
-                                 device_->download(BUF_FRAMEBUFFER, data.data(), 4),
-                                 device_->upload(BUF_COUNT, data.data(), 4),
-                                 device_->resize(BUF_PARAMS, 64), device_->resize(BUF_COUNT, 64)}) {
+    for (const Status& status :
+         {device_->download(BUF_COUNTERS, data.data(), 128), device_->upload(BUF_COUNTERS, data.data(), 65),
+          device_->download(BUF_FRAMEBUFFER, data.data(), 4), device_->upload(BUF_COUNT, data.data(), 4),
+          device_->resize(BUF_PARAMS, 64), device_->resize(BUF_COUNT, 64)}) {
         ASSERT_FALSE(status.ok());
         EXPECT_TRUE(isOneLine(status.error().message)) << status.error().message;
     }
@@ -189,8 +188,7 @@ TEST_F(VulkanDeviceTest, ClearEmptiesVisibilityAndCounters)
     const size_t counterSlots = 16;  // more than COUNTER_COUNT, for the same reason
 
     std::vector<uint64_t> visibility(pixels + slack);
-    for (size_t i = 0; i < visibility.size(); ++i)
-        visibility[i] = 0x0123456789abcdefull ^ (i * 977);
+    for (size_t i = 0; i < visibility.size(); ++i) visibility[i] = 0x0123456789abcdefull ^ (i * 977);
     std::vector<uint32_t> counters(counterSlots);
     for (size_t i = 0; i < counters.size(); ++i) counters[i] = 0xdeadbeefu + uint32_t(i);
     const size_t visibilityBytes = visibility.size() * sizeof(uint64_t);
@@ -228,8 +226,7 @@ TEST_F(VulkanDeviceTest, RunTimesEveryDispatchIncludingEmptyOnes)
     params.width = 8;
     params.height = 8;
     // Zero groups of a stage that would read unset buffers: it must not run, but is still timed.
-    const std::vector<Dispatch> dispatches = {
-        {STAGE_CLEAR, 1}, {STAGE_VERTEX, 0}, {STAGE_CLEAR, 1}};
+    const std::vector<Dispatch> dispatches = {{STAGE_CLEAR, 1}, {STAGE_VERTEX, 0}, {STAGE_CLEAR, 1}};
     std::vector<double> gpuMs = {42.0};
     Status status = device_->run(params, dispatches, gpuMs);
     ASSERT_TRUE(status.ok()) << status.error().message;
@@ -283,8 +280,7 @@ TEST_F(VulkanDeviceTest, ValidationErrorFailsEveryLaterCall)
     std::vector<double> gpuMs;
     for (const Status& status :
          {device_->resize(BUF_POSITIONS, 16), device_->upload(BUF_POSITIONS, data.data(), 16),
-          device_->download(BUF_POSITIONS, data.data(), 16),
-          device_->run(RasterParams{}, {}, gpuMs)}) {
+          device_->download(BUF_POSITIONS, data.data(), 16), device_->run(RasterParams{}, {}, gpuMs)}) {
         ASSERT_FALSE(status.ok());
         const std::string& message = status.error().message;
         EXPECT_TRUE(isOneLine(message)) << message;
