@@ -50,6 +50,18 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
     };
 }
 
+StageTiming summarize(std::string name, const std::vector<double>& ms)
+{
+    StageTiming t;
+    t.name = std::move(name);
+    t.minMs = *std::min_element(ms.begin(), ms.end());
+    t.maxMs = *std::max_element(ms.begin(), ms.end());
+    t.medianMs = median(ms);
+    return t;
+}
+
+}  // namespace
+
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
                          uint32_t capacity, uint32_t rasterGroups)
 {
@@ -75,18 +87,6 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.rasterGroups = rasterGroups;
     return p;
 }
-
-StageTiming summarize(std::string name, const std::vector<double>& ms)
-{
-    StageTiming t;
-    t.name = std::move(name);
-    t.minMs = *std::min_element(ms.begin(), ms.end());
-    t.maxMs = *std::max_element(ms.begin(), ms.end());
-    t.medianMs = median(ms);
-    return t;
-}
-
-}  // namespace
 
 double median(std::vector<double> values)
 {

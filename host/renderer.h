@@ -69,6 +69,11 @@ struct RenderOutput {
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings);
 
+// The per-frame constants every backend uses for this scene, camera and settings; setupCapacity and
+// rasterGroups are the compute pipeline's list capacity and grid-stride group count.
+RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
+                         uint32_t setupCapacity, uint32_t rasterGroups);
+
 // Median of a non-empty list (mean of the two middle values for even sizes).
 double median(std::vector<double> values);
 

@@ -1,0 +1,27 @@
+// vulkan_graphics.h - the `vulkan-graphics` reference backend: the same scene drawn through the real
+// Vulkan graphics pipeline (hardware rasterizer on a GPU, Mesa's conformant rasterizer on lavapipe).
+//
+// One indexed draw of the whole flattened triangle list, so gl_PrimitiveID is the triangle id of the
+// compute backends. Attachments: R32_UINT colour (the same packed sRGB RGBA8 word the compute `shade`
+// stage writes, computed by the same shared-header shading code), R32_UINT id (gl_PrimitiveID, cleared
+// to EMPTY_ID) and D32_SFLOAT depth (LESS, cleared to 1.0). Facing culling happens in the fragment
+// shader so that glTF doubleSided triangles are never culled within the single draw.
+#ifndef RASTER_VULKAN_GRAPHICS_H
+#define RASTER_VULKAN_GRAPHICS_H
+
+#include "camera.h"
+#include "renderer.h"
+#include "result.h"
+#include "scene.h"
+
+namespace sr {
+
+// Renders `settings.warmup + settings.repeat` frames on Vulkan device `deviceIndex` (same ordering and
+// validation rules as makeVulkanDevice) and returns the last one. stages holds one entry, "draw"
+// (GPU time of the render pass); stats has trianglesIn only.
+Result<RenderOutput> renderVulkanGraphics(const Scene& scene, const CameraMatrices& camera,
+                                          const RenderSettings& settings, int deviceIndex);
+
+}  // namespace sr
+
+#endif  // RASTER_VULKAN_GRAPHICS_H
