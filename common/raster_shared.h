@@ -119,7 +119,8 @@ bool isFinite(float x)
 #define BUF_COUNTERS 14     // uint[COUNTER_COUNT]: list lengths and statistics
 #define BUF_VISIBILITY 15   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
 #define BUF_FRAMEBUFFER 16  // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_COUNT 17
+#define BUF_HIT_COUNT 17    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_COUNT 18
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame.
 #define COUNTER_SETUP 0          // TriSetup records appended (may exceed capacity: overflow)
@@ -174,6 +175,10 @@ bool isFinite(float x)
 #define SHADING_NORMALS 4u
 #define SHADING_DEPTH 5u
 #define SHADING_PRIMITIVE_ID 6u
+#define SHADING_HIT_COUNT 7u  // debug: how many triangles covered each pixel (needs DEBUG_COUNT_HITS)
+
+// RasterParams.debugFlags bits.
+#define DEBUG_COUNT_HITS 1u  // raster stages also count every covered pixel in BUF_HIT_COUNT
 
 // Per-frame constants. std140 in Vulkan: mat4/vec4 first, then 4-byte scalars, 16-byte total multiple.
 struct RasterParams {
@@ -194,9 +199,9 @@ struct RasterParams {
     uint hasColors;        // 1 when BUF_COLORS holds vertexCount colours, else colours are white
     uint setupCapacity;    // capacity of BUF_SETUP_TRIS, BUF_SMALL_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
     uint rasterGroups;     // groups launched for raster_small and raster_tiles (grid-stride loops)
-    uint reserved0;        // keeps the struct a multiple of 16 bytes
+    uint debugFlags;       // DEBUG_* bits
+    uint reserved0;        // keep the struct a multiple of 16 bytes
     uint reserved1;
-    uint reserved2;
 };
 
 // One rasterizable triangle after clipping and snapping, positively oriented (edge functions are
@@ -696,6 +701,16 @@ SR_FN vec3 shadePixel(RasterParams params, uint triId, vec3 viewPos, vec3 viewNo
     vec3 l = vec3(params.lightDirView.x, params.lightDirView.y, params.lightDirView.z);
     if (mode == SHADING_FLAT) return shadeLight(SHADING_LAMBERT, albedo, fn, v, l, params.lightColor, 1.0f);
     return shadeLight(mode, albedo, n, v, l, params.lightColor, params.shadeExtra.x);
+}
+
+// SHADING_HIT_COUNT: background where nothing covered the pixel, green for exactly one triangle (what a
+// watertight mesh gives), red for two, white for more.
+SR_FN vec3 hitCountColor(uint hits, vec3 background)
+{
+    if (hits == 0u) return background;
+    if (hits == 1u) return vec3(0.1f, 0.6f, 0.1f);
+    if (hits == 2u) return vec3(0.9f, 0.05f, 0.05f);
+    return vec3(1.0f);
 }
 
 SR_FN vec3 interpolate3(vec3 b, vec4 a0, vec4 a1, vec4 a2)

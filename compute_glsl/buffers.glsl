@@ -1,5 +1,6 @@
-// buffers.glsl - descriptor set 0 as every stage sees it: the bindings of raster_shared.h (BUF_*).
-// Each stage includes this after raster_shared.h; unused bindings cost nothing in the shader.
+// buffers.glsl - descriptor set 0 as every stage sees it: the bindings of raster_shared.h (BUF_*), and
+// mergeFragment, the one place a covered pixel is written. Each stage includes this after
+// raster_shared.h; unused bindings cost nothing in the shader.
 #ifndef RASTER_BUFFERS_GLSL
 #define RASTER_BUFFERS_GLSL
 
@@ -22,5 +23,14 @@ layout(std430, set = 0, binding = BUF_SCAN_SUMS) buffer ScanSumsBlock { uint sca
 layout(std430, set = 0, binding = BUF_COUNTERS) buffer CountersBlock { uint counters[]; };
 layout(std430, set = 0, binding = BUF_VISIBILITY) buffer VisibilityBlock { uint64_t visibility[]; };
 layout(std430, set = 0, binding = BUF_FRAMEBUFFER) buffer FramebufferBlock { uint framebuffer[]; };
+layout(std430, set = 0, binding = BUF_HIT_COUNT) buffer HitCountBlock { uint hitCount[]; };
+
+// The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
+// plus the debug hit count. Used by both raster stages.
+void mergeFragment(uint pixel, float depth, uint id)
+{
+    atomicMin(visibility[pixel], packVisibility(depth, id));
+    if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) atomicAdd(hitCount[pixel], 1u);
+}
 
 #endif  // RASTER_BUFFERS_GLSL

@@ -1,5 +1,5 @@
 // raster_small.comp - stage `raster_small`: one thread per small triangle tests every pixel centre of
-// its bbox (at most SMALL_TRI_SPAN^2) and merges covered pixels with one 64-bit atomicMin each.
+// its bbox (at most SMALL_TRI_SPAN^2) and merges covered pixels with mergeFragment.
 // Grid-stride loop over the small list; groups = RasterParams.rasterGroups.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ void main()
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
                 if (rasterPixel(t, x, y, depth))
-                    atomicMin(visibility[uint(y) * params.width + uint(x)], packVisibility(depth, id));
+                    mergeFragment(uint(y) * params.width + uint(x), depth, id);
             }
         }
     }

@@ -35,6 +35,6 @@ void main()
         float depth;
         if (p.x >= bounds.x && p.x <= bounds.z && p.y >= bounds.y && p.y <= bounds.w &&
             rasterPixel(t, p.x, p.y, depth))
-            atomicMin(visibility[uint(p.y) * params.width + uint(p.x)], packVisibility(depth, setupTriId(t)));
+            mergeFragment(uint(p.y) * params.width + uint(p.x), depth, setupTriId(t));
     }
 }

@@ -14,7 +14,9 @@ void main()
     if (i >= params.width * params.height) return;
     uint id = visibilityId(visibility[i]);
     vec3 color = vec3(params.background.x, params.background.y, params.background.z);
-    if (id != EMPTY_ID) {
+    if (params.shadingMode == SHADING_HIT_COUNT) {
+        color = hitCountColor(hitCount[i], color);
+    } else if (id != EMPTY_ID) {
         uint i0 = indices[3u * id];
         uint i1 = indices[3u * id + 1u];
         uint i2 = indices[3u * id + 2u];

@@ -1,5 +1,6 @@
 // buffers.cuh - the device buffer table as the CUDA stages see it: the BUF_* bindings of
-// raster_shared.h with the same names as compute_glsl/buffers.glsl.
+// raster_shared.h with the same names as compute_glsl/buffers.glsl, and mergeFragment, the one place a
+// covered pixel is written.
 #ifndef RASTER_CUDA_BUFFERS_CUH
 #define RASTER_CUDA_BUFFERS_CUH
 
@@ -24,7 +25,17 @@ struct Buffers {
     uint* counters;                  // BUF_COUNTERS
     unsigned long long* visibility;  // BUF_VISIBILITY (CUDA's 64-bit atomics take unsigned long long)
     uint* framebuffer;               // BUF_FRAMEBUFFER
+    uint* hitCount;                  // BUF_HIT_COUNT
 };
+
+// The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
+// plus the debug hit count. Used by both raster stages.
+__device__ inline void mergeFragment(const RasterParams& params, const Buffers& b, uint pixel, float depth,
+                                     uint id)
+{
+    atomicMin(&b.visibility[pixel], packVisibility(depth, id));
+    if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) atomicAdd(&b.hitCount[pixel], 1u);
+}
 
 // Thread index in a 1D grid, as gl_GlobalInvocationID.x.
 __device__ inline uint globalThreadId()

@@ -151,6 +151,7 @@ private:
         b.counters = as<uint>(BUF_COUNTERS);
         b.visibility = as<unsigned long long>(BUF_VISIBILITY);
         b.framebuffer = as<uint>(BUF_FRAMEBUFFER);
+        b.hitCount = as<uint>(BUF_HIT_COUNT);
         return b;
     }
 

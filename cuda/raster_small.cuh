@@ -1,5 +1,5 @@
 // raster_small.cuh - stage `raster_small`: one thread per small triangle tests every pixel centre of
-// its bbox (at most SMALL_TRI_SPAN^2) and merges covered pixels with one 64-bit atomicMin each.
+// its bbox (at most SMALL_TRI_SPAN^2) and merges covered pixels with mergeFragment.
 // Grid-stride loop over the small list; blocks = RasterParams.rasterGroups.
 namespace sr {
 
@@ -15,7 +15,7 @@ __device__ inline void rasterSmallStage(const RasterParams& params, const Buffer
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
                 if (rasterPixel(t, x, y, depth))
-                    atomicMin(&b.visibility[uint(y) * params.width + uint(x)], packVisibility(depth, id));
+                    mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
             }
         }
     }

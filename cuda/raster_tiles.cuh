@@ -32,8 +32,7 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
         float depth;
         if (p.x >= bounds.x && p.x <= bounds.z && p.y >= bounds.y && p.y <= bounds.w &&
             rasterPixel(t, p.x, p.y, depth))
-            atomicMin(&b.visibility[uint(p.y) * params.width + uint(p.x)],
-                      packVisibility(depth, setupTriId(t)));
+            mergeFragment(params, b, uint(p.y) * params.width + uint(p.x), depth, setupTriId(t));
     }
 }
 

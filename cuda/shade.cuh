@@ -9,7 +9,9 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
     if (i >= params.width * params.height) return;
     uint id = visibilityId(b.visibility[i]);
     vec3 color = vec3(params.background.x, params.background.y, params.background.z);
-    if (id != EMPTY_ID) {
+    if (params.shadingMode == SHADING_HIT_COUNT) {
+        color = hitCountColor(b.hitCount[i], color);
+    } else if (id != EMPTY_ID) {
         uint i0 = b.indices[3u * id];
         uint i1 = b.indices[3u * id + 1u];
         uint i2 = b.indices[3u * id + 2u];

@@ -55,10 +55,12 @@ Sphere boundingSphere(const Scene& scene)
     return {center, std::max(radius, scale * 1e-6f)};
 }
 
-// Near and far planes at `dist` from the centre of the sphere, enclosing it with 1% to spare.
+// Near and far planes at `dist` from the centre of the sphere, enclosing it with 1% to spare. From inside
+// the sphere the near plane cannot enclose it; it then sits at 1% of the distance to the centre (at
+// most 1/1000 of the radius), so nearby geometry stays visible in a scene much larger than the view.
 void encloseSphere(float dist, float radius, float& znear, float& zfar)
 {
-    float minNear = std::max(radius * 1e-3f, 1e-6f);
+    float minNear = std::max(std::min(radius * 1e-3f, dist * 1e-2f), 1e-6f);
     znear = std::max((dist - radius) * 0.99f, minNear);
     zfar = std::max((dist + radius) * 1.01f, znear * 2.0f);
 }

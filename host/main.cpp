@@ -1,11 +1,13 @@
 // main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
 //
-//   raster render [SCENE] [--backend auto|cuda|vulkan] [--device N] [--width W --height H]
+//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [--width W --height H]
 //                 [--camera auto|gltf:N|orbit:AZ,EL,DIST] [-o out.png] [--aov out.exr]
 //                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
-//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id]
+//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
+//   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
+//                [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N] [--json F]
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -14,6 +16,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "bench.h"
 #include "camera.h"
 #include "compare.h"
 #include "compute_device.h"
@@ -21,6 +24,7 @@
 #include "renderer.h"
 #include "scene.h"
 #include "stats_json.h"
+#include "vulkan_graphics.h"
 
 namespace sr {
 namespace {
@@ -45,7 +49,7 @@ const std::map<std::string, uint32_t> kCullModes = {
 const std::map<std::string, uint32_t> kShadingModes = {
     {"lambert", SHADING_LAMBERT}, {"phong", SHADING_PHONG},     {"blinn-phong", SHADING_BLINN_PHONG},
     {"flat", SHADING_FLAT},       {"normals", SHADING_NORMALS}, {"depth", SHADING_DEPTH},
-    {"id", SHADING_PRIMITIVE_ID}};
+    {"id", SHADING_PRIMITIVE_ID}, {"hits", SHADING_HIT_COUNT}};
 const std::map<std::string, BackendKind> kBackends = {
     {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
 
@@ -97,9 +101,14 @@ Status runRender(RenderCommand& cmd)
     if (!scene) return scene.error();
     auto camera = resolveCamera(*cameraSpec, *scene, s.width, s.height);
     if (!camera) return camera.error();
-    auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
-    if (!device) return device.error();
-    auto out = renderScene(**device, *scene, *camera, s);
+    Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
+    if (cmd.backend == "vulkan-graphics") {
+        out = renderVulkanGraphics(*scene, *camera, s, cmd.device);
+    } else {
+        auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
+        if (!device) return device.error();
+        out = renderScene(**device, *scene, *camera, s);
+    }
     if (!out) return out.error();
 
     SR_TRY(writePng(cmd.output, out->color));
@@ -133,6 +142,46 @@ Result<bool> runCompare(const CompareCommand& cmd)
     return report->pass;
 }
 
+struct BenchCommand {
+    std::string backends = "cuda,vulkan,vulkan-graphics";
+    std::string resolutions = "1920x1080";
+    std::string scenes;
+    std::string jsonPath;
+    BenchOptions options;
+};
+
+std::vector<std::string> splitList(const std::string& text)
+{
+    std::vector<std::string> items;
+    std::istringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+Status runBenchCommand(BenchCommand& cmd)
+{
+    BenchOptions& o = cmd.options;
+    o.backends = splitList(cmd.backends);
+    o.scenes = splitList(cmd.scenes);
+    o.resolutions.clear();
+    for (const std::string& r : splitList(cmd.resolutions)) {
+        unsigned w = 0, h = 0;
+        char x = 0;
+        std::istringstream in(r);
+        if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || w > MAX_FRAMEBUFFER_DIM ||
+            h > MAX_FRAMEBUFFER_DIM)
+            return makeError(ExitCode::Usage, "invalid --resolutions entry '{}': expected WxH up to {}", r,
+                             MAX_FRAMEBUFFER_DIM);
+        o.resolutions.push_back({w, h});
+    }
+    auto bench = runBench(o);
+    if (!bench) return bench.error();
+    if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *bench));
+    fmt::print("{}", benchMarkdown(*bench));
+    return okStatus();
+}
+
 }  // namespace
 }  // namespace sr
 
@@ -144,9 +193,14 @@ int main(int argc, char** argv)
 
     RenderCommand cmd;
     CLI::App* render = app.add_subcommand("render", "render a scene (built-in when SCENE is omitted)");
-    render->add_option("scene", cmd.scenePath, "glTF 2.0 (.gltf/.glb) or OBJ file");
-    render->add_option("--backend", cmd.backend, "auto (CUDA if present, else Vulkan), cuda or vulkan")
-        ->check(CLI::IsMember({"auto", "cuda", "vulkan"}));
+    render->add_option("scene", cmd.scenePath,
+                       "glTF 2.0 (.gltf/.glb) or OBJ file, or builtin, builtin:dense, builtin:huge");
+    render
+        ->add_option(
+            "--backend", cmd.backend,
+            "auto (CUDA if present, else Vulkan), cuda, vulkan, or vulkan-graphics (the reference: the "
+            "same scene through the real Vulkan graphics pipeline)")
+        ->check(CLI::IsMember({"auto", "cuda", "vulkan", "vulkan-graphics"}));
     render->add_option("--device", cmd.device, "device index within the backend (default: first)");
     render->add_option("--width", cmd.settings.width, "image width in pixels")
         ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
@@ -160,8 +214,12 @@ int main(int argc, char** argv)
     render->add_option("--warmup", cmd.settings.warmup, "untimed runs first")->check(CLI::Range(0, 100000));
     render->add_option("--cull", cmd.cull, "back, front or none (glTF doubleSided is never culled)")
         ->check(CLI::IsMember({"back", "front", "none"}));
-    render->add_option("--shading", cmd.shading, "lambert, phong, blinn-phong, flat, normals, depth or id")
-        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id"}));
+    render
+        ->add_option(
+            "--shading", cmd.shading,
+            "lambert, phong, blinn-phong, flat, normals, depth, id, or hits (debug: triangles covering "
+            "each pixel; green = 1, red = 2, white = more)")
+        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id", "hits"}));
     render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
     render->add_option("--light-color", cmd.lightColor, "R,G,B linear light colour");
     render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));
@@ -182,6 +240,25 @@ int main(int argc, char** argv)
                     "AOVs: largest allowed depth difference")
         ->check(CLI::Range(0.0, 1.0));
 
+    BenchCommand bench;
+    CLI::App* benchApp = app.add_subcommand("bench", "the benchmark suite on several backends in one run");
+    benchApp->add_option("--backends", bench.backends, "comma-separated: cuda, vulkan, vulkan-graphics");
+    benchApp->add_option("--resolutions", bench.resolutions, "comma-separated WxH");
+    benchApp->add_option(
+        "--scenes", bench.scenes,
+        "comma-separated subset of sweep-0.5px, sweep-2px, sweep-8px, sweep-32px, sweep-128px, "
+        "layers-16, bunny, dense, builtin (default: all)");
+    benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
+        ->check(CLI::Range(1, 1 << 26));
+    benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")
+        ->check(CLI::Range(4, 8192));
+    benchApp->add_option("--bunny", bench.options.bunnyPath,
+                         "the Stanford bunny OBJ (Debian's glmark2-data)");
+    benchApp->add_option("--warmup", bench.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
+    benchApp->add_option("--repeat", bench.options.repeat, "timed runs")->check(CLI::Range(1, 100000));
+    benchApp->add_option("--device", bench.options.device, "device index within each backend");
+    benchApp->add_option("--json", bench.jsonPath, "all results as JSON");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -192,6 +269,7 @@ int main(int argc, char** argv)
 
     Status status = okStatus();
     if (render->parsed()) status = runRender(cmd);
+    if (benchApp->parsed()) status = runBenchCommand(bench);
     if (cmp->parsed()) {
         auto pass = runCompare(compare);
         if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);

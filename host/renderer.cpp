@@ -50,6 +50,11 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
     };
 }
 
+bool countsHits(const RenderSettings& s)
+{
+    return s.countHits || s.shadingMode == SHADING_HIT_COUNT;
+}
+
 StageTiming summarize(std::string name, const std::vector<double>& ms)
 {
     StageTiming t;
@@ -85,6 +90,7 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.hasColors = scene.colors.empty() ? 0u : 1u;
     p.setupCapacity = capacity;
     p.rasterGroups = rasterGroups;
+    p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
     return p;
 }
 
@@ -127,6 +133,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
+    // The debug counter costs memory only when it is asked for.
+    SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? pixels * sizeof(uint32_t) : 16));
     SR_TRY(allocateLists(device, uint32_t(capacity)));
 
     RenderOutput out;
@@ -184,6 +192,10 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     out.color.height = out.aov.height = settings.height;
     out.color.pixels.resize(pixels);
     SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
+    if (countsHits(settings)) {
+        out.hitCount.resize(pixels);
+        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), pixels * sizeof(uint32_t)));
+    }
     std::vector<uint64_t> visibility(pixels);
     SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), pixels * sizeof(uint64_t)));
     out.aov.id.resize(pixels);

@@ -34,6 +34,7 @@ struct RenderSettings {
     uint32_t warmup = 1;                // untimed runs before the timed ones
     uint32_t repeat = 1;                // timed runs (>= 1)
     uint32_t initialSetupCapacity = 0;  // 0: sized from the scene; tests force tiny ones
+    bool countHits = false;             // debug: count covering triangles per pixel
 };
 
 struct StageTiming {
@@ -57,6 +58,7 @@ struct RenderStats {
 struct RenderOutput {
     RgbaImage color;
     AovImage aov;
+    std::vector<uint32_t> hitCount;  // per pixel, only when counting hits (SHADING_HIT_COUNT or countHits)
     RenderStats stats;
     std::vector<StageTiming> stages;  // in dispatch order
     StageTiming total;                // GPU time of the whole frame

@@ -136,6 +136,7 @@ std::string flattenMessage(const std::string& text)
 
 Result<Scene> loadScene(const std::string& path)
 {
+    if (path == "builtin" || path.rfind("builtin:", 0) == 0) return builtinSceneNamed(path);
     std::string ext = lowerExtension(path);
     if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
     if (ext == ".obj") return loadObj(path);

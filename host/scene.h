@@ -44,7 +44,8 @@ struct Scene {
     size_t triangleCount() const { return indices.size() / 3; }
 };
 
-// Loads a .gltf, .glb or .obj file, chosen by extension. Errors are one-line messages naming the file.
+// Loads a .gltf, .glb or .obj file, chosen by extension, or a procedural scene named "builtin...".
+// Errors are one-line messages naming the file.
 Result<Scene> loadScene(const std::string& path);
 Result<Scene> loadGltf(const std::string& path);
 Result<Scene> loadObj(const std::string& path);
@@ -52,6 +53,11 @@ Result<Scene> loadObj(const std::string& path);
 // The built-in procedural scene used when no file is given: a few shaded solids on a ground plane,
 // with vertex colours, sized to a few thousand triangles.
 Scene builtinScene();
+// A unit sphere of rings x 2 rings quads (about 4 rings^2 triangles, indexed, smooth normals).
+Scene tessellatedSphere(int rings);
+// Procedural scenes by name: "builtin" (the scene above), "builtin:dense" (a sphere of ~65k triangles,
+// sub-pixel at small resolutions) and "builtin:huge" (the built-in objects on a 200,000-unit ground plane).
+Result<Scene> builtinSceneNamed(const std::string& name);
 
 // Drops triangles with out-of-range indices or non-finite positions (counting them in
 // droppedTriangles), fills missing flags, recomputes bounds. Fails when nothing drawable is left.

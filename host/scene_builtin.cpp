@@ -61,18 +61,18 @@ glm::vec3 rotateY(const glm::vec3& v, float angle)
     return {c * v.x + s * v.z, v.y, -s * v.x + c * v.z};
 }
 
-void addGround(Scene& scene)
+void addGround(Scene& scene, float half, int steps)
 {
     // u runs along +z and v along +x, so du x dv = +y.
-    addGrid(scene, 4, 4, glm::vec4(0.55f, 0.55f, 0.5f, 1.0f), [](float u, float v) {
-        return SurfacePoint{{-2.0f + 4.0f * v, 0.0f, -2.0f + 4.0f * u}, {0.0f, 1.0f, 0.0f}};
+    addGrid(scene, steps, steps, glm::vec4(0.55f, 0.55f, 0.5f, 1.0f), [=](float u, float v) {
+        return SurfacePoint{{-half + 2.0f * half * v, 0.0f, -half + 2.0f * half * u}, {0.0f, 1.0f, 0.0f}};
     });
 }
 
-void addSphere(Scene& scene, const glm::vec3& center, float radius)
+void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings = 16)
 {
     // u is the polar angle from +y (pole to pole), v the azimuth: du x dv points outwards.
-    addGrid(scene, 16, 32, glm::vec4(0.8f, 0.2f, 0.15f, 1.0f), [=](float u, float v) {
+    addGrid(scene, rings, 2 * rings, glm::vec4(0.8f, 0.2f, 0.15f, 1.0f), [=](float u, float v) {
         // Poles and the seam are set exactly, so the pole triangles collapse (and are left out)
         // and the seam vertices coincide bit for bit: no cracks.
         float theta = u * kPi, phi = wrap(v) * 2.0f * kPi;
@@ -111,20 +111,51 @@ void addTorus(Scene& scene, const glm::vec3& center, float major, float minor)
     });
 }
 
+void addObjects(Scene& scene)
+{
+    addSphere(scene, {-0.9f, 0.6f, -0.4f}, 0.6f);
+    addCube(scene, {0.9f, 0.4f, -0.7f}, 0.4f, 0.5f);
+    addTorus(scene, {0.4f, 0.2f, 0.9f}, 0.55f, 0.2f);
+}
+
+// The geometry built here is finite and indexed consistently, so finalizing cannot fail; it still runs
+// to fill the flags and bounds the same way every loader does.
+Scene finalized(Scene scene, const char* what)
+{
+    Status status = finalizeScene(scene, what);
+    (void)status;
+    return scene;
+}
+
 }  // namespace
 
 Scene builtinScene()
 {
     Scene scene;
-    addGround(scene);
-    addSphere(scene, {-0.9f, 0.6f, -0.4f}, 0.6f);
-    addCube(scene, {0.9f, 0.4f, -0.7f}, 0.4f, 0.5f);
-    addTorus(scene, {0.4f, 0.2f, 0.9f}, 0.55f, 0.2f);
-    // The geometry above is finite and indexed consistently, so finalizing cannot fail; it still
-    // runs to fill the flags and bounds the same way every loader does.
-    Status status = finalizeScene(scene, "built-in scene");
-    (void)status;
-    return scene;
+    addGround(scene, 2.0f, 4);
+    addObjects(scene);
+    return finalized(std::move(scene), "built-in scene");
+}
+
+Scene tessellatedSphere(int rings)
+{
+    Scene scene;
+    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, rings);
+    return finalized(std::move(scene), "tessellated sphere");
+}
+
+Result<Scene> builtinSceneNamed(const std::string& name)
+{
+    if (name == "builtin") return builtinScene();
+    Scene scene;
+    if (name == "builtin:dense") return tessellatedSphere(128);  // 128 x 256 quads: ~65k triangles
+    if (name == "builtin:huge") {
+        addGround(scene, 1e5f, 1);  // two triangles, each ~1e4 times the viewport from a few units away
+        addObjects(scene);
+        return finalized(std::move(scene), "built-in huge scene");
+    }
+    return makeError(ExitCode::Usage,
+                     "unknown built-in scene '{}': expected builtin, builtin:dense or builtin:huge", name);
 }
 
 }  // namespace sr

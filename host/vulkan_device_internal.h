@@ -1,4 +1,5 @@
-// vulkan_device_internal.h - test hooks of the Vulkan backend (host/vulkan_device.cpp).
+// vulkan_device_internal.h - test hooks of the Vulkan backends (host/vulkan_context.cpp,
+// host/vulkan_device.cpp).
 //
 // Validation problems that happen while a device is destroyed (leaked objects) cannot be returned
 // by any method call, and a correct backend never triggers a validation error on purpose; these two
@@ -12,8 +13,9 @@
 
 namespace sr {
 
-// Validation errors reported so far by the messengers of every Vulkan device of this process,
-// including those reported while a device and its instance were being destroyed.
+// Validation errors reported so far by the messengers of every Vulkan context of this process (compute
+// devices and vulkan-graphics renders), including those reported while a device and its instance
+// were being destroyed.
 size_t vulkanValidationErrorCount();
 
 // Sends `message` through `device`'s debug messenger as a validation error, exactly as the layer

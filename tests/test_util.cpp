@@ -76,7 +76,7 @@ std::string readFile(const std::string& path)
 }
 }  // namespace
 
-ToolRun runTool(const std::string& args)
+ToolRun runTool(const std::string& args, const std::string& workDir)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.
     static int calls = 0;
@@ -86,7 +86,8 @@ ToolRun runTool(const std::string& args)
     std::string err = stem + ".err";
     // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
     const char* exe = std::getenv("SR_RASTER_EXE");
-    std::string cmd = std::string(exe ? exe : SR_RASTER_EXE) + " " + args + " >" + out + " 2>" + err;
+    std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") +
+                      std::string(exe ? exe : SR_RASTER_EXE) + " " + args + " >" + out + " 2>" + err;
     int status = std::system(cmd.c_str());
     ToolRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

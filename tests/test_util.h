@@ -36,7 +36,8 @@ struct ToolRun {
     std::string stdoutText;
     std::string stderrText;
 };
-ToolRun runTool(const std::string& args);
+// Runs in `workDir` when given, else in the current directory.
+ToolRun runTool(const std::string& args, const std::string& workDir = "");
 
 }  // namespace sr::test
 

@@ -1,0 +1,238 @@
+// bench.cpp - see bench.h.
+#include "bench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "camera.h"
+#include "compute_device.h"
+#include "vulkan_graphics.h"
+
+namespace sr {
+namespace {
+
+struct BenchScene {
+    std::string name;
+    Scene scene;
+    CameraMatrices camera;
+    double triangleArea = 0.0;  // pixels, for the sweep scenes
+};
+
+// Clip space is world space for the synthetic scenes: identity matrices, depth range 0..1.
+CameraMatrices identityMatrices()
+{
+    CameraMatrices camera;
+    camera.znear = 0.0f;
+    camera.zfar = 1.0f;
+    return camera;
+}
+
+void addClipTriangle(Scene& scene, glm::vec4 a, glm::vec4 b, glm::vec4 c)
+{
+    auto base = uint32_t(scene.positions.size());
+    for (glm::vec4 p : {a, b, c}) {
+        scene.positions.push_back(p);
+        scene.normals.push_back(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+    }
+    scene.indices.insert(scene.indices.end(), {base, base + 1, base + 2});
+}
+
+// `count` right isosceles triangles of `area` pixels scattered over a w x h screen at random depths,
+// counter-clockwise on screen (front-facing).
+Scene sweepScene(double area, uint32_t count, uint32_t w, uint32_t h)
+{
+    std::mt19937 rng(uint32_t(area * 1000.0) + w);
+    double leg = std::sqrt(2.0 * area);
+    std::uniform_real_distribution<double> px(0.0, std::max(1.0, w - leg)), py(0.0, std::max(1.0, h - leg));
+    std::uniform_real_distribution<float> depth(0.05f, 0.95f);
+    Scene scene;
+    scene.positions.reserve(size_t(count) * 3);
+    scene.normals.reserve(size_t(count) * 3);
+    scene.indices.reserve(size_t(count) * 3);
+    auto ndc = [&](double x, double y, float z) {
+        return glm::vec4(float(x * 2.0 / w - 1.0), float(y * 2.0 / h - 1.0), z, 1.0f);
+    };
+    for (uint32_t i = 0; i < count; ++i) {
+        double x = px(rng), y = py(rng);
+        float z = depth(rng);
+        addClipTriangle(scene, ndc(x, y, z), ndc(x, y + leg, z), ndc(x + leg, y, z));
+    }
+    (void)finalizeScene(scene, "sweep scene");
+    return scene;
+}
+
+// `layers` full-screen quads at distinct depths, drawn in random depth order.
+Scene layerScene(int layers)
+{
+    std::mt19937 rng(16);
+    std::vector<float> depths;
+    for (int i = 0; i < layers; ++i) depths.push_back(0.05f + 0.9f * float(i) / float(layers));
+    std::shuffle(depths.begin(), depths.end(), rng);
+    Scene scene;
+    for (float z : depths) {
+        glm::vec4 a(-1, -1, z, 1), b(-1, 1, z, 1), c(1, 1, z, 1), d(1, -1, z, 1);
+        addClipTriangle(scene, a, b, c);
+        addClipTriangle(scene, a, c, d);
+    }
+    (void)finalizeScene(scene, "layer scene");
+    return scene;
+}
+
+Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, uint32_t h)
+{
+    auto wanted = [&](const std::string& name) {
+        return o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), name) != o.scenes.end();
+    };
+    std::vector<BenchScene> scenes;
+    for (double area : {0.5, 2.0, 8.0, 32.0, 128.0}) {
+        std::string name = fmt::format("sweep-{}px", area);
+        if (wanted(name))
+            scenes.push_back({name, sweepScene(area, o.sweepTriangles, w, h), identityMatrices(), area});
+    }
+    if (wanted("layers-16")) scenes.push_back({"layers-16", layerScene(16), identityMatrices(), 0.0});
+    auto framed = [&](std::string name, Scene scene) -> Result<BenchScene> {
+        auto camera = resolveCamera(CameraSpec{}, scene, w, h);
+        if (!camera) return camera.error();
+        return BenchScene{std::move(name), std::move(scene), *camera, 0.0};
+    };
+    if (wanted("bunny")) {
+        auto bunny = loadScene(o.bunnyPath);
+        if (!bunny) return bunny.error();
+        auto s = framed("bunny", std::move(*bunny));
+        if (!s) return s.error();
+        scenes.push_back(std::move(*s));
+    }
+    if (wanted("dense")) {
+        auto s = framed("dense", tessellatedSphere(o.denseRings));
+        if (!s) return s.error();
+        scenes.push_back(std::move(*s));
+    }
+    if (wanted("builtin")) {
+        auto s = framed("builtin", builtinScene());
+        if (!s) return s.error();
+        scenes.push_back(std::move(*s));
+    }
+    if (scenes.empty()) return makeError(ExitCode::Usage, "bench: no scene matches --scenes");
+    return scenes;
+}
+
+size_t sceneBytes(const Scene& s)
+{
+    return (s.positions.size() + s.normals.size() + s.colors.size()) * sizeof(glm::vec4) +
+           (s.indices.size() + s.triFlags.size()) * sizeof(uint32_t);
+}
+
+nlohmann::json timingJson(const StageTiming& t)
+{
+    return {{"min", t.minMs}, {"median", t.medianMs}, {"max", t.maxMs}};
+}
+
+Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
+                              const RenderSettings& r)
+{
+    if (backend == "vulkan-graphics") return renderVulkanGraphics(s.scene, s.camera, r, device);
+    // A fresh device per run, so its peak memory is this run's alone.
+    auto dev = backend == "cuda" ? makeCudaDevice(device) : makeVulkanDevice(device);
+    if (!dev) return dev.error();
+    return renderScene(**dev, s.scene, s.camera, r);
+}
+
+}  // namespace
+
+Result<nlohmann::json> runBench(const BenchOptions& o)
+{
+    for (const std::string& b : o.backends)
+        if (b != "cuda" && b != "vulkan" && b != "vulkan-graphics")
+            return makeError(ExitCode::Usage, "bench: unknown backend '{}' (cuda, vulkan, vulkan-graphics)",
+                             b);
+    bool tty = isatty(fileno(stderr));
+    nlohmann::json runs = nlohmann::json::array();
+    for (auto [w, h] : o.resolutions) {
+        auto scenes = buildScenes(o, w, h);
+        if (!scenes) return scenes.error();
+        for (const BenchScene& s : *scenes) {
+            for (const std::string& backend : o.backends) {
+                if (tty)
+                    fmt::print(stderr, "\r\033[Kbench: {} {}x{} on {} ({} triangles)", s.name, w, h, backend,
+                               s.scene.triangleCount());
+                RenderSettings r;
+                r.width = w;
+                r.height = h;
+                r.warmup = o.warmup;
+                r.repeat = o.repeat;
+                r.cullMode = CULL_BACK;
+                r.shadingMode = SHADING_LAMBERT;
+                auto out = renderOn(backend, o.device, s, r);
+                if (!out) return out.error();
+                double ms = out->total.medianMs;
+                double pixels = double(w) * h;
+                size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
+                                     ? out->peakDeviceBytes - sceneBytes(s.scene)
+                                     : 0;
+                nlohmann::json stages = nlohmann::json::object();
+                for (const StageTiming& t : out->stages) stages[t.name] = timingJson(t);
+                runs.push_back(
+                    {{"scene", s.name},
+                     {"resolution", {w, h}},
+                     {"backend", backend},
+                     {"device", out->device.name},
+                     {"driver", out->device.driver},
+                     {"triangles", s.scene.triangleCount()},
+                     {"triangle_area_px", s.triangleArea},
+                     {"rasterized", out->stats.rasterized},
+                     {"stages_ms", stages},
+                     {"gpu_total_ms", timingJson(out->total)},
+                     {"triangles_per_s", ms > 0 ? double(s.scene.triangleCount()) / (ms * 1e-3) : 0.0},
+                     {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
+                     {"peak_device_bytes", out->peakDeviceBytes},
+                     {"scene_bytes", sceneBytes(s.scene)},
+                     {"working_bytes", working},
+                     {"working_budget_bytes", 40.0 * double(s.scene.triangleCount()) + 16.0 * pixels},
+                     {"redraws", out->stats.redraws}});
+            }
+        }
+    }
+    if (tty) fmt::print(stderr, "\r\033[K");
+    return nlohmann::json{{"runs", runs}, {"warmup", o.warmup}, {"repeat", o.repeat}};
+}
+
+std::string benchMarkdown(const nlohmann::json& bench)
+{
+    // Hardware-rasterizer time per (scene, resolution), for the ratio column.
+    std::map<std::string, double> hardware;
+    auto key = [](const nlohmann::json& r) {
+        return fmt::format("{} {}x{}", r["scene"].get<std::string>(), r["resolution"][0].get<int>(),
+                           r["resolution"][1].get<int>());
+    };
+    for (const auto& r : bench["runs"])
+        if (r["backend"] == "vulkan-graphics") hardware[key(r)] = r["gpu_total_ms"]["median"].get<double>();
+    std::string md =
+        "| scene | resolution | backend | triangles | median ms | min ms | max ms | x graphics | Mtri/s | "
+        "Gpix/s | "
+        "peak MiB | working B/tri | budget B/tri |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : bench["runs"]) {
+        double ms = r["gpu_total_ms"]["median"].get<double>();
+        double tris = r["triangles"].get<double>();
+        auto hw = hardware.find(key(r));
+        std::string ratio =
+            hw != hardware.end() && hw->second > 0 ? fmt::format("{:.2f}", ms / hw->second) : "-";
+        md += fmt::format(
+            "| {} | {}x{} | {} | {} | {:.4f} | {:.4f} | {:.4f} | {} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | "
+            "{:.1f} |\n",
+            r["scene"].get<std::string>(), r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
+            r["backend"].get<std::string>(), r["triangles"].get<uint64_t>(), ms,
+            r["gpu_total_ms"]["min"].get<double>(), r["gpu_total_ms"]["max"].get<double>(), ratio,
+            r["triangles_per_s"].get<double>() * 1e-6, r["pixels_per_s"].get<double>() * 1e-9,
+            r["peak_device_bytes"].get<double>() / (1 << 20), r["working_bytes"].get<double>() / tris,
+            r["working_budget_bytes"].get<double>() / tris);
+    }
+    return md;
+}
+
+}  // namespace sr

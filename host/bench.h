@@ -1,0 +1,43 @@
+// bench.h - `raster bench`: the scene suite on several backends of one machine, in one run.
+//
+// Scenes: a triangle-size sweep (about 1M triangles of 0.5, 2, 8, 32 and 128 px area each, scattered at
+// random depths), 16 overlapping full-screen layers in random depth order, the Stanford bunny, a dense
+// tessellated sphere and the built-in scene. Every (scene, resolution) is run on every backend back to
+// back, so their ratios come from the same machine in the same minute. Reported per run: min/median/max
+// of each stage's GPU time over the timed repeats, total GPU ms, triangles/s, pixels/s, peak and working
+// device memory.
+#ifndef RASTER_BENCH_H
+#define RASTER_BENCH_H
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer.h"
+#include "result.h"
+
+namespace sr {
+
+struct BenchOptions {
+    std::vector<std::string> backends{"cuda", "vulkan", "vulkan-graphics"};
+    std::vector<std::pair<uint32_t, uint32_t>> resolutions{{1920, 1080}};
+    std::vector<std::string> scenes;     // empty: all
+    uint32_t sweepTriangles = 1u << 20;  // per sweep scene
+    int denseRings = 1600;               // tessellated sphere: ~4 rings^2 triangles (10.2M)
+    std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
+    uint32_t warmup = 3;
+    uint32_t repeat = 20;
+    int device = -1;
+};
+
+// Runs the suite; returns one JSON object per (scene, resolution, backend) run under "runs", plus the
+// machine description. Progress goes to stderr when it is a terminal.
+Result<nlohmann::json> runBench(const BenchOptions& options);
+
+// The markdown table printed at the end of a bench (one row per run).
+std::string benchMarkdown(const nlohmann::json& bench);
+
+}  // namespace sr
+
+#endif  // RASTER_BENCH_H

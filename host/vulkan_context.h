@@ -1,0 +1,213 @@
+// vulkan_context.h - the Vulkan plumbing shared by the two Vulkan backends: the compute ComputeDevice
+// (host/vulkan_device.cpp) and the `vulkan-graphics` reference renderer (host/vulkan_graphics.cpp).
+//
+// A VulkanContext is one instance (with the validation layer and its messenger when
+// SR_VULKAN_VALIDATION=1), one physical device picked from the project's device list, one logical
+// device with one queue, the descriptor set of the BUF_* bindings with its pipeline layout, one
+// re-recorded command buffer with a fence, a timestamp query pool, a host-visible staging buffer, and
+// the memory accounting behind allocatedBytes(). Every submission waits on the fence: both backends
+// run short chains of dependent work with nothing to overlap, and waiting keeps a failure attached to
+// the call that caused it.
+//
+// Objects a backend creates through the context (buffers, images, pipelines) belong to the backend,
+// which must destroy them, after waitIdle(), before the context is destroyed.
+#ifndef RASTER_VULKAN_CONTEXT_H
+#define RASTER_VULKAN_CONTEXT_H
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "compute_device.h"
+#include "raster_shared.h"
+#include "result.h"
+
+namespace sr {
+
+std::string vkResultName(VkResult result);
+
+// The one-line Runtime error of a failed Vulkan call `what`, located at file:line.
+Error vkError(VkResult result, std::string_view what, const char* file, int line);
+
+// Evaluates a Vulkan call once and returns an Error from the enclosing function (returning Status
+// or Result<T>) unless the call gave VK_SUCCESS. Positive codes such as VK_INCOMPLETE fail as well:
+// no call made by the backends can return one when it did what they expect.
+#define SR_VK_CHECK(expr)                                                                                \
+    do {                                                                                                 \
+        VkResult sr_vk_result_ = (expr);                                                                 \
+        if (sr_vk_result_ != VK_SUCCESS) return ::sr::vkError(sr_vk_result_, #expr, __FILE__, __LINE__); \
+    } while (0)
+
+// Smallest allocation and allocation granularity. 16 bytes hold one vec4, the largest element of
+// any buffer, so a shader indexing element 0 of a placeholder buffer stays in bounds.
+constexpr VkDeviceSize kMinBufferBytes = 16;
+
+VkDeviceSize roundUp(VkDeviceSize value, VkDeviceSize multiple);
+
+// A global memory barrier: everything the backends synchronize is a whole buffer or a whole image
+// outside of layout transitions.
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags srcStages, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStages, VkAccessFlags dstAccess);
+
+// A buffer with its own memory allocation.
+struct GpuBuffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize capacity = 0;   // size the VkBuffer was created with; 0 until fully set up
+    VkDeviceSize allocated = 0;  // size of `memory`, counted in allocatedBytes()
+    void* mapped = nullptr;      // persistent mapping of host-visible memory
+};
+
+// A 2D single-sample image with its own memory and one view of the whole image.
+struct GpuImage {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize allocated = 0;  // size of `memory`, counted in allocatedBytes()
+};
+
+// What a context's debug messenger has seen; the layer may call back from any thread. Shared with
+// the caller so that problems reported while the device and instance are destroyed (leaks) can still
+// be looked at after the context is gone.
+struct ValidationLog {
+    std::mutex mutex;
+    size_t errors = 0;
+    std::string firstError;
+};
+
+// OK, or a one-line Runtime error giving the number of validation errors and the first one.
+Status validationStatus(ValidationLog& log);
+
+// The queue a context runs its work on. Graphics also needs the geometryShader feature: a fragment
+// shader reading gl_PrimitiveID declares the Geometry capability.
+enum class QueueKind { Compute, Graphics };
+
+class VulkanContext {
+public:
+    VulkanContext();
+    VulkanContext(const VulkanContext&) = delete;
+    VulkanContext& operator=(const VulkanContext&) = delete;
+    ~VulkanContext();
+
+    // Creates everything on device `index` of the project's device list (GPUs first, CPU
+    // implementations last; -1 picks the first), the same list for both kinds, so an index names
+    // the same device for every backend. On failure the destructor releases whatever was created.
+    Status init(int index, QueueKind kind);
+
+    // Waits for all submitted work; a failure is printed, as there is no caller left to return it
+    // to when this runs before destruction.
+    void waitIdle();
+
+    Status validationStatus() { return sr::validationStatus(*validationLog_); }
+    std::shared_ptr<ValidationLog> validationLog() const { return validationLog_; }
+    bool validationEnabled() const { return validation_; }
+    // Sends `message` through the debug messenger as a validation error, exactly as the layer would.
+    Status injectValidationError(const char* message);
+
+    // backend, name, driver and isCpu of the selected device; rasterGroups is left 0.
+    DeviceInfo deviceInfo(const std::string& backend) const;
+    VkDevice device() const { return device_; }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    const VkPhysicalDeviceProperties& properties() const { return properties_; }
+    // Largest buffer a storage descriptor can cover whole.
+    VkDeviceSize maxStorageBytes() const { return maxStorageBytes_; }
+
+    // Creates `b`, which must be empty, with memory of the first of `preferredMemory` the device
+    // has; host-visible memory stays mapped. On failure `b` may hold part of what was created, and
+    // destroyBuffer() releases it.
+    Status allocateBuffer(GpuBuffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                          std::initializer_list<VkMemoryPropertyFlags> preferredMemory);
+    void destroyBuffer(GpuBuffer& b);
+    // Same for a device-local optimal-tiling image in layout UNDEFINED.
+    Status allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect, uint32_t width,
+                         uint32_t height, VkImageUsageFlags usage);
+    void destroyImage(GpuImage& image);
+    // Device memory allocated through this context now, and the most it ever held at once.
+    size_t allocatedBytes() const { return allocatedBytes_; }
+    size_t peakAllocatedBytes() const { return peakAllocatedBytes_; }
+
+    // The host-visible staging buffer, grown to at least `bytes`; its contents are lost on growth.
+    Status ensureStaging(VkDeviceSize bytes);
+    const GpuBuffer& staging() const { return staging_; }
+    // Copies host memory into the first `bytes` of `dst` through the staging buffer, made visible to
+    // `readerStages`/`readerAccess` of every later submission.
+    Status upload(VkBuffer dst, const void* data, VkDeviceSize bytes, VkPipelineStageFlags readerStages,
+                  VkAccessFlags readerAccess);
+    // Copies the first `bytes` of `src` to host memory through the staging buffer.
+    Status download(VkBuffer src, void* data, VkDeviceSize bytes);
+
+    // Descriptor set 0 as compute_glsl/buffers.glsl declares it (binding BUF_PARAMS a uniform
+    // buffer, the others storage buffers), visible to the compute, vertex and fragment stages, and
+    // the pipeline layout of every pipeline of both backends.
+    VkPipelineLayout pipelineLayout() const { return pipelineLayout_; }
+    VkDescriptorSet descriptorSet() const { return descriptorSet_; }
+    // Points binding i at the whole of buffers[i]. No submitted work may still use the set.
+    void writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT]);
+
+    // A module to build one pipeline from, destroyed by the caller once the pipeline exists.
+    Result<VkShaderModule> createShaderModule(const uint32_t* code, size_t bytes);
+
+    // Recording and submission of the context's one command buffer.
+    VkCommandBuffer commandBuffer() const { return commandBuffer_; }
+    Status beginCommands();
+    Status submitAndWait();
+
+    // A timestamp query pool of at least `queries` entries.
+    Status ensureQueryPool(uint32_t queries);
+    VkQueryPool queryPool() const { return queryPool_; }
+    // After a submission wrote timestamps 0 .. 2 * pairs - 1: ms[i] = GPU milliseconds between
+    // timestamps 2i and 2i + 1.
+    Status readTimestampPairs(uint32_t pairs, std::vector<double>& ms);
+
+private:
+    Status createInstance();
+    Status selectDevice(int index, QueueKind kind);
+    Status createDevice(QueueKind kind);
+    Status createDescriptorObjects();
+    Status createCommandObjects();
+    uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const;
+    Status allocateMemory(const char* what, VkDeviceSize bytes, const VkMemoryRequirements& requirements,
+                          std::initializer_list<VkMemoryPropertyFlags> preferredMemory,
+                          VkDeviceMemory& memory, VkDeviceSize& allocated, VkMemoryPropertyFlags& flags);
+    void freeMemory(VkDeviceMemory& memory, VkDeviceSize& allocated);
+
+    std::shared_ptr<ValidationLog> validationLog_;
+    bool validation_ = false;
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    PFN_vkDestroyDebugUtilsMessengerEXT destroyMessenger_ = nullptr;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceProperties properties_{};
+    std::string driver_;
+    VkPhysicalDeviceMemoryProperties memoryProperties_{};
+    VkDeviceSize maxStorageBytes_ = 0;
+    uint32_t queueFamily_ = 0;
+    uint32_t timestampValidBits_ = 0;
+
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+    VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;
+    VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
+    VkDescriptorSet descriptorSet_ = VK_NULL_HANDLE;
+    VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkQueryPool queryPool_ = VK_NULL_HANDLE;
+    uint32_t queryCapacity_ = 0;
+    GpuBuffer staging_;
+    size_t allocatedBytes_ = 0;
+    size_t peakAllocatedBytes_ = 0;
+};
+
+}  // namespace sr
+
+#endif  // RASTER_VULKAN_CONTEXT_H

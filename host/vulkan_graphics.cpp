@@ -1,0 +1,528 @@
+// vulkan_graphics.cpp - see vulkan_graphics.h.
+//
+// Everything lives for one call: a VulkanContext on a graphics queue, the scene's input buffers
+// (BUF_INDICES doubles as the index buffer), the three attachments, a classic render pass with one
+// subpass, one framebuffer and one pipeline. Each frame is one submission holding the render pass
+// between two timestamps; after the last frame the attachments are copied into the context's staging
+// buffer and read on the host.
+#include "vulkan_graphics.h"
+
+#include <vulkan/vulkan.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "vulkan_context.h"
+
+namespace sr {
+namespace {
+
+// The generated headers define `const uint32_t kSpv_reference_vert[]` and `kSpv_reference_frag[]`.
+#include "reference_frag.spv.h"
+#include "reference_vert.spv.h"
+
+constexpr VkFormat kWordFormat = VK_FORMAT_R32_UINT;  // colour and id attachments
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+// Attachment indices of the render pass and the framebuffer.
+constexpr uint32_t kColorAttachment = 0;
+constexpr uint32_t kIdAttachment = 1;
+constexpr uint32_t kDepthAttachment = 2;
+constexpr uint32_t kAttachmentCount = 3;
+
+// Who reads the scene buffers after their upload: the index fetch and both shader stages.
+constexpr VkPipelineStageFlags kSceneReaderStages = VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                                                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                                                    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+constexpr VkAccessFlags kSceneReaderAccess = VK_ACCESS_INDEX_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
+
+// Where a frame touches the attachments: clears and colour writes, depth tests and writes.
+constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                                   VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                                   VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+constexpr VkAccessFlags kAttachmentWrites =
+    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+
+// The checks renderScene makes on its inputs, with the same messages, so that both paths reject the
+// same scenes and settings.
+Status checkInputs(const Scene& scene, const RenderSettings& settings)
+{
+    if (settings.width < 1 || settings.height < 1 || settings.width > MAX_FRAMEBUFFER_DIM ||
+        settings.height > MAX_FRAMEBUFFER_DIM)
+        return makeError(ExitCode::Usage, "resolution {}x{} is outside 1..{} per side", settings.width,
+                         settings.height, MAX_FRAMEBUFFER_DIM);
+    if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
+    if (scene.triangleCount() == 0) return makeError(ExitCode::Usage, "the scene has no triangles");
+    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.vertexCount() >= (uint64_t(1) << 31))
+        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} vertices)",
+                         scene.triangleCount(), scene.vertexCount());
+    if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
+        return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
+                         scene.vertexCount());
+    // The fragment shader colours through shadePixel, which knows the modes up to the id view; the
+    // later ones are debug views of the compute pipeline's own buffers.
+    if (settings.shadingMode > SHADING_PRIMITIVE_ID)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: shading mode {} exists only in the compute pipeline",
+                         settings.shadingMode);
+    return okStatus();
+}
+
+// The objects of one render on top of a context; the destructor releases them.
+class GraphicsRender {
+public:
+    explicit GraphicsRender(VulkanContext& context) : ctx_(context) {}
+    GraphicsRender(const GraphicsRender&) = delete;
+    GraphicsRender& operator=(const GraphicsRender&) = delete;
+    ~GraphicsRender();
+
+    // Uploads the scene and `params` and creates the attachments and the pipeline. `backgroundWord`
+    // is what the colour attachment is cleared to.
+    Status init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord);
+    // Draws one frame and returns the GPU time of its render pass.
+    Status drawFrame(double& ms);
+    // Copies the attachments of the last frame into `color` and `aov`.
+    Status readBack(RgbaImage& color, AovImage& aov);
+
+private:
+    Status checkDevice(const Scene& scene) const;
+    Status uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
+                             VkBufferUsageFlags extraUsage);
+    Status uploadScene(const Scene& scene);
+    Status createTargets();
+    Status createRenderPass();
+    Status createFramebuffer();
+    Status createPipeline();
+
+    VulkanContext& ctx_;
+    RasterParams params_{};
+    uint32_t backgroundWord_ = 0;
+    uint32_t indexCount_ = 0;
+    GpuBuffer buffers_[BUF_COUNT];  // the parameters and the scene inputs; the other bindings stay empty
+    GpuBuffer placeholder_;         // bound to every binding without a buffer of its own
+    GpuImage color_, id_, depth_;
+    VkRenderPass renderPass_ = VK_NULL_HANDLE;
+    VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+GraphicsRender::~GraphicsRender()
+{
+    VkDevice device = ctx_.device();
+    if (device == VK_NULL_HANDLE) return;
+    ctx_.waitIdle();
+    vkDestroyPipeline(device, pipeline_, nullptr);
+    vkDestroyFramebuffer(device, framebuffer_, nullptr);
+    vkDestroyRenderPass(device, renderPass_, nullptr);
+    for (GpuImage* image : {&color_, &id_, &depth_}) ctx_.destroyImage(*image);
+    for (GpuBuffer& b : buffers_) ctx_.destroyBuffer(b);
+    ctx_.destroyBuffer(placeholder_);
+}
+
+Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord)
+{
+    params_ = params;
+    backgroundWord_ = backgroundWord;
+    indexCount_ = static_cast<uint32_t>(scene.indices.size());
+    SR_TRY(checkDevice(scene));
+    SR_TRY(uploadScene(scene));
+    SR_TRY(createTargets());
+    SR_TRY(createRenderPass());
+    SR_TRY(createFramebuffer());
+    SR_TRY(createPipeline());
+    SR_TRY(ctx_.ensureQueryPool(2));
+    return ctx_.validationStatus();
+}
+
+// What the device must offer beyond what the context already checked; each miss is a one-line
+// Usage error, as for a device that lacks a feature.
+Status GraphicsRender::checkDevice(const Scene& scene) const
+{
+    const VkPhysicalDeviceLimits& limits = ctx_.properties().limits;
+    const uint32_t maxWidth =
+        std::min({limits.maxFramebufferWidth, limits.maxImageDimension2D, limits.maxViewportDimensions[0]});
+    const uint32_t maxHeight =
+        std::min({limits.maxFramebufferHeight, limits.maxImageDimension2D, limits.maxViewportDimensions[1]});
+    if (params_.width > maxWidth || params_.height > maxHeight)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {}x{} exceeds the device's framebuffer limit of {}x{}",
+                         params_.width, params_.height, maxWidth, maxHeight);
+    if (scene.vertexCount() - 1 > limits.maxDrawIndexedIndexValue)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} vertices exceed the device's index limit of {}",
+                         scene.vertexCount(), uint64_t(limits.maxDrawIndexedIndexValue) + 1);
+
+    struct FormatNeed {
+        VkFormat format;
+        VkFormatFeatureFlags features;
+        const char* name;
+    };
+    const FormatNeed needs[] = {
+        {kWordFormat, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT,
+         "VK_FORMAT_R32_UINT colour attachments"},
+        {kDepthFormat, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT,
+         "VK_FORMAT_D32_SFLOAT depth attachments"},
+    };
+    for (const FormatNeed& need : needs) {
+        VkFormatProperties properties{};
+        vkGetPhysicalDeviceFormatProperties(ctx_.physicalDevice(), need.format, &properties);
+        if ((properties.optimalTilingFeatures & need.features) != need.features)
+            return makeError(ExitCode::Usage, "vulkan-graphics: {} does not support copyable {}",
+                             ctx_.properties().deviceName, need.name);
+    }
+    return okStatus();
+}
+
+// Creates buffers_[binding] and fills it with `bytes` bytes of `data`.
+Status GraphicsRender::uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
+                                         VkBufferUsageFlags extraUsage)
+{
+    // A storage descriptor covers the whole buffer, so the buffer may not exceed the device's range.
+    const VkDeviceSize capacity = roundUp(std::max(bytes, kMinBufferBytes), kMinBufferBytes);
+    if (capacity > ctx_.maxStorageBytes())
+        return makeError(ExitCode::Runtime,
+                         "vulkan-graphics: buffer {} needs {} bytes, more than the device allows per storage "
+                         "buffer ({} bytes)",
+                         binding, bytes, ctx_.maxStorageBytes());
+    SR_TRY(ctx_.allocateBuffer(
+        buffers_[binding], capacity,
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | extraUsage,
+        {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+    return ctx_.upload(buffers_[binding].buffer, data, bytes, kSceneReaderStages, kSceneReaderAccess);
+}
+
+Status GraphicsRender::uploadScene(const Scene& scene)
+{
+    SR_TRY(uploadSceneBuffer(BUF_POSITIONS, scene.positions.data(),
+                             scene.positions.size() * sizeof(glm::vec4), 0));
+    SR_TRY(uploadSceneBuffer(BUF_NORMALS, scene.normals.data(), scene.normals.size() * sizeof(glm::vec4), 0));
+    if (!scene.colors.empty())
+        SR_TRY(
+            uploadSceneBuffer(BUF_COLORS, scene.colors.data(), scene.colors.size() * sizeof(glm::vec4), 0));
+    // The vertex stage fetches through the index buffer, the fragment stage reads the same indices
+    // by triangle id.
+    SR_TRY(uploadSceneBuffer(BUF_INDICES, scene.indices.data(), scene.indices.size() * sizeof(uint32_t),
+                             VK_BUFFER_USAGE_INDEX_BUFFER_BIT));
+    SR_TRY(
+        uploadSceneBuffer(BUF_TRI_FLAGS, scene.triFlags.data(), scene.triFlags.size() * sizeof(uint32_t), 0));
+
+    // Written once by the host before the first submission, which makes the write visible.
+    SR_TRY(ctx_.allocateBuffer(buffers_[BUF_PARAMS], roundUp(sizeof(RasterParams), kMinBufferBytes),
+                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                               {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                    VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
+    std::memcpy(buffers_[BUF_PARAMS].mapped, &params_, sizeof params_);
+
+    // The shaders declare every binding of the compute pipeline (buffers.glsl); the ones the draw
+    // never reads share one small buffer so that the set is complete.
+    SR_TRY(ctx_.allocateBuffer(placeholder_, kMinBufferBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+    VkBuffer handles[BUF_COUNT];
+    for (uint32_t i = 0; i < BUF_COUNT; ++i)
+        handles[i] = buffers_[i].buffer != VK_NULL_HANDLE ? buffers_[i].buffer : placeholder_.buffer;
+    ctx_.writeDescriptorSet(handles);
+    return okStatus();
+}
+
+Status GraphicsRender::createTargets()
+{
+    const VkImageUsageFlags wordUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    SR_TRY(ctx_.allocateImage(color_, kWordFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
+                              wordUsage));
+    SR_TRY(ctx_.allocateImage(id_, kWordFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
+                              wordUsage));
+    return ctx_.allocateImage(depth_, kDepthFormat, VK_IMAGE_ASPECT_DEPTH_BIT, params_.width, params_.height,
+                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+}
+
+Status GraphicsRender::createRenderPass()
+{
+    // Every attachment is cleared, kept, and left ready for the copy to the host. Each frame starts
+    // from UNDEFINED: the previous frame's contents are never needed.
+    VkAttachmentDescription attachments[kAttachmentCount]{};
+    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+        attachments[i].format = i == kDepthAttachment ? kDepthFormat : kWordFormat;
+        attachments[i].samples = VK_SAMPLE_COUNT_1_BIT;
+        attachments[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        attachments[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        attachments[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        attachments[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        attachments[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        attachments[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    }
+    const VkAttachmentReference colorRefs[2] = {{kColorAttachment, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                                {kIdAttachment, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
+    const VkAttachmentReference depthRef = {kDepthAttachment,
+                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 2;
+    subpass.pColorAttachments = colorRefs;
+    subpass.pDepthStencilAttachment = &depthRef;
+
+    // In: the previous frame's attachment writes and its copy to the host (a read, so only its
+    // execution is waited for) complete before this frame's layout transitions and clears.
+    // Out: this frame's writes are visible to the copy that may follow.
+    VkSubpassDependency dependencies[2]{};
+    dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    dependencies[0].dstSubpass = 0;
+    dependencies[0].srcStageMask = kAttachmentStages | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dependencies[0].srcAccessMask = kAttachmentWrites;
+    dependencies[0].dstStageMask = kAttachmentStages;
+    dependencies[0].dstAccessMask = kAttachmentWrites | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    dependencies[1].srcSubpass = 0;
+    dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    dependencies[1].srcStageMask = kAttachmentStages;
+    dependencies[1].srcAccessMask = kAttachmentWrites;
+    dependencies[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dependencies[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+
+    VkRenderPassCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    info.attachmentCount = kAttachmentCount;
+    info.pAttachments = attachments;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = dependencies;
+    SR_VK_CHECK(vkCreateRenderPass(ctx_.device(), &info, nullptr, &renderPass_));
+    return okStatus();
+}
+
+Status GraphicsRender::createFramebuffer()
+{
+    VkImageView views[kAttachmentCount];
+    views[kColorAttachment] = color_.view;
+    views[kIdAttachment] = id_.view;
+    views[kDepthAttachment] = depth_.view;
+    VkFramebufferCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    info.renderPass = renderPass_;
+    info.attachmentCount = kAttachmentCount;
+    info.pAttachments = views;
+    info.width = params_.width;
+    info.height = params_.height;
+    info.layers = 1;
+    SR_VK_CHECK(vkCreateFramebuffer(ctx_.device(), &info, nullptr, &framebuffer_));
+    return okStatus();
+}
+
+Status GraphicsRender::createPipeline()
+{
+    Result<VkShaderModule> vertex = ctx_.createShaderModule(kSpv_reference_vert, sizeof kSpv_reference_vert);
+    if (!vertex.ok()) return vertex.error();
+    Result<VkShaderModule> fragment =
+        ctx_.createShaderModule(kSpv_reference_frag, sizeof kSpv_reference_frag);
+    if (!fragment.ok()) {
+        vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
+        return fragment.error();
+    }
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    for (VkPipelineShaderStageCreateInfo& stage : stages) {
+        stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        stage.pName = "main";
+    }
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = *vertex;
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = *fragment;
+
+    // Vertex pulling: the vertex shader reads BUF_POSITIONS at gl_VertexIndex.
+    VkPipelineVertexInputStateCreateInfo vertexInput{};
+    vertexInput.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
+    VkPipelineInputAssemblyStateCreateInfo assembly{};
+    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+
+    // Depth range 0..1 and the whole framebuffer: the viewport transform of the compute pipeline.
+    const VkViewport viewport = {0.0f, 0.0f, float(params_.width), float(params_.height), 0.0f, 1.0f};
+    const VkRect2D scissor = {{0, 0}, {params_.width, params_.height}};
+    VkPipelineViewportStateCreateInfo viewportState{};
+    viewportState.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
+    viewportState.viewportCount = 1;
+    viewportState.pViewports = &viewport;
+    viewportState.scissorCount = 1;
+    viewportState.pScissors = &scissor;
+
+    // No pipeline culling: the fragment shader culls per triangle, since doubleSided triangles must
+    // survive within the same draw. Counter-clockwise on screen is front, as in setupTriangle (the
+    // projection flips y, so this is glTF's front face). Depth clamping is off: triangles are clipped
+    // at the near and far planes, as the compute pipeline clips them.
+    VkPipelineRasterizationStateCreateInfo rasterization{};
+    rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
+    rasterization.depthClampEnable = VK_FALSE;
+    rasterization.polygonMode = VK_POLYGON_MODE_FILL;
+    rasterization.cullMode = VK_CULL_MODE_NONE;
+    rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    rasterization.lineWidth = 1.0f;
+
+    VkPipelineMultisampleStateCreateInfo multisample{};
+    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+
+    // LESS keeps the first of equal depths, and primitives are drawn in order, so a tie resolves to
+    // the lowest triangle id, as the compute pipeline's visibility key does.
+    VkPipelineDepthStencilStateCreateInfo depthStencil{};
+    depthStencil.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
+    depthStencil.depthTestEnable = VK_TRUE;
+    depthStencil.depthWriteEnable = VK_TRUE;
+    depthStencil.depthCompareOp = VK_COMPARE_OP_LESS;
+
+    VkPipelineColorBlendAttachmentState blendAttachments[2]{};
+    for (VkPipelineColorBlendAttachmentState& blend : blendAttachments)
+        blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blendState{};
+    blendState.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
+    blendState.attachmentCount = 2;
+    blendState.pAttachments = blendAttachments;
+
+    VkGraphicsPipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewportState;
+    info.pRasterizationState = &rasterization;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depthStencil;
+    info.pColorBlendState = &blendState;
+    info.layout = ctx_.pipelineLayout();
+    info.renderPass = renderPass_;
+    info.subpass = 0;
+    VkResult result = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    // The pipeline keeps what it needs of the modules.
+    vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
+    vkDestroyShaderModule(ctx_.device(), *fragment, nullptr);
+    SR_VK_CHECK(result);
+    return okStatus();
+}
+
+Status GraphicsRender::drawFrame(double& ms)
+{
+    SR_TRY(ctx_.beginCommands());
+    VkCommandBuffer cmd = ctx_.commandBuffer();
+    VkQueryPool queryPool = ctx_.queryPool();
+    vkCmdResetQueryPool(cmd, queryPool, 0, 2);
+
+    VkClearValue clears[kAttachmentCount]{};
+    clears[kColorAttachment].color.uint32[0] = backgroundWord_;
+    clears[kIdAttachment].color.uint32[0] = EMPTY_ID;
+    clears[kDepthAttachment].depthStencil.depth = 1.0f;
+    VkRenderPassBeginInfo begin{};
+    begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+    begin.renderPass = renderPass_;
+    begin.framebuffer = framebuffer_;
+    begin.renderArea = {{0, 0}, {params_.width, params_.height}};
+    begin.clearValueCount = kAttachmentCount;
+    begin.pClearValues = clears;
+
+    // The clears are part of the timed pass, as the compute pipeline's clear stage is part of its frame.
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, 0);
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+    VkDescriptorSet set = ctx_.descriptorSet();
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, ctx_.pipelineLayout(), 0, 1, &set, 0,
+                            nullptr);
+    vkCmdBindIndexBuffer(cmd, buffers_[BUF_INDICES].buffer, 0, VK_INDEX_TYPE_UINT32);
+    // One draw of the whole list: gl_PrimitiveID counts triangles from 0, the compute pipeline's ids.
+    vkCmdDrawIndexed(cmd, indexCount_, 1, 0, 0, 0);
+    vkCmdEndRenderPass(cmd);
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool, 1);
+    SR_TRY(ctx_.submitAndWait());
+
+    std::vector<double> pairMs;
+    SR_TRY(ctx_.readTimestampPairs(1, pairMs));
+    ms = pairMs[0];
+    return okStatus();
+}
+
+Status GraphicsRender::readBack(RgbaImage& color, AovImage& aov)
+{
+    const size_t pixels = size_t(params_.width) * params_.height;
+    const VkDeviceSize planeBytes = pixels * sizeof(uint32_t);  // every attachment has 4-byte texels
+    SR_TRY(ctx_.ensureStaging(kAttachmentCount * planeBytes));
+
+    SR_TRY(ctx_.beginCommands());
+    VkCommandBuffer cmd = ctx_.commandBuffer();
+    const GpuImage* images[kAttachmentCount] = {&color_, &id_, &depth_};
+    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = i * planeBytes;
+        region.imageSubresource.aspectMask =
+            i == kDepthAttachment ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+        region.imageSubresource.layerCount = 1;
+        region.imageExtent = {params_.width, params_.height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[i]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               ctx_.staging().buffer, 1, &region);
+    }
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    SR_TRY(ctx_.submitAndWait());
+
+    const auto* planes = static_cast<const uint8_t*>(ctx_.staging().mapped);
+    color.width = aov.width = params_.width;
+    color.height = aov.height = params_.height;
+    color.pixels.resize(pixels);
+    aov.id.resize(pixels);
+    aov.depth.resize(pixels);
+    std::memcpy(color.pixels.data(), planes + kColorAttachment * planeBytes, planeBytes);
+    std::memcpy(aov.id.data(), planes + kIdAttachment * planeBytes, planeBytes);
+    std::memcpy(aov.depth.data(), planes + kDepthAttachment * planeBytes, planeBytes);
+    return okStatus();
+}
+
+Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scene,
+                                       const CameraMatrices& camera, const RenderSettings& settings,
+                                       int deviceIndex)
+{
+    SR_TRY(context.init(deviceIndex, QueueKind::Graphics));
+    RenderOutput out;
+    out.params = frameParams(scene, camera, settings, 0, 0);
+    out.device = context.deviceInfo("vulkan-graphics");
+
+    GraphicsRender render(context);
+    SR_TRY(render.init(scene, out.params, packRgba8(settings.background)));
+    std::vector<double> drawMs;
+    for (uint32_t frame = 0; frame < settings.warmup + settings.repeat; ++frame) {
+        double ms = 0.0;
+        SR_TRY(render.drawFrame(ms));
+        if (frame >= settings.warmup) drawMs.push_back(ms);
+    }
+    SR_TRY(render.readBack(out.color, out.aov));
+
+    StageTiming draw;
+    draw.name = "draw";
+    draw.minMs = *std::min_element(drawMs.begin(), drawMs.end());
+    draw.maxMs = *std::max_element(drawMs.begin(), drawMs.end());
+    draw.medianMs = median(drawMs);
+    out.stages = {draw};
+    out.total = draw;
+    out.total.name = "total";
+    out.stats.trianglesIn = scene.triangleCount();
+    out.peakDeviceBytes = context.peakAllocatedBytes();
+    return out;
+}
+
+}  // namespace
+
+Result<RenderOutput> renderVulkanGraphics(const Scene& scene, const CameraMatrices& camera,
+                                          const RenderSettings& settings, int deviceIndex)
+{
+    SR_TRY(checkInputs(scene, settings));
+    auto context = std::make_unique<VulkanContext>();
+    std::shared_ptr<ValidationLog> log = context->validationLog();
+    Result<RenderOutput> out = renderWithContext(*context, scene, camera, settings, deviceIndex);
+    // Leaked objects are reported while the device and the instance are destroyed, after the last
+    // call that could fail; a validation error also names the real cause of any other failure.
+    context.reset();
+    SR_TRY(validationStatus(*log));
+    return out;
+}
+
+}  // namespace sr

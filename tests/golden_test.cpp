@@ -1,0 +1,101 @@
+// golden_test.cpp - the Vulkan compute backend against the CUDA goldens in tests/golden/.
+//
+// Each scene of tests/golden/scenes.txt is rendered by the `raster` tool with --backend vulkan (lavapipe
+// in CI) and compared with the PNG and EXR that CUDA produced on a GPU (ci/gpu-check --goldens).
+// Criteria (README, "Goldens"): coverage and triangle ids identical, depth bit-identical, colour within
+// 1/255 per channel. A golden whose provenance does not say it came from CUDA fails.
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "compare.h"
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+struct GoldenScene {
+    std::string name;
+    std::string args;
+};
+
+// gtest prints a parameter through this instead of dumping its bytes.
+void PrintTo(const GoldenScene& scene, std::ostream* os)
+{
+    *os << scene.name;
+}
+
+std::string sourceDir()
+{
+    const char* env = std::getenv("SR_SOURCE_DIR");
+    return env ? env : SR_SOURCE_DIR;
+}
+
+std::vector<GoldenScene> loadManifest()
+{
+    std::vector<GoldenScene> scenes;
+    std::ifstream in(sourceDir() + "/tests/golden/scenes.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream words(line);
+        GoldenScene scene;
+        words >> scene.name;
+        std::getline(words >> std::ws, scene.args);
+        scenes.push_back(scene);
+    }
+    return scenes;
+}
+
+class GoldenTest : public ::testing::TestWithParam<GoldenScene> {};
+
+TEST_P(GoldenTest, VulkanComputeMatchesCudaGolden)
+{
+    const GoldenScene& scene = GetParam();
+    std::string golden = sourceDir() + "/tests/golden/" + scene.name;
+
+    std::ifstream provenanceFile(golden + ".json");
+    ASSERT_TRUE(provenanceFile) << "missing " << golden << ".json: regenerate with ci/gpu-check --goldens";
+    nlohmann::json provenance = nlohmann::json::parse(provenanceFile);
+    ASSERT_EQ(provenance.value("backend", ""), "cuda") << golden << ".json: a golden must come from CUDA";
+    ASSERT_EQ(provenance.value("args", ""), scene.args) << golden << ".json was made for other arguments";
+
+    std::string out = ::testing::TempDir() + "golden_" + scene.name;
+    // The tool runs from the source tree so that asset paths in the manifest resolve.
+    ToolRun run =
+        runTool("render " + scene.args + " --backend vulkan -q -o " + out + ".png --aov " + out + ".exr",
+                sourceDir());
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+
+    CompareTolerance exact;
+    auto aov = compareFiles(golden + ".exr", out + ".exr", exact);
+    ASSERT_TRUE(aov.ok()) << aov.error().message;
+    EXPECT_EQ(aov->coverageMismatches, 0u) << scene.name;
+    EXPECT_EQ(aov->idMismatches, 0u) << scene.name;
+    EXPECT_EQ(aov->maxDepthDiff, 0.0) << scene.name << " at " << aov->maxX << "," << aov->maxY;
+
+    CompareTolerance colour;
+    colour.colorLsb = 1;
+    auto png = compareFiles(golden + ".png", out + ".png", colour);
+    ASSERT_TRUE(png.ok()) << png.error().message;
+    EXPECT_LE(png->maxError, 1) << scene.name << " at " << png->maxX << "," << png->maxY;
+}
+
+INSTANTIATE_TEST_SUITE_P(Goldens, GoldenTest, ::testing::ValuesIn(loadManifest()), [](const auto& info) {
+    std::string name = info.param.name;
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+});
+
+TEST(Goldens, ManifestIsComplete)
+{
+    // Catches an unreadable manifest, which would otherwise instantiate no golden test at all.
+    EXPECT_GE(loadManifest().size(), 15u);
+}
+
+}  // namespace
+}  // namespace sr::test
