@@ -102,25 +102,23 @@ bool isFinite(float x)
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0        // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1     // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2       // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3        // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4       // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5     // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6      // vec4 per vertex: clip-space position (vertex stage output)
-#define BUF_VIEW_POS 7      // vec4 per vertex: view-space position (vertex stage output)
-#define BUF_VIEW_NORMAL 8   // vec4 per vertex: view-space normal (vertex stage output)
-#define BUF_SETUP_TRIS 9    // TriSetup per rasterizable (sub-)triangle, appended by setup
-#define BUF_SMALL_TRIS 10   // uint: indices into BUF_SETUP_TRIS of triangles with a small bbox
-#define BUF_BIG_TRIS 11     // uint: indices into BUF_SETUP_TRIS of triangles walked tile by tile
-#define BUF_BIG_OFFSETS 12  // uint per big triangle: its tile count, scanned in place to an offset
-#define BUF_SCAN_SUMS 13    // uint per scan block: block total, scanned in place to a block offset
-#define BUF_COUNTERS 14     // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 15   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 16  // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 17    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_COUNT 18
+#define BUF_PARAMS 0       // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1    // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2      // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3       // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4      // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5    // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6     // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7   // TriSetup per rasterizable (sub-)triangle, appended by setup
+#define BUF_SMALL_TRIS 8   // uint: indices into BUF_SETUP_TRIS of triangles with a small bbox
+#define BUF_BIG_TRIS 9     // uint: indices into BUF_SETUP_TRIS of triangles walked tile by tile
+#define BUF_BIG_OFFSETS 10  // uint per big triangle: its tile count, scanned in place to an offset
+#define BUF_SCAN_SUMS 11    // uint per scan block: block total, scanned in place to a block offset
+#define BUF_COUNTERS 12     // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY 13   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
+#define BUF_FRAMEBUFFER 14  // uint per pixel: RGBA8, sRGB-encoded colour
+#define BUF_HIT_COUNT 15    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_COUNT 16
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame.
 #define COUNTER_SETUP 0          // TriSetup records appended (may exceed capacity: overflow)
@@ -718,12 +716,18 @@ SR_FN vec3 interpolate3(vec3 b, vec4 a0, vec4 a1, vec4 a2)
     return vec3(a0.x, a0.y, a0.z) * b.x + vec3(a1.x, a1.y, a1.z) * b.y + vec3(a2.x, a2.y, a2.z) * b.z;
 }
 
-// Colour of pixel (px, py) covered by triangle `triId` with the given per-vertex stage outputs
-// (clip position, view position, view normal) and linear vertex colours.
-SR_FN vec3 shadeTriangleAt(RasterParams params, uint triId, int px, int py, vec4 c0, vec4 c1, vec4 c2,
-                           vec4 p0, vec4 p1, vec4 p2, vec4 n0, vec4 n1, vec4 n2, vec4 col0, vec4 col1,
-                           vec4 col2)
+// Colour of pixel (px, py) covered by triangle `triId`, from its world-space vertex positions, normals
+// and linear colours. Shading re-derives each vertex's clip position, view position and view normal
+// with transformVertex instead of reading them from per-vertex buffers: three small matrix products per
+// pixel cost less than storing and re-reading 48 bytes per vertex, and the clip positions come out
+// bit-identical to the vertex stage's, so the barycentrics match the rasterized triangle exactly.
+SR_FN vec3 shadeTriangleAt(RasterParams params, uint triId, int px, int py, vec4 pos0, vec4 pos1, vec4 pos2,
+                           vec4 nrm0, vec4 nrm1, vec4 nrm2, vec4 col0, vec4 col1, vec4 col2)
 {
+    vec4 c0, c1, c2, p0, p1, p2, n0, n1, n2;
+    transformVertex(params, pos0, nrm0, c0, p0, n0);
+    transformVertex(params, pos1, nrm1, c1, p1, n1);
+    transformVertex(params, pos2, nrm2, c2, p2, n2);
     vec3 b = perspectiveBarycentrics(c0, c1, c2, pixelCenterNdc(px, py, params.width, params.height));
     vec3 viewPos = interpolate3(b, p0, p1, p2);
     vec3 viewNormal = interpolate3(b, n0, n1, n2);

@@ -13,8 +13,6 @@ layout(std430, set = 0, binding = BUF_COLORS) readonly buffer ColorsBlock { vec4
 layout(std430, set = 0, binding = BUF_INDICES) readonly buffer IndicesBlock { uint indices[]; };
 layout(std430, set = 0, binding = BUF_TRI_FLAGS) readonly buffer TriFlagsBlock { uint triFlags[]; };
 layout(std430, set = 0, binding = BUF_CLIP_POS) buffer ClipPosBlock { vec4 clipPos[]; };
-layout(std430, set = 0, binding = BUF_VIEW_POS) buffer ViewPosBlock { vec4 viewPos[]; };
-layout(std430, set = 0, binding = BUF_VIEW_NORMAL) buffer ViewNormalBlock { vec4 viewNormal[]; };
 layout(std430, set = 0, binding = BUF_SETUP_TRIS) buffer SetupTrisBlock { TriSetup setupTris[]; };
 layout(std430, set = 0, binding = BUF_SMALL_TRIS) buffer SmallTrisBlock { uint smallTris[]; };
 layout(std430, set = 0, binding = BUF_BIG_TRIS) buffer BigTrisBlock { uint bigTris[]; };

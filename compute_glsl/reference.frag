@@ -1,8 +1,8 @@
 // reference.frag - fragment stage of the `vulkan-graphics` reference backend (host/vulkan_graphics.cpp).
 // gl_PrimitiveID of the single indexed draw is the triangle id of the compute backends. Facing culling
 // happens here, per triangle flag, because one draw has one pipeline cull mode and glTF doubleSided
-// triangles must never be culled. The colour is computed as compute_glsl/shade.comp computes it: the
-// vertex outputs are recomputed with transformVertex and shaded by shadeTriangleAt at the pixel centre.
+// triangles must never be culled. The colour is computed as compute_glsl/shade.comp computes it, by
+// shadeTriangleAt at the pixel centre.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -21,14 +21,11 @@ void main()
     uint i0 = indices[3u * id];
     uint i1 = indices[3u * id + 1u];
     uint i2 = indices[3u * id + 2u];
-    vec4 c0, c1, c2, p0, p1, p2, n0, n1, n2;
-    transformVertex(params, positions[i0], normals[i0], c0, p0, n0);
-    transformVertex(params, positions[i1], normals[i1], c1, p1, n1);
-    transformVertex(params, positions[i2], normals[i2], c2, p2, n2);
     vec4 white = vec4(1.0f);
     bool hasColors = params.hasColors != 0u;
-    vec3 color = shadeTriangleAt(params, id, int(gl_FragCoord.x), int(gl_FragCoord.y), c0, c1, c2, p0, p1, p2,
-                                 n0, n1, n2, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
+    vec3 color = shadeTriangleAt(params, id, int(gl_FragCoord.x), int(gl_FragCoord.y), positions[i0],
+                                 positions[i1], positions[i2], normals[i0], normals[i1], normals[i2],
+                                 hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
                                  hasColors ? colors[i2] : white);
     outColor = packRgba8(color);
     outId = id;

@@ -1,5 +1,5 @@
 // shade.comp - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
-// triangle's vertex outputs perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
+// triangle's vertex attributes perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
 // One thread per pixel; groups = ceil(width * height / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -22,10 +22,10 @@ void main()
         uint i2 = indices[3u * id + 2u];
         vec4 white = vec4(1.0f);
         bool hasColors = params.hasColors != 0u;
-        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), clipPos[i0],
-                                clipPos[i1], clipPos[i2], viewPos[i0], viewPos[i1], viewPos[i2],
-                                viewNormal[i0], viewNormal[i1], viewNormal[i2], hasColors ? colors[i0] : white,
-                                hasColors ? colors[i1] : white, hasColors ? colors[i2] : white);
+        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), positions[i0],
+                                positions[i1], positions[i2], normals[i0], normals[i1], normals[i2],
+                                hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
+                                hasColors ? colors[i2] : white);
     }
     framebuffer[i] = packRgba8(color);
 }

@@ -15,8 +15,6 @@ struct Buffers {
     const uint* indices;             // BUF_INDICES
     const uint* triFlags;            // BUF_TRI_FLAGS
     vec4* clipPos;                   // BUF_CLIP_POS
-    vec4* viewPos;                   // BUF_VIEW_POS
-    vec4* viewNormal;                // BUF_VIEW_NORMAL
     TriSetup* setupTris;             // BUF_SETUP_TRIS
     uint* smallTris;                 // BUF_SMALL_TRIS
     uint* bigTris;                   // BUF_BIG_TRIS

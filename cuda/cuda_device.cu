@@ -141,8 +141,6 @@ private:
         b.indices = as<uint>(BUF_INDICES);
         b.triFlags = as<uint>(BUF_TRI_FLAGS);
         b.clipPos = as<vec4>(BUF_CLIP_POS);
-        b.viewPos = as<vec4>(BUF_VIEW_POS);
-        b.viewNormal = as<vec4>(BUF_VIEW_NORMAL);
         b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
         b.smallTris = as<uint>(BUF_SMALL_TRIS);
         b.bigTris = as<uint>(BUF_BIG_TRIS);

@@ -1,5 +1,5 @@
 // shade.cuh - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
-// triangle's vertex outputs perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
+// triangle's vertex attributes perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
 // One thread per pixel; blocks = ceil(width * height / GROUP_SIZE).
 namespace sr {
 
@@ -17,9 +17,8 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
         uint i2 = b.indices[3u * id + 2u];
         vec4 white = vec4(1.0f);
         bool hasColors = params.hasColors != 0u;
-        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), b.clipPos[i0],
-                                b.clipPos[i1], b.clipPos[i2], b.viewPos[i0], b.viewPos[i1], b.viewPos[i2],
-                                b.viewNormal[i0], b.viewNormal[i1], b.viewNormal[i2],
+        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), b.positions[i0],
+                                b.positions[i1], b.positions[i2], b.normals[i0], b.normals[i1], b.normals[i2],
                                 hasColors ? b.colors[i0] : white, hasColors ? b.colors[i1] : white,
                                 hasColors ? b.colors[i2] : white);
     }

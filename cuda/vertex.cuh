@@ -1,16 +1,11 @@
-// vertex.cuh - stage `vertex`: world-space vertex to clip position, view position and view normal.
+// vertex.cuh - stage `vertex`: world-space vertex position to clip space, for setup.
 // One thread per vertex; blocks = ceil(vertexCount / GROUP_SIZE).
 namespace sr {
 
 __device__ inline void vertexStage(const RasterParams& params, const Buffers& b)
 {
     uint v = globalThreadId();
-    if (v >= params.vertexCount) return;
-    vec4 clip, eyePos, eyeNormal;
-    transformVertex(params, b.positions[v], b.normals[v], clip, eyePos, eyeNormal);
-    b.clipPos[v] = clip;
-    b.viewPos[v] = eyePos;
-    b.viewNormal[v] = eyeNormal;
+    if (v < params.vertexCount) b.clipPos[v] = mulPoint(params.clipFromWorld, b.positions[v]);
 }
 
 }  // namespace sr

@@ -120,16 +120,17 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     const uint64_t tris = scene.triangleCount();
-    // Most triangles set up as one record; clipping adds a few. Overflow is detected, not assumed away.
-    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris + tris / 8 + 64;
+    // A triangle yields one record unless culled (back faces are about half of a closed mesh) or
+    // clipped (a few more). Start at half the triangles: a scene that needs more overflows once, in the
+    // first frame, and is grown and redrawn; nothing is sized for the worst case.
+    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris / 2 + 1024;
 
     SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
     SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
-    for (uint32_t buffer : {BUF_CLIP_POS, BUF_VIEW_POS, BUF_VIEW_NORMAL})
-        SR_TRY(device.resize(buffer, scene.vertexCount() * sizeof(glm::vec4)));
+    SR_TRY(device.resize(BUF_CLIP_POS, scene.vertexCount() * sizeof(glm::vec4)));
     SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
