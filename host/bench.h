@@ -4,8 +4,9 @@
 // random depths), 16 overlapping full-screen layers in random depth order, the Stanford bunny, a dense
 // tessellated sphere and the built-in scene. Every (scene, resolution) is run on every backend back to
 // back, so their ratios come from the same machine in the same minute. Reported per run: min/median/max
-// of each stage's GPU time over the timed repeats, total GPU ms, triangles/s, pixels/s, peak and working
-// device memory.
+// of each stage's GPU time over the timed repeats, total GPU ms, visibility ms (the frame less deferred
+// shading; for vulkan-graphics its depth + id pass, the hardware baseline), triangles/s, pixels/s, peak
+// and working device memory (peak less the scene's own buffers) against 40 B/triangle + 16 B/pixel.
 #ifndef RASTER_BENCH_H
 #define RASTER_BENCH_H
 

@@ -35,6 +35,7 @@ struct RenderSettings {
     uint32_t repeat = 1;                // timed runs (>= 1)
     uint32_t initialSetupCapacity = 0;  // 0: sized from the scene; tests force tiny ones
     bool countHits = false;             // debug: count covering triangles per pixel
+    bool visibilityOnly = false;        // vulkan-graphics: depth + id only (the bench's hardware baseline)
 };
 
 struct StageTiming {

@@ -22,6 +22,7 @@ namespace {
 
 // The generated headers define `const uint32_t kSpv_reference_vert[]` and `kSpv_reference_frag[]`.
 #include "reference_frag.spv.h"
+#include "reference_visibility_frag.spv.h"
 #include "reference_vert.spv.h"
 
 constexpr VkFormat kWordFormat = VK_FORMAT_R32_UINT;  // colour and id attachments
@@ -80,8 +81,10 @@ public:
     ~GraphicsRender();
 
     // Uploads the scene and `params` and creates the attachments and the pipeline. `backgroundWord`
-    // is what the colour attachment is cleared to.
-    Status init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord);
+    // is what the colour attachment is cleared to. `visibilityOnly` asks for the depth + id pass with
+    // the cheapest fragment shader; it is honoured when the pipeline can cull (no triangle is
+    // double-sided, or nothing is culled), else the full pass runs.
+    Status init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord, bool visibilityOnly);
     // Draws one frame and returns the GPU time of its render pass.
     Status drawFrame(double& ms);
     // Copies the attachments of the last frame into `color` and `aov`.
@@ -101,6 +104,7 @@ private:
     RasterParams params_{};
     uint32_t backgroundWord_ = 0;
     uint32_t indexCount_ = 0;
+    bool visibilityOnly_ = false;
     GpuBuffer buffers_[BUF_COUNT];  // the parameters and the scene inputs; the other bindings stay empty
     GpuBuffer placeholder_;         // bound to every binding without a buffer of its own
     GpuImage color_, id_, depth_;
@@ -122,8 +126,12 @@ GraphicsRender::~GraphicsRender()
     ctx_.destroyBuffer(placeholder_);
 }
 
-Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord)
+Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord,
+                            bool visibilityOnly)
 {
+    bool anyDoubleSided = std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
+                                      [](uint32_t f) { return (f & TRI_FLAG_DOUBLE_SIDED) != 0u; });
+    visibilityOnly_ = visibilityOnly && (!anyDoubleSided || params.cullMode == CULL_NONE);
     params_ = params;
     backgroundWord_ = backgroundWord;
     indexCount_ = static_cast<uint32_t>(scene.indices.size());
@@ -316,7 +324,9 @@ Status GraphicsRender::createPipeline()
     Result<VkShaderModule> vertex = ctx_.createShaderModule(kSpv_reference_vert, sizeof kSpv_reference_vert);
     if (!vertex.ok()) return vertex.error();
     Result<VkShaderModule> fragment =
-        ctx_.createShaderModule(kSpv_reference_frag, sizeof kSpv_reference_frag);
+        visibilityOnly_
+            ? ctx_.createShaderModule(kSpv_reference_visibility_frag, sizeof kSpv_reference_visibility_frag)
+            : ctx_.createShaderModule(kSpv_reference_frag, sizeof kSpv_reference_frag);
     if (!fragment.ok()) {
         vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
         return fragment.error();
@@ -326,6 +336,10 @@ Status GraphicsRender::createPipeline()
         stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         stage.pName = "main";
     }
+    // The visibility shader writes the background word, given as specialization constant 0.
+    VkSpecializationMapEntry backgroundEntry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo specialization{1, &backgroundEntry, sizeof(uint32_t), &backgroundWord_};
+    if (visibilityOnly_) stages[1].pSpecializationInfo = &specialization;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = *vertex;
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -356,7 +370,11 @@ Status GraphicsRender::createPipeline()
     rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
     rasterization.depthClampEnable = VK_FALSE;
     rasterization.polygonMode = VK_POLYGON_MODE_FILL;
-    rasterization.cullMode = VK_CULL_MODE_NONE;
+    // The visibility pass has no per-triangle flags to honour, so the pipeline culls.
+    rasterization.cullMode = !visibilityOnly_                 ? VK_CULL_MODE_NONE
+                             : params_.cullMode == CULL_BACK  ? VK_CULL_MODE_BACK_BIT
+                             : params_.cullMode == CULL_FRONT ? VK_CULL_MODE_FRONT_BIT
+                                                              : VK_CULL_MODE_NONE;
     rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     rasterization.lineWidth = 1.0f;
 
@@ -487,7 +505,7 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.device = context.deviceInfo("vulkan-graphics");
 
     GraphicsRender render(context);
-    SR_TRY(render.init(scene, out.params, packRgba8(settings.background)));
+    SR_TRY(render.init(scene, out.params, packRgba8(settings.background), settings.visibilityOnly));
     std::vector<double> drawMs;
     for (uint32_t frame = 0; frame < settings.warmup + settings.repeat; ++frame) {
         double ms = 0.0;

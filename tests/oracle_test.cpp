@@ -352,5 +352,23 @@ TEST_F(OracleTest, ProjectedFillRuleQuads)
     for (uint32_t hits : a.hitCount) ASSERT_LE(hits, 1u);  // shared diagonals never double-hit
 }
 
+// The bench's hardware baseline, the visibility-only pass (pipeline culling, early depth test, id only),
+// must see exactly what the full reference pass sees.
+TEST_F(OracleTest, VisibilityOnlyPassMatchesTheFullPass)
+{
+    Scene scene = builtinScene();
+    auto camera = resolveCamera(CameraSpec{}, scene, 160, 120);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings s = testSettings(160, 120);
+    s.cullMode = CULL_BACK;
+    auto full = renderVulkanGraphics(scene, *camera, s, -1);
+    s.visibilityOnly = true;
+    auto visibility = renderVulkanGraphics(scene, *camera, s, -1);
+    ASSERT_TRUE(full.ok() && visibility.ok());
+    EXPECT_EQ(visibility->aov.id, full->aov.id);
+    EXPECT_EQ(visibility->aov.depth, full->aov.depth);
+    for (uint32_t c : visibility->color.pixels) ASSERT_EQ(c, packRgba8(s.background));
+}
+
 }  // namespace
 }  // namespace sr::test
