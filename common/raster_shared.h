@@ -102,27 +102,26 @@ bool isFinite(float x)
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0       // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1    // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2      // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3       // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4      // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5    // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6     // vec4 per vertex: clip-space position (vertex stage output, read by setup)
-#define BUF_SETUP_TRIS 7   // TriSetup per rasterizable (sub-)triangle, appended by setup
-#define BUF_SMALL_TRIS 8   // uint: indices into BUF_SETUP_TRIS of triangles with a small bbox
-#define BUF_BIG_TRIS 9     // uint: indices into BUF_SETUP_TRIS of triangles walked tile by tile
-#define BUF_BIG_OFFSETS 10  // uint per big triangle: its tile count, scanned in place to an offset
-#define BUF_SCAN_SUMS 11    // uint per scan block: block total, scanned in place to a block offset
-#define BUF_COUNTERS 12     // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 13   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 14  // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 15    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_COUNT 16
+#define BUF_PARAMS 0        // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1     // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2       // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3        // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4       // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5     // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6      // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7    // TriSetup per big (sub-)triangle, appended by setup
+#define BUF_BIG_TRIS 8      // uint: indices into BUF_SETUP_TRIS, in the order raster_tiles walks them
+#define BUF_BIG_OFFSETS 9   // uint per big triangle: its tile count, scanned in place to an offset
+#define BUF_SCAN_SUMS 10    // uint per scan block: block total, scanned in place to a block offset
+#define BUF_COUNTERS 11     // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY 12   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
+#define BUF_FRAMEBUFFER 13  // uint per pixel: RGBA8, sRGB-encoded colour
+#define BUF_HIT_COUNT 14    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_COUNT 15
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame.
 #define COUNTER_SETUP 0          // TriSetup records appended (may exceed capacity: overflow)
-#define COUNTER_SMALL 1          // entries appended to BUF_SMALL_TRIS
+#define COUNTER_SMALL 1          // small (sub-)triangles rasterized by setup itself, without a record
 #define COUNTER_BIG 2            // entries appended to BUF_BIG_TRIS
 #define COUNTER_TILES 3          // total (big triangle, tile) work items, written by scan_sums
 #define COUNTER_CULLED 4         // input triangles that produced no TriSetup at all
@@ -134,15 +133,14 @@ bool isFinite(float x)
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
 #define STAGE_CLEAR 0         // visibility := empty, counters := 0
-#define STAGE_VERTEX 1        // per vertex: clip, view position and view normal
-#define STAGE_SETUP 2         // per triangle: cull, clip, snap, classify small/big
+#define STAGE_VERTEX 1        // per vertex: clip position
+#define STAGE_SETUP 2         // per triangle: cull, clip, snap; rasterize small ones, append big ones
 #define STAGE_SCAN_BLOCKS 3   // per 256 big triangles: local exclusive scan of tile counts
 #define STAGE_SCAN_SUMS 4     // one group: exclusive scan of the block totals
 #define STAGE_SCAN_ADD 5      // per 256 big triangles: add block offsets
-#define STAGE_RASTER_SMALL 6  // one thread per small triangle walks its bbox
-#define STAGE_RASTER_TILES 7  // one group per (big triangle, 8x8 tile), one thread per pixel
-#define STAGE_SHADE 8         // per pixel: resolve the visibility key and shade
-#define STAGE_COUNT 9
+#define STAGE_RASTER_TILES 6  // one group per (big triangle, 8x8 tile), one thread per pixel
+#define STAGE_SHADE 7         // per pixel: resolve the visibility key and shade
+#define STAGE_COUNT 8
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
 #define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
@@ -195,8 +193,8 @@ struct RasterParams {
     uint cullMode;         // CULL_*
     uint shadingMode;      // SHADING_*
     uint hasColors;        // 1 when BUF_COLORS holds vertexCount colours, else colours are white
-    uint setupCapacity;    // capacity of BUF_SETUP_TRIS, BUF_SMALL_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
-    uint rasterGroups;     // groups launched for raster_small and raster_tiles (grid-stride loops)
+    uint setupCapacity;    // capacity of BUF_SETUP_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
+    uint rasterGroups;     // groups launched for raster_tiles (grid-stride loop)
     uint debugFlags;       // DEBUG_* bits
     uint reserved0;        // keep the struct a multiple of 16 bytes
     uint reserved1;

@@ -14,7 +14,6 @@ layout(std430, set = 0, binding = BUF_INDICES) readonly buffer IndicesBlock { ui
 layout(std430, set = 0, binding = BUF_TRI_FLAGS) readonly buffer TriFlagsBlock { uint triFlags[]; };
 layout(std430, set = 0, binding = BUF_CLIP_POS) buffer ClipPosBlock { vec4 clipPos[]; };
 layout(std430, set = 0, binding = BUF_SETUP_TRIS) buffer SetupTrisBlock { TriSetup setupTris[]; };
-layout(std430, set = 0, binding = BUF_SMALL_TRIS) buffer SmallTrisBlock { uint smallTris[]; };
 layout(std430, set = 0, binding = BUF_BIG_TRIS) buffer BigTrisBlock { uint bigTris[]; };
 layout(std430, set = 0, binding = BUF_BIG_OFFSETS) buffer BigOffsetsBlock { uint bigOffsets[]; };
 layout(std430, set = 0, binding = BUF_SCAN_SUMS) buffer ScanSumsBlock { uint scanSums[]; };
@@ -24,7 +23,7 @@ layout(std430, set = 0, binding = BUF_FRAMEBUFFER) buffer FramebufferBlock { uin
 layout(std430, set = 0, binding = BUF_HIT_COUNT) buffer HitCountBlock { uint hitCount[]; };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
-// plus the debug hit count. Used by both raster stages.
+// plus the debug hit count. Used by setup (small triangles) and raster_tiles.
 void mergeFragment(uint pixel, float depth, uint id)
 {
     atomicMin(visibility[pixel], packVisibility(depth, id));

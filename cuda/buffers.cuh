@@ -16,7 +16,6 @@ struct Buffers {
     const uint* triFlags;            // BUF_TRI_FLAGS
     vec4* clipPos;                   // BUF_CLIP_POS
     TriSetup* setupTris;             // BUF_SETUP_TRIS
-    uint* smallTris;                 // BUF_SMALL_TRIS
     uint* bigTris;                   // BUF_BIG_TRIS
     uint* bigOffsets;                // BUF_BIG_OFFSETS
     uint* scanSums;                  // BUF_SCAN_SUMS
@@ -27,7 +26,7 @@ struct Buffers {
 };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
-// plus the debug hit count. Used by both raster stages.
+// plus the debug hit count. Used by setup (small triangles) and raster_tiles.
 __device__ inline void mergeFragment(const RasterParams& params, const Buffers& b, uint pixel, float depth,
                                      uint id)
 {

@@ -142,7 +142,6 @@ private:
         b.triFlags = as<uint>(BUF_TRI_FLAGS);
         b.clipPos = as<vec4>(BUF_CLIP_POS);
         b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
-        b.smallTris = as<uint>(BUF_SMALL_TRIS);
         b.bigTris = as<uint>(BUF_BIG_TRIS);
         b.bigOffsets = as<uint>(BUF_BIG_OFFSETS);
         b.scanSums = as<uint>(BUF_SCAN_SUMS);

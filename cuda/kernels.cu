@@ -3,7 +3,6 @@
 #include "kernels.h"
 
 #include "clear.cuh"
-#include "raster_small.cuh"
 #include "raster_tiles.cuh"
 #include "scan_add.cuh"
 #include "scan_blocks.cuh"
@@ -39,10 +38,6 @@ __global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanAddKernel(const RasterPar
 {
     scanAddStage(params, b);
 }
-__global__ void __launch_bounds__(GROUP_SIZE) rasterSmallKernel(const RasterParams params, const Buffers b)
-{
-    rasterSmallStage(params, b);
-}
 __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesKernel(const RasterParams params, const Buffers b)
 {
@@ -76,7 +71,6 @@ cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, con
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_ADD: scanAddKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
-    case STAGE_RASTER_SMALL: rasterSmallKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_RASTER_TILES: rasterTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     default: return cudaErrorInvalidValue;

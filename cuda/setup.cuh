@@ -1,23 +1,33 @@
-// setup.cuh - stage `setup`: per input triangle, cull, clip, snap and append TriSetup records, each
-// to the small list (one thread walks its bbox) or the big list (walked tile by tile).
+// setup.cuh - stage `setup`: per input triangle, cull, clip and snap; a small (sub-)triangle (bbox at
+// most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by its thread, the one-thread fast
+// path that needs no record; a big one is appended as a TriSetup record for raster_tiles.
 // One thread per triangle; blocks = ceil(triangleCount / GROUP_SIZE).
 namespace sr {
 
-// Appends one record. A full list still counts the record, so the host sees the overflow, grows the
-// buffers and redraws; nothing is written past the capacity.
+// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one. A full list still
+// counts the record, so the host sees the overflow, grows the buffers and redraws; nothing is written
+// past the capacity.
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t)
 {
+    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    if (isSmallTriangle(bounds)) {
+        atomicAdd(&b.counters[COUNTER_SMALL], 1u);
+        uint id = setupTriId(t);
+        for (int y = bounds.y; y <= bounds.w; ++y) {
+            for (int x = bounds.x; x <= bounds.z; ++x) {
+                float depth;
+                if (rasterPixel(t, x, y, depth))
+                    mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
+            }
+        }
+        return;
+    }
     uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
     if (slot >= params.setupCapacity) return;
     b.setupTris[slot] = t;
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
-    if (isSmallTriangle(bounds)) {
-        b.smallTris[atomicAdd(&b.counters[COUNTER_SMALL], 1u)] = slot;
-    } else {
-        uint i = atomicAdd(&b.counters[COUNTER_BIG], 1u);
-        b.bigTris[i] = slot;
-        b.bigOffsets[i] = tileCount(bounds);
-    }
+    uint i = atomicAdd(&b.counters[COUNTER_BIG], 1u);
+    b.bigTris[i] = slot;
+    b.bigOffsets[i] = tileCount(bounds);
 }
 
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)

@@ -27,7 +27,6 @@ Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>
 Status allocateLists(ComputeDevice& device, uint32_t capacity)
 {
     SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(capacity) * sizeof(TriSetup)));
-    SR_TRY(device.resize(BUF_SMALL_TRIS, size_t(capacity) * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_BIG_TRIS, size_t(capacity) * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_BIG_OFFSETS, size_t(capacity) * sizeof(uint32_t)));
     return device.resize(BUF_SCAN_SUMS, size_t(groupsFor(capacity, SCAN_GROUP_SIZE)) * sizeof(uint32_t));
@@ -44,7 +43,6 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
         {STAGE_SCAN_BLOCKS, scanGroups},
         {STAGE_SCAN_SUMS, 1},
         {STAGE_SCAN_ADD, scanGroups},
-        {STAGE_RASTER_SMALL, p.rasterGroups},
         {STAGE_RASTER_TILES, p.rasterGroups},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
@@ -120,10 +118,10 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     const uint64_t tris = scene.triangleCount();
-    // A triangle yields one record unless culled (back faces are about half of a closed mesh) or
-    // clipped (a few more). Start at half the triangles: a scene that needs more overflows once, in the
-    // first frame, and is grown and redrawn; nothing is sized for the worst case.
-    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris / 2 + 1024;
+    // Only big triangles (bbox over SMALL_TRI_SPAN pixels) need a record; culled and small ones need
+    // none. Start at an eighth of the triangles: a scene that needs more overflows once, in its first
+    // frame, and is grown and redrawn; nothing is sized for the worst case.
+    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris / 8 + 1024;
 
     SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
     SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
@@ -183,7 +181,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     st.culled = counters[COUNTER_CULLED];
     st.clipped = counters[COUNTER_CLIPPED];
     st.invalid = counters[COUNTER_INVALID];
-    st.rasterized = counters[COUNTER_SETUP];
+    st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_SETUP];
     st.smallTris = counters[COUNTER_SMALL];
     st.bigTris = counters[COUNTER_BIG];
     st.tiles = counters[COUNTER_TILES];

@@ -49,7 +49,7 @@ struct RenderStats {
     uint64_t clipped = 0;        // input triangles that went through the clipper
     uint64_t invalid = 0;        // input triangles dropped on the GPU for NaN/Inf positions
     uint64_t rasterized = 0;     // (sub-)triangles set up for rasterization
-    uint64_t smallTris = 0;      // of which walked by one thread
+    uint64_t smallTris = 0;      // of which rasterized by their setup thread (no record)
     uint64_t bigTris = 0;        // of which walked tile by tile
     uint64_t tiles = 0;          // (big triangle, tile) work items
     uint32_t redraws = 0;        // frames redrawn after growing an overflowing buffer

@@ -27,7 +27,6 @@ namespace {
 
 // The generated headers each define `const uint32_t kSpv_<stage>[]`.
 #include "clear.spv.h"
-#include "raster_small.spv.h"
 #include "raster_tiles.spv.h"
 #include "scan_add.spv.h"
 #include "scan_blocks.spv.h"
@@ -49,7 +48,6 @@ const StageSpirv kStageSpirv[] = {
     {kSpv_scan_blocks, sizeof kSpv_scan_blocks},
     {kSpv_scan_sums, sizeof kSpv_scan_sums},
     {kSpv_scan_add, sizeof kSpv_scan_add},
-    {kSpv_raster_small, sizeof kSpv_raster_small},
     {kSpv_raster_tiles, sizeof kSpv_raster_tiles},
     {kSpv_shade, sizeof kSpv_shade},
 };
