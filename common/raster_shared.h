@@ -569,6 +569,12 @@ SR_FN ivec2 tilePixel(ivec4 bounds, uint tileIndex, uint lane)
     return ivec2(tx * TILE_SIZE + int(lane % uint(TILE_SIZE)), ty * TILE_SIZE + int(lane / uint(TILE_SIZE)));
 }
 
+// Work items a raster_tiles group takes at once: enough to keep every group busy, at most one per thread.
+SR_FN uint rasterBatchSize(uint items, uint groups)
+{
+    return clamp((items + groups - 1u) / max(groups, 1u), 1u, uint(TILE_SIZE * TILE_SIZE));
+}
+
 // Coverage of pixel (px, py) and, when covered, its window depth. Depth is linear in screen space
 // (Vulkan's rule) and evaluated from the exact edge functions with correctly rounded float steps, so
 // CUDA and GLSL produce the same bits.

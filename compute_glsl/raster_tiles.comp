@@ -1,9 +1,10 @@
 // raster_tiles.comp - stage `raster_tiles`: (big triangle, TILE_SIZE^2 tile) work items, one thread
 // per pixel of the tile, so a large triangle spreads over as many groups as it has tiles.
 // Work item k belongs to the last big triangle whose scanned offset is <= k (binary search). A group
-// takes a batch of TILE_SIZE^2 consecutive items: each thread searches the owner of one item at once
-// (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then the
-// whole group rasterizes the batch's tiles one after another.
+// takes a batch of up to TILE_SIZE^2 consecutive items: each thread searches the owner of one item at
+// once (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then
+// the whole group rasterizes the batch's tiles one after another. With few items the batch shrinks to
+// what spreads them over all groups, so they are not serialized in a few.
 // Grid-stride loop over the batches of counters[COUNTER_TILES] items; groups = RasterParams.rasterGroups.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -12,7 +13,6 @@
 
 layout(local_size_x = TILE_SIZE * TILE_SIZE) in;
 
-const uint BATCH = uint(TILE_SIZE * TILE_SIZE);
 shared uint owner[TILE_SIZE * TILE_SIZE];
 
 // Index of the big triangle owning work item `item`.
@@ -33,10 +33,11 @@ void main()
     uint total = counters[COUNTER_TILES];
     uint bigCount = counters[COUNTER_BIG];
     uint lane = gl_LocalInvocationID.x;
-    for (uint base = gl_WorkGroupID.x * BATCH; base < total; base += gl_NumWorkGroups.x * BATCH) {
-        owner[lane] = base + lane < total ? findBigTriangle(base + lane, bigCount) : 0u;
+    uint batch = rasterBatchSize(total, gl_NumWorkGroups.x);
+    for (uint base = gl_WorkGroupID.x * batch; base < total; base += gl_NumWorkGroups.x * batch) {
+        owner[lane] = lane < batch && base + lane < total ? findBigTriangle(base + lane, bigCount) : 0u;
         barrier();
-        uint count = min(BATCH, total - base);
+        uint count = min(batch, total - base);
         for (uint k = 0u; k < count; ++k) {
             uint big = owner[k];
             TriSetup t = setupTris[bigTris[big]];

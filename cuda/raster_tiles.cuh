@@ -1,9 +1,10 @@
 // raster_tiles.cuh - stage `raster_tiles`: (big triangle, TILE_SIZE^2 tile) work items, one thread
 // per pixel of the tile, so a large triangle spreads over as many blocks as it has tiles.
 // Work item k belongs to the last big triangle whose scanned offset is <= k (binary search). A block
-// takes a batch of TILE_SIZE^2 consecutive items: each thread searches the owner of one item at once
-// (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then the
-// whole block rasterizes the batch's tiles one after another.
+// takes a batch of up to TILE_SIZE^2 consecutive items: each thread searches the owner of one item at
+// once (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then
+// the whole block rasterizes the batch's tiles one after another. With few items the batch shrinks to
+// what spreads them over all blocks, so they are not serialized in a few.
 // Grid-stride loop over the batches of counters[COUNTER_TILES] items; blocks = RasterParams.rasterGroups.
 namespace sr {
 
@@ -27,10 +28,10 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
     uint total = b.counters[COUNTER_TILES];
     uint bigCount = b.counters[COUNTER_BIG];
     uint lane = threadIdx.x;
-    const uint batch = TILE_SIZE * TILE_SIZE;
     __shared__ uint owner[TILE_SIZE * TILE_SIZE];
+    uint batch = rasterBatchSize(total, gridDim.x);
     for (uint base = blockIdx.x * batch; base < total; base += gridDim.x * batch) {
-        owner[lane] = base + lane < total ? findBigTriangle(b, base + lane, bigCount) : 0u;
+        owner[lane] = lane < batch && base + lane < total ? findBigTriangle(b, base + lane, bigCount) : 0u;
         __syncthreads();
         uint count = min(batch, total - base);
         for (uint k = 0u; k < count; ++k) {
