@@ -74,6 +74,8 @@ protected:
             if (diff > gradient / 256.0 * 2.0 + 1e-6) ++a.depthBeyondBound;
         }
         a.hitCount = ours->hitCount;
+        std::printf("oracle %s: %zu differing ids of %zu covered pixels\n",
+                    ::testing::UnitTest::GetInstance()->current_test_info()->name(), a.differingIds, a.covered);
         return a;
     }
 
@@ -308,7 +310,7 @@ TEST_F(OracleTest, NearAndFarPlaneCrossings)
     RecordProperty("max_depth_error_oracle", std::to_string(worstOracle));
     std::printf(
         "near/far crossings: %zu differing ids of %zu covered; depth error vs analytic: ours %.3g, "
-        "lavapipe graphics %.3g\n",
+        "graphics pipeline %.3g\n",
         a.differingIds, a.covered, worstOurs, worstOracle);
 }
 
