@@ -583,23 +583,9 @@ SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
     depth = 1.0f;
     ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
     ivec2 p = ivec2(px * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, py * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
-    ivec2 lo = min(v0, min(v1, v2));
-    ivec2 hi = max(v0, max(v1, v2));
-    if (p.x < lo.x || p.x > hi.x || p.y < lo.y || p.y > hi.y) return false;  // outside the bbox
-    int64_t e0, e1, e2;  // edge functions opposite v0, v1, v2: the weights of v0, v1, v2
-    if (hi.x - lo.x < (1 << 14) && hi.y - lo.y < (1 << 14)) {
-        // Bbox under 64 px: relative to v0 every coordinate difference is below 2^14 subpixels, each
-        // product below 2^28 and each edge function below 2^29, so 32-bit arithmetic is exact (and
-        // much cheaper than 64-bit on GPUs). Same values as the 64-bit path below.
-        ivec2 d1 = v1 - v0, d2 = v2 - v0, q = p - v0;
-        e0 = int64_t((d2.x - d1.x) * (q.y - d1.y) - (d2.y - d1.y) * (q.x - d1.x));
-        e1 = int64_t(d2.y * (q.x - d2.x) - d2.x * (q.y - d2.y));
-        e2 = int64_t(d1.x * q.y - d1.y * q.x);
-    } else {
-        e0 = edgeFunction(v1, v2, p);
-        e1 = edgeFunction(v2, v0, p);
-        e2 = edgeFunction(v0, v1, p);
-    }
+    int64_t e0 = edgeFunction(v1, v2, p);  // weight of v0
+    int64_t e1 = edgeFunction(v2, v0, p);  // weight of v1
+    int64_t e2 = edgeFunction(v0, v1, p);  // weight of v2
     if (e0 - edgeBias(v1, v2) < int64_t(0)) return false;
     if (e1 - edgeBias(v2, v0) < int64_t(0)) return false;
     if (e2 - edgeBias(v0, v1) < int64_t(0)) return false;

@@ -148,41 +148,6 @@ TEST(SharedMath, ClosedFanIsWatertight)
         }
 }
 
-// rasterPixel takes a 32-bit path for triangles under 64 px and a 64-bit one above; both must give
-// exactly the coverage and depth of the plain 64-bit edge functions, at and around the size switch.
-TEST(SharedMath, ThirtyTwoBitPathMatchesSixtyFourBitEdgeFunctions)
-{
-    std::mt19937 rng(99);
-    for (double size : {3.0, 17.0, 63.0, 63.99, 64.0, 64.01, 100.0}) {
-        std::uniform_real_distribution<double> pos(0.0, kSize - size), unit(0.0, 1.0);
-        for (int n = 0; n < 40; ++n) {
-            double x = pos(rng), y = pos(rng);
-            vec4 c[3];
-            for (vec4& v : c)
-                v = atWindow(float(std::round((x + unit(rng) * size) * 256.0) / 256.0),
-                             float(std::round((y + unit(rng) * size) * 256.0) / 256.0), float(unit(rng)));
-            TriSetup t;
-            if (!setupTriangle(c[0], c[1], c[2], 0, true, CULL_NONE, kSize, kSize, t)) continue;
-            ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
-            ivec4 b = setupPixelBounds(t, kSize, kSize);
-            for (int py = b.y; py <= b.w; ++py)
-                for (int px = b.x; px <= b.z; ++px) {
-                    ivec2 p(px * 256 + 128, py * 256 + 128);
-                    int64_t e0 = edgeFunction(v1, v2, p), e1 = edgeFunction(v2, v0, p),
-                            e2 = edgeFunction(v0, v1, p);
-                    bool inside = e0 - edgeBias(v1, v2) >= 0 && e1 - edgeBias(v2, v0) >= 0 &&
-                                  e2 - edgeBias(v0, v1) >= 0;
-                    float depth;
-                    ASSERT_EQ(rasterPixel(t, px, py, depth), inside) << size << " " << px << "," << py;
-                    if (!inside) continue;
-                    float z = t.depthPlane.x + float(e1) * t.depthPlane.w * t.depthPlane.y +
-                              float(e2) * t.depthPlane.w * t.depthPlane.z;
-                    ASSERT_EQ(depth, z > 0.0f ? std::min(z, 1.0f) : 0.0f);
-                }
-        }
-    }
-}
-
 TEST(SharedMath, ZeroAreaAndFacingCulling)
 {
     TriSetup t;
