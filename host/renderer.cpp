@@ -99,8 +99,7 @@ double median(std::vector<double> values)
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
-                                 const RenderSettings& settings)
+Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
 {
     if (settings.width < 1 || settings.height < 1 || settings.width > MAX_FRAMEBUFFER_DIM ||
         settings.height > MAX_FRAMEBUFFER_DIM)
@@ -115,6 +114,13 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
         return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
                          scene.vertexCount());
+    return okStatus();
+}
+
+Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
+                                 const RenderSettings& settings)
+{
+    SR_TRY(checkRenderInputs(scene, settings));
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     const uint64_t tris = scene.triangleCount();

@@ -68,6 +68,9 @@ struct RenderOutput {
     RasterParams params{};
 };
 
+// The checks every backend makes on its inputs (sizes, repeat count, scene limits), one line each.
+Status checkRenderInputs(const Scene& scene, const RenderSettings& settings);
+
 // Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings);

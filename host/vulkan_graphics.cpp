@@ -47,22 +47,10 @@ constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTAC
 constexpr VkAccessFlags kAttachmentWrites =
     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
 
-// The checks renderScene makes on its inputs, with the same messages, so that both paths reject the
-// same scenes and settings.
+// The checks of every backend, plus the one this backend adds.
 Status checkInputs(const Scene& scene, const RenderSettings& settings)
 {
-    if (settings.width < 1 || settings.height < 1 || settings.width > MAX_FRAMEBUFFER_DIM ||
-        settings.height > MAX_FRAMEBUFFER_DIM)
-        return makeError(ExitCode::Usage, "resolution {}x{} is outside 1..{} per side", settings.width,
-                         settings.height, MAX_FRAMEBUFFER_DIM);
-    if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
-    if (scene.triangleCount() == 0) return makeError(ExitCode::Usage, "the scene has no triangles");
-    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.vertexCount() >= (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} vertices)",
-                         scene.triangleCount(), scene.vertexCount());
-    if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
-        return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
-                         scene.vertexCount());
+    SR_TRY(checkRenderInputs(scene, settings));
     // The fragment shader colours through shadePixel, which knows the modes up to the id view; the
     // later ones are debug views of the compute pipeline's own buffers.
     if (settings.shadingMode > SHADING_PRIMITIVE_ID)

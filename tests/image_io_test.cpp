@@ -8,30 +8,14 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "test_util.h"
 #include <tinyexr.h>
 
 #include "image_io.h"
 
 namespace sr {
 namespace {
-
-class ScratchDir {
-public:
-    ScratchDir()
-    {
-        std::string pattern = ::testing::TempDir() + "sr_image_XXXXXX";
-        if (mkdtemp(pattern.data())) path_ = pattern;
-    }
-    ~ScratchDir()
-    {
-        std::error_code ignored;
-        std::filesystem::remove_all(path_, ignored);
-    }
-    std::string file(const std::string& name) const { return path_ + "/" + name; }
-
-private:
-    std::string path_;
-};
 
 template <typename T>
 void expectOneLineError(const Result<T>& result, const std::string& path)
@@ -65,7 +49,7 @@ TEST(ImageIo, PngRoundTripIsExact)
     image.pixels[0] = 0x000000ffu;            // pure red, transparent
     image.pixels[1] = 0xff00ff00u;            // pure green, opaque
     image.pixels[image.width] = 0x80ff0000u;  // first pixel of row 1: blue
-    ScratchDir dir;
+    test::ScratchDir dir("sr_image");
     std::string path = dir.file("round.png");
     ASSERT_TRUE(writePng(path, image).ok());
     Result<RgbaImage> back = readPng(path);
@@ -77,7 +61,7 @@ TEST(ImageIo, PngRoundTripIsExact)
 
 TEST(ImageIo, PngErrors)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_image");
     std::string missing = dir.file("missing.png");
     expectOneLineError(readPng(missing), missing);
 
@@ -119,7 +103,7 @@ TEST(ImageIo, AovExrRoundTripIsBitExact)
     aov.depth[4] = floatFromBits(0x7fc00001u);  // quiet NaN with payload
     aov.depth[5] = 0.99999994f;                 // largest float below 1
 
-    ScratchDir dir;
+    test::ScratchDir dir("sr_image");
     std::string path = dir.file("aov.exr");
     Status written = writeAovExr(path, aov);
     ASSERT_TRUE(written.ok()) << written.error().message;
@@ -139,7 +123,7 @@ TEST(ImageIo, AovExrIsAnOrdinaryScanlineFile)
     aov.height = 3;
     aov.id.assign(12, 7u);
     aov.depth.assign(12, 0.5f);
-    ScratchDir dir;
+    test::ScratchDir dir("sr_image");
     std::string path = dir.file("layout.exr");
     ASSERT_TRUE(writeAovExr(path, aov).ok());
 
@@ -164,7 +148,7 @@ TEST(ImageIo, AovExrIsAnOrdinaryScanlineFile)
 
 TEST(ImageIo, AovExrErrors)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_image");
     std::string missing = dir.file("missing.exr");
     expectOneLineError(readAovExr(missing), missing);
 

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "test_util.h"
 #include <nlohmann/json.hpp>
 
 #include "raster_shared.h"
@@ -28,25 +30,6 @@ using Json = nlohmann::json;
 
 constexpr int kU8 = 5121, kU16 = 5123, kU32 = 5125, kFloat = 5126;
 constexpr int kPoints = 0, kLines = 1, kTriangleStrip = 5, kTriangleFan = 6;
-
-// A fresh directory per test, removed with everything in it when the test ends.
-class ScratchDir {
-public:
-    ScratchDir()
-    {
-        std::string pattern = ::testing::TempDir() + "sr_loader_XXXXXX";
-        if (mkdtemp(pattern.data())) path_ = pattern;
-    }
-    ~ScratchDir()
-    {
-        std::error_code ignored;
-        std::filesystem::remove_all(path_, ignored);
-    }
-    std::string file(const std::string& name) const { return path_ + "/" + name; }
-
-private:
-    std::string path_;
-};
 
 void writeFile(const std::string& path, const std::string& bytes)
 {
@@ -265,7 +248,7 @@ template <typename V>
     return ::testing::AssertionSuccess();
 }
 
-Result<Scene> loadText(const ScratchDir& dir, const std::string& name, const std::string& text)
+Result<Scene> loadText(const test::ScratchDir& dir, const std::string& name, const std::string& text)
 {
     writeFile(dir.file(name), text);
     return loadScene(dir.file(name));
@@ -301,7 +284,7 @@ TEST(GltfLoader, HierarchyWithTrsAndMatrixNodes)
                               {"scale", {2, 2, 2}},
                               {"children", {childTrs, childMatrix}}});
     doc.setRoots({parent});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "hierarchy.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 2u);
@@ -342,7 +325,7 @@ TEST(GltfLoader, IndexComponentTypesInPrimitiveOrder)
                             primitive(pos, nrm, doc.integers<uint16_t>({0, 2, 3})),
                             primitive(pos, nrm, doc.integers<uint32_t>({3, 1, 2, 2, 0, 1}))});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "indices.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 4u);
@@ -361,7 +344,7 @@ TEST(GltfLoader, InterleavedAttributesUseStrideAndOffset)
     int pos = doc.addAccessor(view, kFloat, 3, "VEC3", 0);
     int nrm = doc.addAccessor(view, kFloat, 3, "VEC3", 12);
     doc.setRoots({doc.addNode({{"mesh", doc.addMesh({primitive(pos, nrm)})}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "interleaved.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 1u);
@@ -379,7 +362,7 @@ TEST(GltfLoader, NonIndexedWithoutNormalsGetsFlatNormals)
                           0, 0, 0, 1, 1, 1, 2, 2, 2},
                          "VEC3");
     doc.setRoots({doc.addNode({{"mesh", doc.addMesh({primitive(pos)})}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "flat.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 3u);
@@ -401,7 +384,7 @@ TEST(GltfLoader, TriangleStripAndFanBecomeListsWithConsistentWinding)
     int mesh = doc.addMesh({primitive(strip, -1, -1, kTriangleStrip),
                             primitive(fan, -1, doc.integers<uint16_t>({0, 1, 2, 3, 4}), kTriangleFan)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "strip.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 6u);
@@ -426,7 +409,7 @@ TEST(GltfLoader, DoubleSidedMaterialSetsTriangleFlag)
     int mesh = doc.addMesh(
         {primitive(pos, -1, -1, -1, twoSided), primitive(pos, -1, -1, -1, oneSided), primitive(pos)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "sided.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->triFlags, (std::vector<uint32_t>{TRI_FLAG_DOUBLE_SIDED, 0u, 0u}));
@@ -438,7 +421,7 @@ TEST(GltfLoader, NegativeScaleReversesWinding)
     int pos = doc.floats(kTriangle, "VEC3");
     int mesh = doc.addMesh({primitive(pos, doc.floats(kUpNormals, "VEC3")), primitive(pos)});
     doc.setRoots({doc.addNode({{"mesh", mesh}, {"scale", {-1, 1, 1}}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "mirror.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 2u);
@@ -469,7 +452,7 @@ TEST(GltfLoader, CamerasArePlacedByTheirNodes)
     int orthoParent = doc.addNode({{"translation", {0, 0, 10}}, {"children", {orthoChild}}});
     j["scenes"][0]["nodes"].push_back(persp);
     j["scenes"][0]["nodes"].push_back(orthoParent);
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "cameras.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->cameras.size(), 2u);
@@ -512,7 +495,7 @@ TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
     rgbFloat["attributes"]["COLOR_0"] = doc.floats({0.25f, 0.5f, 0.75f, 1, 1, 1, 0, 0, 0}, "VEC3");
     doc.setRoots(
         {doc.addNode({{"mesh", doc.addMesh({rgba8, rgb16, rgbFloat, primitive(pos, -1, -1, -1, tint)})}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "colors.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 4u);
@@ -535,7 +518,7 @@ TEST(GltfLoader, AllWhiteColoursLeaveColorsEmpty)
     int white = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}}}});
     p["material"] = white;
     doc.setRoots({doc.addNode({{"mesh", doc.addMesh({p})}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> scene = loadText(dir, "white.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_TRUE(scene->colors.empty());
@@ -544,7 +527,7 @@ TEST(GltfLoader, AllWhiteColoursLeaveColorsEmpty)
 TEST(GltfLoader, BinaryGlbAndExternalBuffer)
 {
     GltfDoc doc = singleTriangleDoc();
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     Result<Scene> glb = loadText(dir, "triangle.GLB", doc.glb());
     ASSERT_TRUE(glb.ok()) << glb.error().message;
     ASSERT_EQ(glb->triangleCount(), 1u);
@@ -569,7 +552,7 @@ TEST(GltfLoader, SceneSelection)
     int child = doc.addNode({{"mesh", mesh}, {"translation", {0, 0, 2}}});
     int a = doc.addNode({{"mesh", mesh}, {"translation", {0, 0, 1}}, {"children", {child}}});
     int b = doc.addNode({{"mesh", mesh}, {"translation", {0, 0, 5}}});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
 
     // "scene": 1 picks the second scene only.
     doc.json()["scenes"] = Json::array({{{"nodes", {a}}}, {{"nodes", {b}}}});
@@ -609,7 +592,7 @@ TEST(GltfLoader, OutOfRangeIndicesAndNanPositionsAreDropped)
     int flatIndices = doc.integers<uint8_t>({0, 1, 9, 0, 1, 2});
     int mesh = doc.addMesh({primitive(pos, nrm, indices), primitive(pos, -1, flatIndices)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string path = dir.file("bad_indices.gltf");
     writeFile(path, doc.text());
     ::testing::internal::CaptureStderr();
@@ -637,7 +620,7 @@ TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
     int mesh = doc.addMesh({primitive(pos, -1, -1, kLines), primitive(pos), primitive(pos, -1, -1, kLines),
                             primitive(pos, -1, -1, kPoints)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string path = dir.file("lines.gltf");
     writeFile(path, doc.text());
     ::testing::internal::CaptureStderr();
@@ -654,7 +637,7 @@ TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
 
 TEST(GltfLoader, MalformedInputsAreOneLineErrors)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string valid = singleTriangleDoc().text();
 
     std::string missing = dir.file("missing.gltf");
@@ -747,7 +730,7 @@ TEST(GltfLoader, MalformedInputsAreOneLineErrors)
 
 TEST(SceneLoader, DispatchesOnExtensionCaseInsensitively)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string unknown = dir.file("model.ply");
     writeFile(unknown, "ply\n");
     Result<Scene> r = loadScene(unknown);
@@ -834,7 +817,7 @@ TEST(FinalizeScene, Errors)
 
 TEST(ObjLoader, PolygonsAreFanTriangulatedInFileOrder)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string path = dir.file("polygons.obj");
     writeFile(path,
               "# two objects: a quad and a triangle, then a pentagon\n"
@@ -863,7 +846,7 @@ TEST(ObjLoader, PolygonsAreFanTriangulatedInFileOrder)
 
 TEST(ObjLoader, NormalsAndVertexColours)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string path = dir.file("attributes.obj");
     writeFile(path,
               "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
@@ -888,7 +871,7 @@ TEST(ObjLoader, NormalsAndVertexColours)
 
 TEST(ObjLoader, ShortFacesAndBadIndicesDoNotCrash)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string path = dir.file("short.obj");
     writeFile(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\n");
     ::testing::internal::CaptureStderr();
@@ -915,7 +898,7 @@ TEST(ObjLoader, ShortFacesAndBadIndicesDoNotCrash)
 
 TEST(ObjLoader, MissingAndGarbageFilesAreErrors)
 {
-    ScratchDir dir;
+    test::ScratchDir dir("sr_loader");
     std::string missing = dir.file("missing.obj");
     expectLoadError(loadScene(missing), missing);
 

@@ -75,7 +75,8 @@ protected:
         }
         a.hitCount = ours->hitCount;
         std::printf("oracle %s: %zu differing ids of %zu covered pixels\n",
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name(), a.differingIds, a.covered);
+                    ::testing::UnitTest::GetInstance()->current_test_info()->name(), a.differingIds,
+                    a.covered);
         return a;
     }
 

@@ -2,6 +2,7 @@
 #include "test_util.h"
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -57,6 +58,18 @@ RenderSettings testSettings(uint32_t width, uint32_t height)
     s.repeat = 1;
     s.cullMode = CULL_NONE;
     return s;
+}
+
+ScratchDir::ScratchDir(const std::string& prefix)
+{
+    std::string pattern = ::testing::TempDir() + prefix + "_XXXXXX";
+    if (mkdtemp(pattern.data())) path_ = pattern;
+}
+
+ScratchDir::~ScratchDir()
+{
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
 }
 
 size_t countId(const AovImage& aov, uint32_t id)

@@ -27,6 +27,19 @@ CameraMatrices identityCamera();
 
 RenderSettings testSettings(uint32_t width, uint32_t height);
 
+// A fresh directory per test under the gtest temp dir, removed with everything in it at the end.
+class ScratchDir {
+public:
+    explicit ScratchDir(const std::string& prefix = "sr");
+    ~ScratchDir();
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+    std::string path_;
+};
+
 // Number of pixels whose id equals `id`.
 size_t countId(const AovImage& aov, uint32_t id);
 
