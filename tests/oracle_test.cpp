@@ -355,6 +355,25 @@ TEST_F(OracleTest, ProjectedFillRuleQuads)
     for (uint32_t hits : a.hitCount) ASSERT_LE(hits, 1u);  // shared diagonals never double-hit
 }
 
+// The reference backend is deterministic too: 20 renders, bit-identical ids, depth and colour.
+TEST_F(OracleTest, GraphicsBackendIsDeterministic)
+{
+    Scene scene = builtinScene();
+    auto camera = resolveCamera(CameraSpec{}, scene, 64, 48);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings s = testSettings(64, 48);
+    s.cullMode = CULL_BACK;
+    auto first = renderVulkanGraphics(scene, *camera, s, -1);
+    ASSERT_TRUE(first.ok());
+    for (int run = 1; run < 20; ++run) {
+        auto again = renderVulkanGraphics(scene, *camera, s, -1);
+        ASSERT_TRUE(again.ok());
+        ASSERT_EQ(again->aov.id, first->aov.id);
+        ASSERT_EQ(again->aov.depth, first->aov.depth);
+        ASSERT_EQ(again->color.pixels, first->color.pixels);
+    }
+}
+
 // The bench's hardware baseline, the visibility-only pass (pipeline culling, early depth test, id only),
 // must see exactly what the full reference pass sees.
 TEST_F(OracleTest, VisibilityOnlyPassMatchesTheFullPass)
