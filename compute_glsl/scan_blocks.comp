@@ -5,10 +5,9 @@
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
+#include "scan.glsl"
 
 layout(local_size_x = SCAN_GROUP_SIZE) in;
-
-shared uint partial[SCAN_GROUP_SIZE];
 
 void main()
 {
@@ -17,15 +16,9 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     uint lane = gl_LocalInvocationID.x;
     uint value = i < count ? bigOffsets[i] : 0u;
-    // Hillis-Steele inclusive scan: after the step with offset d each entry sums its last 2d inputs.
     partial[lane] = value;
     barrier();
-    for (uint d = 1u; d < uint(SCAN_GROUP_SIZE); d <<= 1u) {
-        uint add = lane >= d ? partial[lane - d] : 0u;
-        barrier();
-        partial[lane] += add;
-        barrier();
-    }
+    blockInclusiveScan(lane);
     if (i < count) bigOffsets[i] = partial[lane] - value;
     if (lane == uint(SCAN_GROUP_SIZE) - 1u) scanSums[gl_WorkGroupID.x] = partial[lane];
 }

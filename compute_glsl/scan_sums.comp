@@ -4,10 +4,9 @@
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
+#include "scan.glsl"
 
 layout(local_size_x = SCAN_GROUP_SIZE) in;
-
-shared uint partial[SCAN_GROUP_SIZE];
 
 void main()
 {
@@ -19,12 +18,7 @@ void main()
         uint value = i < blocks ? scanSums[i] : 0u;
         partial[lane] = value;
         barrier();
-        for (uint d = 1u; d < uint(SCAN_GROUP_SIZE); d <<= 1u) {
-            uint add = lane >= d ? partial[lane - d] : 0u;
-            barrier();
-            partial[lane] += add;
-            barrier();
-        }
+        blockInclusiveScan(lane);
         if (i < blocks) scanSums[i] = uint(carry) + partial[lane] - value;
         carry += uint64_t(partial[SCAN_GROUP_SIZE - 1]);
         barrier();

@@ -4,6 +4,7 @@
 
 #include "clear.cuh"
 #include "raster_tiles.cuh"
+#include "scan.cuh"
 #include "scan_add.cuh"
 #include "scan_blocks.cuh"
 #include "scan_sums.cuh"

@@ -3,18 +3,6 @@
 // One thread per big-list entry; blocks = ceil(setupCapacity / SCAN_GROUP_SIZE), idle past the count.
 namespace sr {
 
-// Hillis-Steele inclusive scan of `partial` (one entry per thread of the block): after the step with
-// offset d each entry sums its last 2d inputs. Shared by scan_blocks and scan_sums.
-__device__ inline void blockInclusiveScan(uint* partial, uint lane)
-{
-    for (uint d = 1u; d < uint(SCAN_GROUP_SIZE); d <<= 1u) {
-        uint add = lane >= d ? partial[lane - d] : 0u;
-        __syncthreads();
-        partial[lane] += add;
-        __syncthreads();
-    }
-}
-
 __device__ inline void scanBlocksStage(const RasterParams&, const Buffers& b)
 {
     __shared__ uint partial[SCAN_GROUP_SIZE];
