@@ -178,25 +178,25 @@ bool isFinite(float x)
 
 // Per-frame constants. std140 in Vulkan: mat4/vec4 first, then 4-byte scalars, 16-byte total multiple.
 struct RasterParams {
-    mat4 clipFromWorld;    // world -> clip; Vulkan conventions: depth 0..1, NDC y = -1 is the top row
-    mat4 viewFromWorld;    // world -> view space (camera at the origin looking down -z)
-    mat4 normalFromWorld;  // inverse transpose of viewFromWorld; only its 3x3 part is used
-    vec4 lightDirView;     // xyz: unit vector towards the light, view space
-    vec4 lightColor;       // rgb: directional light colour; a: ambient intensity
-    vec4 background;       // rgb: linear background colour
-    vec4 shadeExtra;       // x: specular exponent; y, z: view distances mapped to white/black in depth view
-    vec4 guardBand;        // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
-    uint width;            // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
-    uint height;           // framebuffer height in pixels
-    uint vertexCount;      // entries in the per-vertex buffers
-    uint triangleCount;    // entries in BUF_TRI_FLAGS; BUF_INDICES has 3x as many
-    uint cullMode;         // CULL_*
-    uint shadingMode;      // SHADING_*
-    uint hasColors;        // 1 when BUF_COLORS holds vertexCount colours, else colours are white
-    uint setupCapacity;    // capacity of BUF_SETUP_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
-    uint rasterGroups;     // groups launched for raster_tiles (grid-stride loop)
-    uint debugFlags;       // DEBUG_* bits
-    uint reserved0;        // keep the struct a multiple of 16 bytes
+    mat4 clipFromWorld;     // world -> clip; Vulkan conventions: depth 0..1, NDC y = -1 is the top row
+    mat4 viewFromWorld;     // world -> view space (camera at the origin looking down -z)
+    mat4 normalFromWorld;   // inverse transpose of viewFromWorld; only its 3x3 part is used
+    vec4 lightDirView;      // xyz: unit vector towards the light, view space
+    vec4 lightColor;        // rgb: directional light colour; a: ambient intensity
+    vec4 background;        // rgb: linear background colour
+    vec4 shadeExtra;        // x: specular exponent; y, z: view distances mapped to white/black in depth view
+    vec4 guardBand;         // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
+    uint width;             // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
+    uint height;            // framebuffer height in pixels
+    uint vertexCount;       // entries in the per-vertex buffers
+    uint triangleCount;     // entries in BUF_TRI_FLAGS; BUF_INDICES has 3x as many
+    uint cullMode;          // CULL_*
+    uint shadingMode;       // SHADING_*
+    uint hasColors;         // 1 when BUF_COLORS holds vertexCount colours, else colours are white
+    uint setupCapacity;     // capacity of BUF_SETUP_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
+    uint rasterGroups;      // groups launched for raster_tiles (grid-stride loop)
+    uint debugFlags;        // DEBUG_* bits
+    uint transformInSetup;  // 1: no vertex is shared, setup transforms positions itself (no vertex stage)
     uint reserved1;
 };
 
@@ -379,6 +379,14 @@ SR_FN uint clipTriangle(vec4 c0, vec4 c1, vec4 c2, uint planes, vec4 guardBand,
         if ((planes & (1u << p)) != 0u && count >= 3u)
             count = clipPolygonAgainstPlane(poly, count, p, guardBand);
     return count >= 3u ? count : 0u;
+}
+
+// Clip position of a vertex as setup sees it: from the vertex stage's buffer, or, when no vertex is
+// shared (RasterParams.transformInSetup), computed here by the same function the vertex stage uses, so
+// the bits are the same either way.
+SR_FN vec4 setupClipPosition(RasterParams params, vec4 worldPosition, vec4 storedClip)
+{
+    return params.transformInSetup != 0u ? mulPoint(params.clipFromWorld, worldPosition) : storedClip;
 }
 
 // What setup does with one input triangle before snapping.

@@ -47,7 +47,11 @@ void main()
     }
     vec4 poly[MAX_CLIP_VERTS];
     uint count;
-    uint kind = prepareTriangle(clipPos[i0], clipPos[i1], clipPos[i2], params.guardBand, poly, count);
+    bool stored = params.transformInSetup == 0u;
+    vec4 c0 = setupClipPosition(params, positions[i0], stored ? clipPos[i0] : vec4(0.0f));
+    vec4 c1 = setupClipPosition(params, positions[i1], stored ? clipPos[i1] : vec4(0.0f));
+    vec4 c2 = setupClipPosition(params, positions[i2], stored ? clipPos[i2] : vec4(0.0f));
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;

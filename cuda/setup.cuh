@@ -43,7 +43,11 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
     }
     vec4 poly[MAX_CLIP_VERTS];
     uint count;
-    uint kind = prepareTriangle(b.clipPos[i0], b.clipPos[i1], b.clipPos[i2], params.guardBand, poly, count);
+    bool stored = params.transformInSetup == 0u;
+    vec4 c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
+    vec4 c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
+    vec4 c2 = setupClipPosition(params, b.positions[i2], stored ? b.clipPos[i2] : vec4(0.0f));
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;

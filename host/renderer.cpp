@@ -38,7 +38,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
     uint32_t scanGroups = groupsFor(p.setupCapacity, SCAN_GROUP_SIZE);
     return {
         {STAGE_CLEAR, groupsFor(std::max<uint64_t>(pixels, COUNTER_COUNT), GROUP_SIZE)},
-        {STAGE_VERTEX, groupsFor(p.vertexCount, GROUP_SIZE)},
+        {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
         {STAGE_SCAN_BLOCKS, scanGroups},
         {STAGE_SCAN_SUMS, 1},
@@ -46,6 +46,12 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
         {STAGE_RASTER_TILES, p.rasterGroups},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
+}
+
+// No vertex shared on average: as many vertices as triangle corners.
+bool transformsInSetup(const Scene& scene)
+{
+    return scene.vertexCount() >= scene.indices.size();
 }
 
 bool countsHits(const RenderSettings& s)
@@ -89,6 +95,7 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.setupCapacity = capacity;
     p.rasterGroups = rasterGroups;
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
+    p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
     return p;
 }
 
@@ -134,7 +141,10 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
-    SR_TRY(device.resize(BUF_CLIP_POS, scene.vertexCount() * sizeof(glm::vec4)));
+    // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
+    // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
+    SR_TRY(
+        device.resize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
     SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));

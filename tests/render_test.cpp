@@ -217,6 +217,33 @@ TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
     }
 }
 
+// A triangle soup (no shared vertex) is transformed in setup instead of by the vertex stage; both paths
+// must give the same image as the indexed scene.
+TEST_P(RenderTest, TriangleSoupRendersLikeTheIndexedMesh)
+{
+    Scene indexed = builtinScene();
+    Scene soup = indexed;
+    soup.positions.clear();
+    soup.normals.clear();
+    soup.colors.clear();
+    for (uint32_t& index : soup.indices) {
+        soup.positions.push_back(indexed.positions[index]);
+        soup.normals.push_back(indexed.normals[index]);
+        soup.colors.push_back(indexed.colors[index]);
+        index = uint32_t(soup.positions.size() - 1);
+    }
+    auto camera = resolveCamera(CameraSpec{}, indexed, 96, 72);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings s = testSettings(96, 72);
+    s.cullMode = CULL_BACK;
+    RenderOutput a = render(indexed, s, *camera);
+    RenderOutput b = render(soup, s, *camera);
+    EXPECT_GT(a.aov.id.size() - countId(a.aov, EMPTY_ID), 1000u);
+    EXPECT_EQ(b.aov.id, a.aov.id);
+    EXPECT_EQ(b.aov.depth, a.aov.depth);
+    EXPECT_EQ(b.color.pixels, a.color.pixels);
+}
+
 TEST_P(RenderTest, TimingsAndMemoryAreReported)
 {
     RenderSettings s = testSettings(32, 32);
