@@ -525,7 +525,9 @@ Status VulkanContext::allocateMemory(const char* what, VkDeviceSize bytes,
     allocInfo.allocationSize = requirements.size;
     allocInfo.memoryTypeIndex = type;
     SR_VK_CHECK(vkAllocateMemory(device_, &allocInfo, nullptr, &memory));
-    allocated = requirements.size;
+    // Device memory is what was asked for as device-local; the host-visible staging buffer is host
+    // memory, as CUDA's pageable host copies are, and is left out of the accounting.
+    allocated = (flags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0 ? requirements.size : 0;
     allocatedBytes_ += allocated;
     peakAllocatedBytes_ = std::max(peakAllocatedBytes_, allocatedBytes_);
     return okStatus();

@@ -61,7 +61,7 @@ struct GpuBuffer {
     VkBuffer buffer = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkDeviceSize capacity = 0;   // size the VkBuffer was created with; 0 until fully set up
-    VkDeviceSize allocated = 0;  // size of `memory`, counted in allocatedBytes()
+    VkDeviceSize allocated = 0;  // bytes of `memory` counted in allocatedBytes() (0 for host memory)
     void* mapped = nullptr;      // persistent mapping of host-visible memory
 };
 
@@ -70,7 +70,7 @@ struct GpuImage {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkDeviceSize allocated = 0;  // size of `memory`, counted in allocatedBytes()
+    VkDeviceSize allocated = 0;  // bytes of `memory` counted in allocatedBytes() (0 for host memory)
 };
 
 // What a context's debug messenger has seen; the layer may call back from any thread. Shared with
