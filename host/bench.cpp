@@ -12,6 +12,7 @@
 
 #include "camera.h"
 #include "compute_device.h"
+#include "stats_json.h"
 #include "vulkan_graphics.h"
 
 namespace sr {
@@ -128,11 +129,6 @@ size_t sceneBytes(const Scene& s)
            (s.indices.size() + s.triFlags.size()) * sizeof(uint32_t);
 }
 
-nlohmann::json timingJson(const StageTiming& t)
-{
-    return {{"min", t.minMs}, {"median", t.medianMs}, {"max", t.maxMs}};
-}
-
 Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
                               const RenderSettings& r)
 {
@@ -185,8 +181,6 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                 size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
                                      ? out->peakDeviceBytes - sceneBytes(s.scene)
                                      : 0;
-                nlohmann::json stages = nlohmann::json::object();
-                for (const StageTiming& t : out->stages) stages[t.name] = timingJson(t);
                 runs.push_back(
                     {{"scene", s.name},
                      {"resolution", {w, h}},
@@ -196,7 +190,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                      {"triangles", s.scene.triangleCount()},
                      {"triangle_area_px", s.triangleArea},
                      {"rasterized", out->stats.rasterized},
-                     {"stages_ms", stages},
+                     {"stages_ms", stagesJson(out->stages)},
                      {"gpu_total_ms", timingJson(out->total)},
                      {"visibility_ms", ms - shadeMs},
                      {"triangles_per_s", ms > 0 ? double(s.scene.triangleCount()) / (ms * 1e-3) : 0.0},

@@ -6,22 +6,23 @@
 #include <fstream>
 
 namespace sr {
-namespace {
-
 nlohmann::json timingJson(const StageTiming& t)
 {
     return {{"min", t.minMs}, {"median", t.medianMs}, {"max", t.maxMs}};
 }
 
-}  // namespace
+nlohmann::json stagesJson(const std::vector<StageTiming>& stages)
+{
+    nlohmann::json json = nlohmann::json::object();
+    for (const StageTiming& t : stages) json[t.name] = timingJson(t);
+    return json;
+}
 
 nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings, const std::string& scene)
 {
     nlohmann::json clip = nlohmann::json::array();
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) clip.push_back(out.params.clipFromWorld[c][r]);
-    nlohmann::json stages = nlohmann::json::object();
-    for (const StageTiming& t : out.stages) stages[t.name] = timingJson(t);
     const RenderStats& s = out.stats;
     return {
         {"backend", out.device.backend},
@@ -39,7 +40,7 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
           {"small", s.smallTris},
           {"big", s.bigTris},
           {"tiles", s.tiles}}},
-        {"stages_ms", stages},
+        {"stages_ms", stagesJson(out.stages)},
         {"gpu_total_ms", timingJson(out.total)},
         {"peak_device_bytes", out.peakDeviceBytes},
         {"warmup", settings.warmup},
