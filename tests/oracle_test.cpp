@@ -94,6 +94,22 @@ double onGrid(double v)
     return std::round(v * 256.0) / 256.0;
 }
 
+// Two triangles per cell of a grid of window positions (grid[j][i]); with `alternate`, neighbouring
+// cells split along opposite diagonals, so shared edges occur in both orientations.
+std::vector<glm::vec4> quadMesh(const std::vector<std::vector<glm::dvec2>>& grid, bool alternate)
+{
+    std::vector<glm::vec4> corners;
+    for (size_t j = 0; j + 1 < grid.size(); ++j)
+        for (size_t i = 0; i + 1 < grid[j].size(); ++i) {
+            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
+            if (alternate && (i + j) % 2 == 0)
+                for (glm::dvec2 p : {a, b, d, b, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
+            else
+                for (glm::dvec2 p : {a, b, c, a, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
+        }
+    return corners;
+}
+
 // Triangles of each power-of-two size with random vertices on the 1/256 grid, each at its own
 // constant depth so that the nearer one wins wherever they overlap, in both pipelines. They stay inside
 // the viewport: lavapipe clips to the viewport in float (no guard band), which would make them clipped.
@@ -122,7 +138,6 @@ TEST_F(OracleTest, GridSnappedTrianglesOfEverySize)
 // decides, and a mesh of such triangles must be covered exactly once.
 TEST_F(OracleTest, EdgesThroughPixelCentres)
 {
-    std::vector<glm::vec4> corners;
     std::mt19937 rng(11);
     std::uniform_int_distribution<int> jitter(-3, 3);
     const int n = 12, step = 20;
@@ -134,12 +149,7 @@ TEST_F(OracleTest, EdgesThroughPixelCentres)
     std::vector<std::vector<glm::dvec2>> grid(n + 1, std::vector<glm::dvec2>(n + 1));
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) grid[j][i] = vertex(i, j);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
-            for (glm::dvec2 p : {a, b, c, a, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
-        }
-    Agreement a = agree(clipSpaceScene(corners));
+    Agreement a = agree(clipSpaceScene(quadMesh(grid, false)));
     EXPECT_EQ(a.differingIds, 0u);
     // Pixels strictly inside the mesh outline are hit exactly once.
     for (int y = 30; y < 220; ++y)
@@ -189,17 +199,7 @@ TEST_F(OracleTest, JitteredGridMesh)
             grid[j][i] = {onGrid(8 + i * step + (border ? 0 : jitter(rng))),
                           onGrid(8 + j * step + (border ? 0 : jitter(rng)))};
         }
-    std::vector<glm::vec4> corners;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
-            // Alternate the diagonal so both orientations of shared edges occur.
-            if ((i + j) % 2)
-                for (glm::dvec2 p : {a, b, c, a, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
-            else
-                for (glm::dvec2 p : {a, b, d, b, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
-        }
-    Agreement a = agree(clipSpaceScene(corners));
+    Agreement a = agree(clipSpaceScene(quadMesh(grid, true)));
     EXPECT_EQ(a.differingIds, 0u);
     for (int y = 8; y < 248; ++y)
         for (int x = 8; x < 248; ++x) ASSERT_EQ(a.hitCount[y * kSize + x], 1u) << x << "," << y;
@@ -358,15 +358,12 @@ TEST_F(OracleTest, ProjectedFillRuleQuads)
 // The reference backend is deterministic too: 20 renders, bit-identical ids, depth and colour.
 TEST_F(OracleTest, GraphicsBackendIsDeterministic)
 {
-    Scene scene = builtinScene();
-    auto camera = resolveCamera(CameraSpec{}, scene, 64, 48);
-    ASSERT_TRUE(camera.ok());
-    RenderSettings s = testSettings(64, 48);
-    s.cullMode = CULL_BACK;
-    auto first = renderVulkanGraphics(scene, *camera, s, -1);
+    FramedScene f = framedBuiltin(64, 48);
+    RenderSettings s = f.settings;
+    auto first = renderVulkanGraphics(f.scene, f.camera, s, -1);
     ASSERT_TRUE(first.ok());
     for (int run = 1; run < 20; ++run) {
-        auto again = renderVulkanGraphics(scene, *camera, s, -1);
+        auto again = renderVulkanGraphics(f.scene, f.camera, s, -1);
         ASSERT_TRUE(again.ok());
         ASSERT_EQ(again->aov.id, first->aov.id);
         ASSERT_EQ(again->aov.depth, first->aov.depth);
@@ -378,14 +375,11 @@ TEST_F(OracleTest, GraphicsBackendIsDeterministic)
 // must see exactly what the full reference pass sees.
 TEST_F(OracleTest, VisibilityOnlyPassMatchesTheFullPass)
 {
-    Scene scene = builtinScene();
-    auto camera = resolveCamera(CameraSpec{}, scene, 160, 120);
-    ASSERT_TRUE(camera.ok());
-    RenderSettings s = testSettings(160, 120);
-    s.cullMode = CULL_BACK;
-    auto full = renderVulkanGraphics(scene, *camera, s, -1);
+    FramedScene f = framedBuiltin(160, 120);
+    RenderSettings s = f.settings;
+    auto full = renderVulkanGraphics(f.scene, f.camera, s, -1);
     s.visibilityOnly = true;
-    auto visibility = renderVulkanGraphics(scene, *camera, s, -1);
+    auto visibility = renderVulkanGraphics(f.scene, f.camera, s, -1);
     ASSERT_TRUE(full.ok() && visibility.ok());
     EXPECT_EQ(visibility->aov.id, full->aov.id);
     EXPECT_EQ(visibility->aov.depth, full->aov.depth);

@@ -91,10 +91,7 @@ TEST_P(RenderTest, EqualDepthsResolveToTheLowestTriangleId)
 
 TEST_P(RenderTest, FrontBackAndDoubleSidedCulling)
 {
-    // Left: counter-clockwise on screen (front); right: clockwise (back). NDC y = -1 is the top
-    // row.
-    std::vector<glm::vec4> tris = {{-0.9f, -0.8f, 0.5f, 1}, {-0.9f, 0.8f, 0.5f, 1}, {-0.1f, -0.8f, 0.5f, 1},
-                                   {0.1f, -0.8f, 0.5f, 1},  {0.9f, -0.8f, 0.5f, 1}, {0.1f, 0.8f, 0.5f, 1}};
+    std::vector<glm::vec4> tris = cullingTriangles();  // 0: front-facing, 1: back-facing
     RenderSettings s = testSettings(64, 64);
     s.cullMode = CULL_BACK;
     RenderOutput back = render(clipSpaceScene(tris), s);
@@ -180,14 +177,11 @@ TEST_P(RenderTest, NonFiniteVerticesAreDroppedAndTheRestDrawn)
 
 TEST_P(RenderTest, OverflowingListsGrowAndRedrawIdentically)
 {
-    Scene scene = builtinScene();
-    auto camera = resolveCamera(CameraSpec{}, scene, 96, 96);
-    ASSERT_TRUE(camera.ok());
-    RenderSettings s = testSettings(96, 96);
-    s.cullMode = CULL_BACK;
-    RenderOutput normal = render(scene, s, *camera);
+    FramedScene f = framedBuiltin(96, 96);
+    RenderSettings s = f.settings;
+    RenderOutput normal = render(f.scene, s, f.camera);
     s.initialSetupCapacity = 1;
-    RenderOutput tiny = render(scene, s, *camera);
+    RenderOutput tiny = render(f.scene, s, f.camera);
     EXPECT_EQ(normal.stats.redraws, 0u);
     EXPECT_GE(tiny.stats.redraws, 1u);
     EXPECT_EQ(tiny.aov.id, normal.aov.id);
@@ -197,12 +191,9 @@ TEST_P(RenderTest, OverflowingListsGrowAndRedrawIdentically)
 
 TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
 {
-    Scene scene = builtinScene();
-    auto camera = resolveCamera(CameraSpec{}, scene, 128, 96);
-    ASSERT_TRUE(camera.ok());
-    RenderSettings s = testSettings(128, 96);
-    s.cullMode = CULL_BACK;
-    RenderOutput first = render(scene, s, *camera);
+    FramedScene f = framedBuiltin(128, 96);
+    RenderSettings s = f.settings;
+    RenderOutput first = render(f.scene, s, f.camera);
     size_t covered = first.aov.id.size() - countId(first.aov, EMPTY_ID);
     EXPECT_GT(covered, first.aov.id.size() / 10);
     std::set<uint32_t> colours(first.color.pixels.begin(), first.color.pixels.end());
@@ -210,7 +201,7 @@ TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
     std::set<uint32_t> ids(first.aov.id.begin(), first.aov.id.end());
     EXPECT_GT(ids.size(), 200u);
     for (int run = 1; run < 20; ++run) {  // 20 renders in all
-        RenderOutput again = render(scene, s, *camera);
+        RenderOutput again = render(f.scene, s, f.camera);
         ASSERT_EQ(again.aov.id, first.aov.id);
         ASSERT_EQ(again.aov.depth, first.aov.depth);
         ASSERT_EQ(again.color.pixels, first.color.pixels);
@@ -221,7 +212,8 @@ TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
 // must give the same image as the indexed scene.
 TEST_P(RenderTest, TriangleSoupRendersLikeTheIndexedMesh)
 {
-    Scene indexed = builtinScene();
+    FramedScene f = framedBuiltin(96, 72);
+    const Scene& indexed = f.scene;
     Scene soup = indexed;
     soup.positions.clear();
     soup.normals.clear();
@@ -232,12 +224,8 @@ TEST_P(RenderTest, TriangleSoupRendersLikeTheIndexedMesh)
         soup.colors.push_back(indexed.colors[index]);
         index = uint32_t(soup.positions.size() - 1);
     }
-    auto camera = resolveCamera(CameraSpec{}, indexed, 96, 72);
-    ASSERT_TRUE(camera.ok());
-    RenderSettings s = testSettings(96, 72);
-    s.cullMode = CULL_BACK;
-    RenderOutput a = render(indexed, s, *camera);
-    RenderOutput b = render(soup, s, *camera);
+    RenderOutput a = render(indexed, f.settings, f.camera);
+    RenderOutput b = render(soup, f.settings, f.camera);
     EXPECT_GT(a.aov.id.size() - countId(a.aov, EMPTY_ID), 1000u);
     EXPECT_EQ(b.aov.id, a.aov.id);
     EXPECT_EQ(b.aov.depth, a.aov.depth);

@@ -72,6 +72,24 @@ ScratchDir::~ScratchDir()
     std::filesystem::remove_all(path_, ignored);
 }
 
+FramedScene framedBuiltin(uint32_t width, uint32_t height)
+{
+    FramedScene f{builtinScene(), {}, testSettings(width, height)};
+    auto camera = resolveCamera(CameraSpec{}, f.scene, width, height);
+    if (camera.ok())
+        f.camera = *camera;
+    else
+        ADD_FAILURE() << camera.error().message;
+    f.settings.cullMode = CULL_BACK;
+    return f;
+}
+
+std::vector<glm::vec4> cullingTriangles()
+{
+    return {{-0.9f, -0.8f, 0.5f, 1}, {-0.9f, 0.8f, 0.5f, 1}, {-0.1f, -0.8f, 0.5f, 1},
+            {0.1f, -0.8f, 0.5f, 1},  {0.9f, -0.8f, 0.5f, 1}, {0.1f, 0.8f, 0.5f, 1}};
+}
+
 size_t countId(const AovImage& aov, uint32_t id)
 {
     size_t n = 0;

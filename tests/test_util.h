@@ -27,6 +27,18 @@ CameraMatrices identityCamera();
 
 RenderSettings testSettings(uint32_t width, uint32_t height);
 
+// The built-in scene under the auto camera at width x height, with back-face culling.
+struct FramedScene {
+    Scene scene;
+    CameraMatrices camera;
+    RenderSettings settings;
+};
+FramedScene framedBuiltin(uint32_t width, uint32_t height);
+
+// Two triangles in clip space: the left one counter-clockwise on screen (front-facing), the right one
+// clockwise, mirror images of each other. NDC y = -1 is the top row.
+std::vector<glm::vec4> cullingTriangles();
+
 // A fresh directory per test under the gtest temp dir, removed with everything in it at the end.
 class ScratchDir {
 public:

@@ -135,9 +135,7 @@ TEST_F(VulkanGraphicsTest, EqualDepthsResolveToTheFirstTriangleDrawn)
 // same id images as the compute backend.
 TEST_F(VulkanGraphicsTest, FrontBackAndDoubleSidedCullingAsInTheComputeBackend)
 {
-    // Left: counter-clockwise on screen (front); right: clockwise (back). NDC y = -1 is the top row.
-    std::vector<glm::vec4> tris = {{-0.9f, -0.8f, 0.5f, 1}, {-0.9f, 0.8f, 0.5f, 1}, {-0.1f, -0.8f, 0.5f, 1},
-                                   {0.1f, -0.8f, 0.5f, 1},  {0.9f, -0.8f, 0.5f, 1}, {0.1f, 0.8f, 0.5f, 1}};
+    std::vector<glm::vec4> tris = cullingTriangles();  // 0: front-facing, 1: back-facing
     RenderSettings s = testSettings(64, 64);
     s.cullMode = CULL_BACK;
     RenderOutput back = render(clipSpaceScene(tris), s);
