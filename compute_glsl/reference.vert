@@ -1,4 +1,4 @@
-// reference.vert - vertex stage of the `vulkan-graphics` reference backend (host/vulkan_graphics.cpp).
+// reference.vert - vertex stage of the `vulkan-graphics` reference backend (host/vulkan/vulkan_graphics.cpp).
 // Vertex pulling from BUF_POSITIONS, no vertex input bindings. The clip position comes from mulPoint,
 // the function the compute `vertex` stage uses, so both backends start from bit-identical clip
 // coordinates and any difference between them is the rasterizer's.

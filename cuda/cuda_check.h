@@ -5,7 +5,7 @@
 
 #include <cuda_runtime.h>
 
-#include "result.h"
+#include "base/result.h"
 
 #define CUDA_TRY(expr)                                                                            \
     do {                                                                                          \

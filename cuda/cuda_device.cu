@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "compute_device.h"
+#include "render/compute_device.h"
 #include "cuda_check.h"
 #include "kernels.h"
 

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "camera.h"
+#include "scene/camera.h"
 
 namespace sr {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "compare.h"
+#include "io/compare.h"
 #include "test_util.h"
 
 namespace sr::test {

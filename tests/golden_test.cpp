@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "compare.h"
+#include "io/compare.h"
 #include "test_util.h"
 
 namespace sr::test {

@@ -12,7 +12,7 @@
 #include "test_util.h"
 #include <tinyexr.h>
 
-#include "image_io.h"
+#include "io/image_io.h"
 
 namespace sr {
 namespace {

@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "raster_shared.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace sr {
 namespace {

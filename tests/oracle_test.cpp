@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "test_util.h"
-#include "vulkan_graphics.h"
+#include "vulkan/vulkan_graphics.h"
 
 namespace sr::test {
 namespace {

@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "compute_device.h"
-#include "renderer.h"
-#include "scene.h"
+#include "render/compute_device.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 namespace sr::test {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "compute_device.h"
-#include "vulkan_device_internal.h"
+#include "render/compute_device.h"
+#include "vulkan/vulkan_device_internal.h"
 
 namespace sr {
 namespace {

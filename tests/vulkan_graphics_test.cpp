@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vulkan_device_internal.h"
-#include "vulkan_graphics.h"
+#include "vulkan/vulkan_device_internal.h"
+#include "vulkan/vulkan_graphics.h"
 
 namespace sr::test {
 namespace {

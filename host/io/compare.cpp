@@ -1,5 +1,5 @@
 // compare.cpp - see compare.h.
-#include "compare.h"
+#include "io/compare.h"
 
 #include <algorithm>
 #include <cctype>

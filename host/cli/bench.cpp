@@ -1,5 +1,5 @@
 // bench.cpp - see bench.h.
-#include "bench.h"
+#include "cli/bench.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +10,10 @@
 
 #include <fmt/format.h>
 
-#include "camera.h"
-#include "compute_device.h"
-#include "stats_json.h"
-#include "vulkan_graphics.h"
+#include "scene/camera.h"
+#include "render/compute_device.h"
+#include "cli/stats_json.h"
+#include "vulkan/vulkan_graphics.h"
 
 namespace sr {
 namespace {

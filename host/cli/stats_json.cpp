@@ -1,5 +1,5 @@
 // stats_json.cpp - JSON statistics through nlohmann::json.
-#include "stats_json.h"
+#include "cli/stats_json.h"
 
 #include <cerrno>
 #include <cstring>

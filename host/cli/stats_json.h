@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace sr {
 

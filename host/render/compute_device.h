@@ -1,9 +1,9 @@
 // compute_device.h - what a backend must provide to run the pipeline.
 //
 // The pipeline itself (buffer sizes, stage order, group counts, grow-and-redraw) is written once in
-// host/renderer.cpp. A backend only allocates the buffers named in raster_shared.h (BUF_*), copies
+// host/render/renderer.cpp. A backend only allocates the buffers named in raster_shared.h (BUF_*), copies
 // data, and runs a list of stage dispatches with a full barrier between consecutive dispatches,
-// timing each one on the GPU. CUDA (cuda/cuda_device.cu) and Vulkan (host/vulkan_device.cpp)
+// timing each one on the GPU. CUDA (cuda/cuda_device.cu) and Vulkan (host/vulkan/vulkan_device.cpp)
 // implement it; the backend is chosen at run time in one place, makeComputeDevice().
 #ifndef RASTER_COMPUTE_DEVICE_H
 #define RASTER_COMPUTE_DEVICE_H
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "raster_shared.h"
-#include "result.h"
+#include "base/result.h"
 
 namespace sr {
 

@@ -1,6 +1,6 @@
 // vulkan_device.cpp - the Vulkan backend of ComputeDevice.
 //
-// A VulkanContext (host/vulkan_context.h) on a compute queue, one storage buffer per BUF_* binding
+// A VulkanContext (host/vulkan/vulkan_context.h) on a compute queue, one storage buffer per BUF_* binding
 // plus a host-visible uniform buffer for RasterParams, the context's descriptor set shared by every
 // stage, and one compute pipeline per stage built from the SPIR-V that CMake embeds
 // (<builddir>/spirv/<stage>.spv.h). Every public call records one command buffer, submits it and
@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "compute_device.h"
-#include "vulkan_context.h"
-#include "vulkan_device_internal.h"
+#include "render/compute_device.h"
+#include "vulkan/vulkan_context.h"
+#include "vulkan/vulkan_device_internal.h"
 
 namespace sr {
 namespace {

@@ -6,7 +6,7 @@
 // makes all triangles counter-clockwise seen from outside (glTF's front faces).
 #include <cmath>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace sr {
 namespace {

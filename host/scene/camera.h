@@ -9,8 +9,8 @@
 
 #include <glm/glm.hpp>
 
-#include "result.h"
-#include "scene.h"
+#include "base/result.h"
+#include "scene/scene.h"
 
 namespace sr {
 

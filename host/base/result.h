@@ -2,7 +2,7 @@
 //
 // Library-style host functions return Result<T>: either a value or an Error holding a one-line
 // message and the process exit code it maps to. Only main() turns an Error into output and an exit
-// code (host/main.cpp), so every failure path reports exactly one line.
+// code (host/cli/main.cpp), so every failure path reports exactly one line.
 #ifndef RASTER_RESULT_H
 #define RASTER_RESULT_H
 

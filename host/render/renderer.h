@@ -12,12 +12,12 @@
 
 #include <glm/glm.hpp>
 
-#include "camera.h"
-#include "compute_device.h"
-#include "image_io.h"
+#include "scene/camera.h"
+#include "render/compute_device.h"
+#include "io/image_io.h"
 #include "raster_shared.h"
-#include "result.h"
-#include "scene.h"
+#include "base/result.h"
+#include "scene/scene.h"
 
 namespace sr {
 

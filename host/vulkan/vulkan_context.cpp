@@ -1,5 +1,5 @@
 // vulkan_context.cpp - see vulkan_context.h.
-#include "vulkan_context.h"
+#include "vulkan/vulkan_context.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "vulkan_device_internal.h"
+#include "vulkan/vulkan_device_internal.h"
 
 namespace sr {
 namespace {

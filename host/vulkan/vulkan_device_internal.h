@@ -1,5 +1,5 @@
-// vulkan_device_internal.h - test hooks of the Vulkan backends (host/vulkan_context.cpp,
-// host/vulkan_device.cpp).
+// vulkan_device_internal.h - test hooks of the Vulkan backends (host/vulkan/vulkan_context.cpp,
+// host/vulkan/vulkan_device.cpp).
 //
 // Validation problems that happen while a device is destroyed (leaked objects) cannot be returned
 // by any method call, and a correct backend never triggers a validation error on purpose; these two
@@ -9,7 +9,7 @@
 
 #include <cstddef>
 
-#include "compute_device.h"
+#include "render/compute_device.h"
 
 namespace sr {
 

@@ -16,15 +16,15 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "bench.h"
-#include "camera.h"
-#include "compare.h"
-#include "compute_device.h"
-#include "image_io.h"
-#include "renderer.h"
-#include "scene.h"
-#include "stats_json.h"
-#include "vulkan_graphics.h"
+#include "cli/bench.h"
+#include "scene/camera.h"
+#include "io/compare.h"
+#include "render/compute_device.h"
+#include "io/image_io.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+#include "cli/stats_json.h"
+#include "vulkan/vulkan_graphics.h"
 
 namespace sr {
 namespace {

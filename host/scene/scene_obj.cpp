@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace sr {
 namespace {

@@ -9,10 +9,10 @@
 #ifndef RASTER_VULKAN_GRAPHICS_H
 #define RASTER_VULKAN_GRAPHICS_H
 
-#include "camera.h"
-#include "renderer.h"
-#include "result.h"
-#include "scene.h"
+#include "scene/camera.h"
+#include "render/renderer.h"
+#include "base/result.h"
+#include "scene/scene.h"
 
 namespace sr {
 

@@ -14,7 +14,7 @@
 
 #include <glm/glm.hpp>
 
-#include "result.h"
+#include "base/result.h"
 
 namespace sr {
 

@@ -1,5 +1,5 @@
 // image_io.cpp - PNG through stb, the id/depth AOV EXR through tinyexr.
-#include "image_io.h"
+#include "io/image_io.h"
 
 #include <stb_image.h>
 #include <stb_image_write.h>

@@ -1,5 +1,5 @@
 // cuda_unavailable.cpp - makeCudaDevice for builds without nvcc: the CUDA backend reports itself absent.
-#include "compute_device.h"
+#include "render/compute_device.h"
 
 namespace sr {
 

@@ -14,7 +14,7 @@
 #include <limits>
 
 #include "raster_shared.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace sr {
 namespace {

@@ -1,5 +1,5 @@
 // scene.cpp - loader dispatch and the checks every loaded scene goes through.
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,6 @@
 // vulkan_context.h - the Vulkan plumbing shared by the two Vulkan backends: the compute ComputeDevice
-// (host/vulkan_device.cpp) and the `vulkan-graphics` reference renderer (host/vulkan_graphics.cpp).
+// (host/vulkan/vulkan_device.cpp) and the `vulkan-graphics` reference renderer
+// (host/vulkan/vulkan_graphics.cpp).
 //
 // A VulkanContext is one instance (with the validation layer and its messenger when
 // SR_VULKAN_VALIDATION=1), one physical device picked from the project's device list, one logical
@@ -25,9 +26,9 @@
 #include <string_view>
 #include <vector>
 
-#include "compute_device.h"
+#include "render/compute_device.h"
 #include "raster_shared.h"
-#include "result.h"
+#include "base/result.h"
 
 namespace sr {
 

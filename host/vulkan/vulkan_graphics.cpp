@@ -5,7 +5,7 @@
 // subpass, one framebuffer and one pipeline. Each frame is one submission holding the render pass
 // between two timestamps; after the last frame the attachments are copied into the context's staging
 // buffer and read on the host.
-#include "vulkan_graphics.h"
+#include "vulkan/vulkan_graphics.h"
 
 #include <vulkan/vulkan.h>
 
@@ -15,7 +15,7 @@
 #include <memory>
 #include <vector>
 
-#include "vulkan_context.h"
+#include "vulkan/vulkan_context.h"
 
 namespace sr {
 namespace {

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "image_io.h"
-#include "result.h"
+#include "io/image_io.h"
+#include "base/result.h"
 
 namespace sr {
 

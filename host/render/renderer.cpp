@@ -1,6 +1,6 @@
 // renderer.cpp - buffer sizing, stage dispatch, grow-and-redraw and timing statistics, shared by the
 // CUDA and Vulkan backends.
-#include "renderer.h"
+#include "render/renderer.h"
 
 #include <algorithm>
 #include <cmath>

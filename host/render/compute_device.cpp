@@ -1,5 +1,5 @@
 // compute_device.cpp - stage names and the one place where the backend is chosen.
-#include "compute_device.h"
+#include "render/compute_device.h"
 
 namespace sr {
 

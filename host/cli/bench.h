@@ -15,8 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer.h"
-#include "result.h"
+#include "render/renderer.h"
+#include "base/result.h"
 
 namespace sr {
 
