@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli/backend.h"
 #include "cli/bench.h"
 #include "scene/camera.h"
 #include "io/compare.h"

@@ -4,7 +4,7 @@
 // host/render/renderer.cpp. A backend only allocates the buffers named in raster_shared.h (BUF_*), copies
 // data, and runs a list of stage dispatches with a full barrier between consecutive dispatches,
 // timing each one on the GPU. CUDA (cuda/cuda_device.cu) and Vulkan (host/vulkan/vulkan_device.cpp)
-// implement it; the backend is chosen at run time in one place, makeComputeDevice().
+// implement it; the backend is chosen at run time in one place, makeComputeDevice() (host/cli/backend.h).
 #ifndef RASTER_COMPUTE_DEVICE_H
 #define RASTER_COMPUTE_DEVICE_H
 
@@ -18,8 +18,6 @@
 #include "base/result.h"
 
 namespace sr {
-
-enum class BackendKind { Auto, Cuda, Vulkan };
 
 // Name of stage `stage` (STAGE_*), matching cuda/<name>.cuh and compute_glsl/<name>.comp.
 const char* stageName(uint32_t stage);
@@ -66,8 +64,6 @@ Result<std::unique_ptr<ComputeDevice>> makeVulkanDevice(int index);
 // CUDA: device `index` (-1 = 0). Fails with a one-line error when CUDA or a CUDA GPU is absent, or when
 // the binary was built without CUDA.
 Result<std::unique_ptr<ComputeDevice>> makeCudaDevice(int index);
-// The one place the backend is chosen: Auto = CUDA when a CUDA GPU is present, else Vulkan.
-Result<std::unique_ptr<ComputeDevice>> makeComputeDevice(BackendKind kind, int index);
 
 }  // namespace sr
 
