@@ -1,0 +1,38 @@
+// shared/fixed_point.h - deterministic division, the arithmetic every stage builds on.
+//
+// Vulkan lets OpFDiv be 2.5 ulp off while CUDA divides correctly rounded, so no float quotient whose bits
+// matter may use '/': these build reciprocals from integer operations on the float's bits, which every
+// backend executes identically. Part of raster_shared.h (included from there, not on its own); same
+// three-language rules.
+#ifndef RASTER_SHARED_FIXED_POINT_H
+#define RASTER_SHARED_FIXED_POINT_H
+
+SR_NAMESPACE_BEGIN
+
+// Deterministic reciprocal. Vulkan only promises 2.5 ulp for OpFDiv while CUDA divides correctly
+// rounded, so a plain '/' would let the backends disagree on snapped vertices and depth. This builds
+// 1/b from integer operations on the float's bits, which every backend executes identically:
+// b = m * 2^(E-150) with a 24-bit mantissa m, so 1/b = floor(2^47 / m) * 2^(103-E) up to < 1 ulp.
+// Returns +-0 for |b| >= 2^126 and +-inf for zero or denormal b.
+SR_FN float recipDet(float b)
+{
+    uint bits = floatBitsToUint(b);
+    uint sign = bits & 0x80000000u;
+    uint e = (bits >> 23) & 0xffu;
+    if (e == 0u) return uintBitsToFloat(sign | 0x7f800000u);
+    if (e >= 253u) return uintBitsToFloat(sign);
+    uint64_t m = uint64_t((bits & 0x7fffffu) | 0x800000u);
+    uint64_t q = (uint64_t(1) << 47) / m;  // in (2^23, 2^24]
+    if (q == (uint64_t(1) << 24)) return uintBitsToFloat(sign | ((254u - e) << 23));
+    return uintBitsToFloat(sign | ((253u - e) << 23) | (uint(q) & 0x7fffffu));
+}
+
+SR_FN float divDet(float a, float b)
+{
+    SR_PRECISE float r = a * recipDet(b);
+    return r;
+}
+
+SR_NAMESPACE_END
+
+#endif  // RASTER_SHARED_FIXED_POINT_H

@@ -1,0 +1,163 @@
+// shared/setup.h - the snapping half of stage `setup`: viewport transform, snapping to n.8 fixed point,
+// exact int64 edge functions with the top-left rule, and the TriSetup record with its pixel bounds.
+//
+// Everything after snapping is integer arithmetic or correctly rounded float steps from exact integers,
+// which is what makes coverage bit-identical across backends. Part of raster_shared.h (included from
+// there, not on its own); same three-language rules.
+#ifndef RASTER_SHARED_SETUP_H
+#define RASTER_SHARED_SETUP_H
+
+SR_NAMESPACE_BEGIN
+
+// Viewport transform and snapping. Window x = (ndc.x + 1) * width / 2, pixel centres at i + 0.5, and
+// the result rounded half-to-even to 1/256 pixel. Returns false when w <= 0 or the vertex left the
+// guard band (only possible for degenerate clipper output).
+SR_FN bool snapVertex(vec4 c, uint width, uint height, SR_OUT(ivec2) xy, SR_OUT(float) z)
+{
+    xy = ivec2(0, 0);
+    z = 0.0f;
+    if (!(c.w > 0.0f)) return false;
+    float invW = recipDet(c.w);
+    SR_PRECISE float halfW = 0.5f * float(width);
+    SR_PRECISE float halfH = 0.5f * float(height);
+    SR_PRECISE float wx = (c.x * invW) * halfW + halfW;
+    SR_PRECISE float wy = (c.y * invW) * halfH + halfH;
+    SR_PRECISE float wz = c.z * invW;
+    float limit = float(GUARD_BAND_PX) * 2.0f;
+    if (!(abs(wx) < limit && abs(wy) < limit && isFinite(wz))) return false;
+    SR_PRECISE float sx = wx * float(SUBPIXEL_SCALE);
+    SR_PRECISE float sy = wy * float(SUBPIXEL_SCALE);
+    xy = ivec2(int(roundEven(sx)), int(roundEven(sy)));
+    z = clamp(wz, 0.0f, 1.0f);
+    return true;
+}
+
+// Twice the signed area of the snapped triangle, in subpixel^2. In Vulkan's y-down framebuffer a
+// triangle that is counter-clockwise on screen has a negative value.
+SR_FN int64_t signedArea2(ivec2 v0, ivec2 v1, ivec2 v2)
+{
+    return int64_t(v1.x - v0.x) * int64_t(v2.y - v0.y) - int64_t(v1.y - v0.y) * int64_t(v2.x - v0.x);
+}
+
+// Edge function of the directed edge a->b at p: positive when p lies on the interior side of a
+// positively oriented triangle. Exact in int64 for coordinates below 2^30.
+SR_FN int64_t edgeFunction(ivec2 a, ivec2 b, ivec2 p)
+{
+    return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
+}
+
+// Top-left rule in the y-down framebuffer (D3D and lavapipe): a sample exactly on an edge belongs to
+// the triangle only if the edge is a top edge (horizontal, interior below) or a left edge (interior to
+// its right). For a positively oriented triangle those are dy == 0 && dx > 0, and dy < 0.
+SR_FN bool isTopLeftEdge(ivec2 a, ivec2 b)
+{
+    int dx = b.x - a.x;
+    int dy = b.y - a.y;
+    return (dy == 0 && dx > 0) || dy < 0;
+}
+
+// Bias subtracted from an edge function so that `e - bias >= 0` implements the fill rule.
+SR_FN int64_t edgeBias(ivec2 a, ivec2 b)
+{
+    return isTopLeftEdge(a, b) ? int64_t(0) : int64_t(1);
+}
+
+// First and last pixel index whose centre (256 i + 128 subpixels) lies in [lo, hi], clamped to
+// [0, size - 1]. Empty when first > last. Arithmetic shift is floor division for negative values.
+SR_FN ivec2 pixelSpan(int lo, int hi, uint size)
+{
+    int first = (lo - SUBPIXEL_SCALE / 2 + SUBPIXEL_SCALE - 1) >> SUBPIXEL_BITS;
+    int last = (hi - SUBPIXEL_SCALE / 2) >> SUBPIXEL_BITS;
+    return ivec2(max(first, 0), min(last, int(size) - 1));
+}
+
+// Deterministic 1 / area for a positive int64 area: floor(2^p / area) is an exact integer quotient
+// below 2^24, so the float built from it is identical on every backend.
+SR_FN float recipArea(int64_t area)
+{
+    uint64_t a = uint64_t(area);
+    int shift = 0;
+    while ((a >> shift) >= (uint64_t(1) << 24)) ++shift;  // a >> shift < 2^24
+    uint64_t q = (uint64_t(1) << 47) / (a >> shift);      // in (2^23, 2^24]
+    // 1/area ~= q * 2^-(47 + shift); build the float directly from the exact q.
+    SR_PRECISE float r = float(q) * uintBitsToFloat(uint(127 - 47 - shift) << 23);
+    return r;
+}
+
+// Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
+// snapped triangle has zero area, faces the culled way, or covers no pixel centre of the viewport.
+SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
+                         uint height, SR_OUT(TriSetup) t)
+{
+    ivec2 v0, v1, v2;
+    float z0, z1, z2;
+    if (!snapVertex(c0, width, height, v0, z0)) return false;
+    if (!snapVertex(c1, width, height, v1, z1)) return false;
+    if (!snapVertex(c2, width, height, v2, z2)) return false;
+    int64_t area = signedArea2(v0, v1, v2);
+    if (area == int64_t(0)) return false;
+    bool frontFacing = area < int64_t(0);  // counter-clockwise on screen, glTF's front face
+    if (!doubleSided && ((cullMode == CULL_BACK && !frontFacing) || (cullMode == CULL_FRONT && frontFacing)))
+        return false;
+    if (area < int64_t(0)) {  // make the edge functions positive inside
+        ivec2 tv = v1;
+        v1 = v2;
+        v2 = tv;
+        float tz = z1;
+        z1 = z2;
+        z2 = tz;
+        area = -area;
+    }
+    ivec2 spanX = pixelSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width);
+    ivec2 spanY = pixelSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height);
+    if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
+    t.xy01 = ivec4(v0.x, v0.y, v1.x, v1.y);
+    t.xy2Id = ivec4(v2.x, v2.y, int(triId), spanX.x | (spanY.x << 16));
+    SR_PRECISE float dz10 = z1 - z0;
+    SR_PRECISE float dz20 = z2 - z0;
+    t.depthPlane = vec4(z0, dz10, dz20, recipArea(area));
+    return true;
+}
+
+SR_FN ivec2 setupV0(TriSetup t)
+{
+    return ivec2(t.xy01.x, t.xy01.y);
+}
+SR_FN ivec2 setupV1(TriSetup t)
+{
+    return ivec2(t.xy01.z, t.xy01.w);
+}
+SR_FN ivec2 setupV2(TriSetup t)
+{
+    return ivec2(t.xy2Id.x, t.xy2Id.y);
+}
+SR_FN uint setupTriId(TriSetup t)
+{
+    return uint(t.xy2Id.z);
+}
+
+// Inclusive pixel bbox (minX, minY, maxX, maxY), already clamped to the viewport.
+SR_FN ivec4 setupPixelBounds(TriSetup t, uint width, uint height)
+{
+    ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
+    int maxX = pixelSpan(0, max(v0.x, max(v1.x, v2.x)), width).y;
+    int maxY = pixelSpan(0, max(v0.y, max(v1.y, v2.y)), height).y;
+    return ivec4(t.xy2Id.w & 0xffff, (t.xy2Id.w >> 16) & 0xffff, maxX, maxY);
+}
+
+SR_FN bool isSmallTriangle(ivec4 bounds)
+{
+    return bounds.z - bounds.x < SMALL_TRI_SPAN && bounds.w - bounds.y < SMALL_TRI_SPAN;
+}
+
+// Number of TILE_SIZE x TILE_SIZE screen tiles the bbox touches.
+SR_FN uint tileCount(ivec4 bounds)
+{
+    uint tilesX = uint((bounds.z / TILE_SIZE) - (bounds.x / TILE_SIZE) + 1);
+    uint tilesY = uint((bounds.w / TILE_SIZE) - (bounds.y / TILE_SIZE) + 1);
+    return tilesX * tilesY;
+}
+
+SR_NAMESPACE_END
+
+#endif  // RASTER_SHARED_SETUP_H
