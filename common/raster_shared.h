@@ -29,51 +29,64 @@ SR_NAMESPACE_BEGIN
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0        // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1     // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2       // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3        // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4       // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5     // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6      // vec4 per vertex: clip-space position (vertex stage output, read by setup)
-#define BUF_SETUP_TRIS 7    // TriSetup per big (sub-)triangle, appended by setup
-#define BUF_BIG_TRIS 8      // uint: indices into BUF_SETUP_TRIS, in the order raster_tiles walks them
-#define BUF_BIG_OFFSETS 9   // uint per big triangle: its tile count, scanned in place to an offset
-#define BUF_SCAN_SUMS 10    // uint per scan block: block total, scanned in place to a block offset
-#define BUF_COUNTERS 11     // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 12   // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 13  // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 14    // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_COUNT 15
+#define BUF_PARAMS 0         // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1      // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2        // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs), appended by setup
+#define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
+#define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
+#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned in place to its base offset
+#define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
+#define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
+#define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY 14    // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
+#define BUF_FRAMEBUFFER 15   // uint per pixel: RGBA8, sRGB-encoded colour
+#define BUF_HIT_COUNT 16     // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_COUNT 17
 
-// Counters in BUF_COUNTERS, cleared by the clear stage every frame.
-#define COUNTER_SETUP 0          // TriSetup records appended (may exceed capacity: overflow)
-#define COUNTER_SMALL 1          // small (sub-)triangles rasterized by setup itself, without a record
-#define COUNTER_BIG 2            // entries appended to BUF_BIG_TRIS
-#define COUNTER_TILES 3          // total (big triangle, tile) work items, written by scan_sums
-#define COUNTER_CULLED 4         // input triangles that produced no TriSetup at all
-#define COUNTER_CLIPPED 5        // input triangles that went through the polygon clipper
-#define COUNTER_INVALID 6        // input triangles dropped for NaN/Inf positions
-#define COUNTER_WORK_OVERFLOW 7  // non-zero when the tile work total does not fit in 31 bits
-#define COUNTER_COUNT 8
+// Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
+// append, also past the capacity: the host compares them with the capacities, grows and redraws.
+#define COUNTER_SETUP 0          // TriSetup records appended (clipped big sub-triangles)
+#define COUNTER_SMALL 1          // small (sub-)triangles rasterized by setup itself
+#define COUNTER_BIG 2            // big (sub-)triangles binned to screen tiles
+#define COUNTER_PIECES 3         // pieces appended to BUF_PIECES
+#define COUNTER_BIN_ENTRIES 4    // (big triangle, screen tile) bin entries, written by scan_sums
+#define COUNTER_CULLED 5         // input triangles that produced nothing to rasterize
+#define COUNTER_CLIPPED 6        // input triangles that went through the polygon clipper
+#define COUNTER_INVALID 7        // input triangles dropped for NaN/Inf positions or bad indices
+#define COUNTER_WORK_OVERFLOW 8  // non-zero when the pieces or bin entries of one frame pass 2^31
+#define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_blocks
+#define COUNTER_COUNT 10
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
-#define STAGE_CLEAR 0         // visibility := empty, counters := 0
-#define STAGE_VERTEX 1        // per vertex: clip position
-#define STAGE_SETUP 2         // per triangle: cull, clip, snap; rasterize small ones, append big ones
-#define STAGE_SCAN_BLOCKS 3   // per 256 big triangles: local exclusive scan of tile counts
-#define STAGE_SCAN_SUMS 4     // one group: exclusive scan of the block totals
-#define STAGE_SCAN_ADD 5      // per 256 big triangles: add block offsets
-#define STAGE_RASTER_TILES 6  // one group per (big triangle, 8x8 tile), one thread per pixel
-#define STAGE_SHADE 7         // per pixel: resolve the visibility key and shade
-#define STAGE_COUNT 8
+#define STAGE_CLEAR 0        // visibility := empty, counters and tile bins := 0
+#define STAGE_VERTEX 1       // per vertex: clip position
+#define STAGE_SETUP 2        // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
+#define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
+#define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
+#define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
+#define STAGE_BIN_FILL 6     // per piece: write its triangle's ref into the bin of every tile it touches
+#define STAGE_RASTER_TILES \
+    7                  // per active 8x8 screen tile: resolve its bin in registers, no atomics per pixel
+#define STAGE_SHADE 8  // per pixel: resolve the visibility key and shade
+#define STAGE_COUNT 9
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
 #define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
-#define TILE_SIZE 8          // raster_tiles tile edge in pixels; its group has TILE_SIZE^2 threads
-#define SMALL_TRI_SPAN 8     // triangles whose pixel bbox is at most this wide and high are small
-#define SUBPIXEL_BITS 8      // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D
+#define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
+#define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
+#define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
+#define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
+#define MIN_RASTER_LANES \
+    8  // raster_tiles groups have TILE_SIZE^2 invocations on a GPU, down to this on a CPU
+#define MAX_PIXELS_PER_LANE 8       // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
+#define BIN_REF_RECORD 0x80000000u  // bin ref bit: the rest indexes BUF_SETUP_TRIS, else an input triangle
+#define SUBPIXEL_BITS 8             // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D
 #define SUBPIXEL_SCALE 256
 #define MAX_CLIP_VERTS 9    // a triangle clipped by the 6 planes below has at most 3 + 6 vertices
 #define CLIP_PLANE_COUNT 6  // near, far, and the four guard-band planes
@@ -83,6 +96,10 @@ SR_NAMESPACE_BEGIN
 // stay below 2^23 subpixels and edge-function products below 2^48, comfortably inside int64.
 #define GUARD_BAND_PX 16384.0f
 #define MAX_FRAMEBUFFER_DIM 16384
+// The most groups one dispatch may have: invocation indices are 32-bit and the largest group has
+// SCAN_GROUP_SIZE = 256 invocations. The largest the pipeline asks for is setup's for 2^31 / 3
+// triangles, 5.6M groups.
+#define MAX_DISPATCH_GROUPS 16777216u
 #define EMPTY_ID 0xFFFFFFFFu
 
 #define TRI_FLAG_DOUBLE_SIDED 1u  // never culled by facing (glTF doubleSided materials)
@@ -120,15 +137,20 @@ struct RasterParams {
     uint cullMode;          // CULL_*
     uint shadingMode;       // SHADING_*
     uint hasColors;         // 1 when BUF_COLORS holds vertexCount colours, else colours are white
-    uint setupCapacity;     // capacity of BUF_SETUP_TRIS, BUF_BIG_TRIS, BUF_BIG_OFFSETS
-    uint rasterGroups;      // groups launched for raster_tiles (grid-stride loop)
+    uint setupCapacity;     // capacity of BUF_SETUP_TRIS
+    uint pieceCapacity;     // capacity of BUF_PIECES
+    uint binCapacity;       // capacity of BUF_BIN_ENTRIES
+    uint tilesX;            // screen tiles per row: ceil(width / TILE_SIZE)
+    uint tilesY;            // screen tile rows: ceil(height / TILE_SIZE)
+    uint rasterGroups;      // groups raster_tiles runs; group g takes active tiles g, g + rasterGroups, ...
     uint debugFlags;        // DEBUG_* bits
     uint transformInSetup;  // 1: no vertex is shared, setup transforms positions itself (no vertex stage)
-    uint reserved1;
+    uint padding0;          // pads the block to a multiple of 16 bytes
 };
 
 // One rasterizable triangle after clipping and snapping, positively oriented (edge functions are
-// positive inside). 48 bytes.
+// positive inside). 48 bytes. Stored only for clipped big sub-triangles; every other big triangle is set
+// up again from the scene wherever it is needed, which gives the same bits and costs no memory.
 struct TriSetup {
     ivec4 xy01;       // x0, y0, x1, y1: snapped window coordinates in 1/256 pixel
     ivec4 xy2Id;      // x2, y2, triangle id (uint bits), pixel bbox packed as minX | minY << 16
@@ -136,7 +158,7 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 12 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 16 * 4, "RasterParams must match std140");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
 #endif
 

@@ -1,5 +1,5 @@
 // clear.comp - stage `clear`: every pixel's visibility key to empty (~0) (and hit count to 0 when
-// counting), every counter to 0.
+// counting), every counter and every screen tile's bin count to 0.
 // One thread per pixel; groups = ceil(width * height / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -12,6 +12,7 @@ void main()
 {
     uint i = gl_GlobalInvocationID.x;
     if (i < uint(COUNTER_COUNT)) counters[i] = 0u;
+    if (i < params.tilesX * params.tilesY) tileBins[i] = 0u;
     if (i >= params.width * params.height) return;
     visibility[i] = ~uint64_t(0);
     if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) hitCount[i] = 0u;

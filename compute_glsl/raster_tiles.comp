@@ -1,53 +1,83 @@
-// raster_tiles.comp - stage `raster_tiles`: (big triangle, TILE_SIZE^2 tile) work items, one thread
-// per pixel of the tile, so a large triangle spreads over as many groups as it has tiles.
-// Work item k belongs to the last big triangle whose scanned offset is <= k (binary search). A group
-// takes a batch of up to TILE_SIZE^2 consecutive items: each thread searches the owner of one item at
-// once (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then
-// the whole group rasterizes the batch's tiles one after another. With few items the batch shrinks to
-// what spreads them over all groups, so they are not serialized in a few.
-// Grid-stride loop over the batches of counters[COUNTER_TILES] items; groups = RasterParams.rasterGroups.
+// raster_tiles.comp - stage `raster_tiles`: the groups walk the active screen tiles (TILE_SIZE x
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
+// costs nothing here but the launch. For each tile the group walks the bin in batches of LANES refs: each invocation sets one
+// triangle up into shared memory, then every invocation tests its pixels against the whole batch,
+// keeping the smallest visibility key of each in a register. The tile's pixels belong to this group
+// alone, so nothing is resolved with atomics: each key starts from what setup's small triangles left in
+// the visibility buffer and is stored once at the end. A triangle whose depth bound lies behind a
+// pixel's key is skipped there without a coverage test (early depth; off while counting hits, which
+// must see every triangle).
+// LANES is specialization constant 0: TILE_SIZE^2 on a GPU (one pixel per invocation, as the CUDA
+// twin), the SIMD width on a CPU device, where every invocation of a group that synchronizes becomes a
+// coroutine and fewer, longer invocations cost far less.
+// groups = RasterParams.rasterGroups (about as many as are resident at once on a GPU; a few per thread
+// on a CPU device, where each group that synchronizes costs about a microsecond).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 
-layout(local_size_x = TILE_SIZE * TILE_SIZE) in;
+layout(local_size_x_id = 0) in;
+#define LANES gl_WorkGroupSize.x
 
-shared uint owner[TILE_SIZE * TILE_SIZE];
+shared TriSetup tris[TILE_SIZE * TILE_SIZE];
+shared uint minDepth[TILE_SIZE * TILE_SIZE];
 
-// Index of the big triangle owning work item `item`.
-uint findBigTriangle(uint item, uint bigCount)
+// Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the group.
+void rasterTile(uint tile, uint lane, uint begin, uint end)
 {
-    uint lo = 0u;
-    uint hi = bigCount - 1u;
-    while (lo < hi) {
-        uint mid = (lo + hi + 1u) >> 1u;
-        if (bigOffsets[mid] <= item) lo = mid;
-        else hi = mid - 1u;
+    bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
+    int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
+    uint64_t key[MAX_PIXELS_PER_LANE];
+    uint hits[MAX_PIXELS_PER_LANE];
+    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        uint p = lane + j * LANES;  // this invocation's j-th pixel of the tile
+        px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
+        py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
+        bool mine = p < uint(TILE_SIZE * TILE_SIZE) && uint(px[j]) < params.width && uint(py[j]) < params.height;
+        key[j] = mine ? visibility[uint(py[j]) * params.width + uint(px[j])] : ~uint64_t(0);
+        if (!mine) px[j] = -1;
+        hits[j] = 0u;
     }
-    return lo;
+    for (uint base = begin; base < end; base += LANES) {
+        uint count = min(end - base, LANES);
+        if (lane < count) {
+            TriSetup t;
+            bool ok = loadBinTriangle(binEntries[base + lane], t);
+            tris[lane] = t;
+            minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
+        }
+        barrier();
+        for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+            if (px[j] < 0) continue;
+            for (uint k = 0u; k < count; ++k) {
+                if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
+                float depth;
+                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth)) {
+                    key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
+                    ++hits[j];
+                }
+            }
+        }
+        barrier();
+    }
+    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        if (px[j] < 0) continue;
+        uint pixel = uint(py[j]) * params.width + uint(px[j]);
+        visibility[pixel] = key[j];
+        if (countHits) hitCount[pixel] += hits[j];
+    }
 }
 
 void main()
 {
-    uint total = counters[COUNTER_TILES];
-    uint bigCount = counters[COUNTER_BIG];
     uint lane = gl_LocalInvocationID.x;
-    uint batch = rasterBatchSize(total, gl_NumWorkGroups.x);
-    for (uint base = gl_WorkGroupID.x * batch; base < total; base += gl_NumWorkGroups.x * batch) {
-        owner[lane] = lane < batch && base + lane < total ? findBigTriangle(base + lane, bigCount) : 0u;
-        barrier();
-        uint count = min(batch, total - base);
-        for (uint k = 0u; k < count; ++k) {
-            uint big = owner[k];
-            TriSetup t = setupTris[bigTris[big]];
-            ivec4 bounds = setupPixelBounds(t, params.width, params.height);
-            ivec2 p = tilePixel(bounds, base + k - bigOffsets[big], lane);
-            float depth;
-            if (p.x >= bounds.x && p.x <= bounds.z && p.y >= bounds.y && p.y <= bounds.w &&
-                rasterPixel(t, p.x, p.y, depth))
-                mergeFragment(uint(p.y) * params.width + uint(p.x), depth, setupTriId(t));
-        }
-        barrier();
+    uint activeCount = counters[COUNTER_ACTIVE_TILES];
+    for (uint index = gl_WorkGroupID.x; index < activeCount; index += params.rasterGroups) {
+        uint tile = activeTiles[index];
+        uint begin = tile == 0u ? 0u : min(binEnd(tile - 1u), params.binCapacity);
+        uint end = min(binEnd(tile), params.binCapacity);
+        if (begin < end) rasterTile(tile, lane, begin, end);
     }
 }
+

@@ -1,5 +1,5 @@
 // scan_sums.comp - stage `scan_sums`: exclusive scan of the block totals in scanSums, in place, and the
-// grand total of tile work items into counters[COUNTER_TILES]. One group of SCAN_GROUP_SIZE threads.
+// grand total of bin entries into counters[COUNTER_BIN_ENTRIES]. One group of SCAN_GROUP_SIZE threads.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -11,7 +11,7 @@ layout(local_size_x = SCAN_GROUP_SIZE) in;
 void main()
 {
     uint lane = gl_LocalInvocationID.x;
-    uint blocks = (counters[COUNTER_BIG] + uint(SCAN_GROUP_SIZE) - 1u) / uint(SCAN_GROUP_SIZE);
+    uint blocks = (params.tilesX * params.tilesY + uint(SCAN_GROUP_SIZE) - 1u) / uint(SCAN_GROUP_SIZE);
     uint64_t carry = 0ul;  // every thread keeps the same running total
     for (uint base = 0u; base < blocks; base += uint(SCAN_GROUP_SIZE)) {
         uint i = base + lane;
@@ -24,9 +24,9 @@ void main()
         barrier();
     }
     if (lane == 0u) {
-        // Work item indices are uint; a total past 2^31 is reported instead of wrapping silently.
+        // Bin offsets are uint; a total past 2^31 is reported instead of wrapping silently.
         bool overflow = carry >= (uint64_t(1) << 31);
-        counters[COUNTER_TILES] = overflow ? 0u : uint(carry);
-        counters[COUNTER_WORK_OVERFLOW] = overflow ? 1u : 0u;
+        counters[COUNTER_BIN_ENTRIES] = overflow ? 0u : uint(carry);
+        if (overflow) counters[COUNTER_WORK_OVERFLOW] = 1u;
     }
 }

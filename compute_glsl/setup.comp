@@ -1,6 +1,8 @@
 // setup.comp - stage `setup`: per input triangle, cull, clip and snap; a small (sub-)triangle (bbox at
 // most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by its thread, the one-thread fast
-// path that needs no record; a big one is appended as a TriSetup record for raster_tiles.
+// path that needs no memory; a big one is cut into pieces of consecutive bbox tiles (pieceCount) for
+// bin_count and bin_fill. Only a clipped big sub-triangle is stored (a TriSetup record); every other big
+// triangle is named by its input index and set up again where it is needed.
 // One thread per triangle; groups = ceil(triangleCount / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -9,15 +11,15 @@
 
 layout(local_size_x = GROUP_SIZE) in;
 
-// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one. A full list still
-// counts the record, so the host sees the overflow, grows the buffers and redraws; nothing is written
-// past the capacity.
-void emitTriangle(TriSetup t)
+// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
+// list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
+// written past a capacity.
+void emitTriangle(TriSetup t, bool clipped)
 {
     ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
-        uint id = setupTriId(t);
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
@@ -26,31 +28,34 @@ void emitTriangle(TriSetup t)
         }
         return;
     }
-    uint slot = atomicAdd(counters[COUNTER_SETUP], 1u);
-    if (slot >= params.setupCapacity) return;
-    setupTris[slot] = t;
-    uint i = atomicAdd(counters[COUNTER_BIG], 1u);
-    bigTris[i] = slot;
-    bigOffsets[i] = tileCount(bounds);
+    atomicAdd(counters[COUNTER_BIG], 1u);
+    uint ref = id;
+    if (clipped) {
+        uint slot = atomicAdd(counters[COUNTER_SETUP], 1u);
+        if (slot >= params.setupCapacity) return;
+        setupTris[slot] = t;
+        ref = slot | BIN_REF_RECORD;
+    }
+    uint tiles = tileCount(bounds);
+    uint n = pieceCount(tiles);
+    uint base = atomicAdd(counters[COUNTER_PIECES], n);
+    // Piece indices are uint: a frame that needs 2^31 of them is reported, never wrapped.
+    if (base >= 0x80000000u) counters[COUNTER_WORK_OVERFLOW] = 1u;
+    for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
+        pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
 void main()
 {
     uint tri = gl_GlobalInvocationID.x;
     if (tri >= params.triangleCount) return;
-    uint i0 = indices[3u * tri];
-    uint i1 = indices[3u * tri + 1u];
-    uint i2 = indices[3u * tri + 2u];
-    if (max(i0, max(i1, i2)) >= params.vertexCount) {
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(tri, c0, c1, c2)) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
     vec4 poly[MAX_CLIP_VERTS];
     uint count;
-    bool stored = params.transformInSetup == 0u;
-    vec4 c0 = setupClipPosition(params, positions[i0], stored ? clipPos[i0] : vec4(0.0f));
-    vec4 c1 = setupClipPosition(params, positions[i1], stored ? clipPos[i1] : vec4(0.0f));
-    vec4 c2 = setupClipPosition(params, positions[i2], stored ? clipPos[i2] : vec4(0.0f));
     uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
@@ -63,7 +68,7 @@ void main()
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                           params.height, t)) {
-            emitTriangle(t);
+            emitTriangle(t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }

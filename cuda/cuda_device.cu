@@ -47,8 +47,6 @@ public:
         info_.driver = fmt::format("CUDA driver {}.{}, runtime {}.{}", driver / 1000, (driver % 1000) / 10,
                                    runtime / 1000, (runtime % 1000) / 10);
         info_.isCpu = false;
-        // Enough resident blocks to fill every SM several times over for the grid-stride stages.
-        info_.rasterGroups = uint32_t(prop.multiProcessorCount) * 16u;
         CUDA_TRY(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking));
         return okStatus();
     }
@@ -142,9 +140,11 @@ private:
         b.triFlags = as<uint>(BUF_TRI_FLAGS);
         b.clipPos = as<vec4>(BUF_CLIP_POS);
         b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
-        b.bigTris = as<uint>(BUF_BIG_TRIS);
-        b.bigOffsets = as<uint>(BUF_BIG_OFFSETS);
+        b.pieces = as<uvec2>(BUF_PIECES);
+        b.tileBins = as<uint>(BUF_TILE_BINS);
         b.scanSums = as<uint>(BUF_SCAN_SUMS);
+        b.binEntries = as<uint>(BUF_BIN_ENTRIES);
+        b.activeTiles = as<uint>(BUF_ACTIVE_TILES);
         b.counters = as<uint>(BUF_COUNTERS);
         b.visibility = as<unsigned long long>(BUF_VISIBILITY);
         b.framebuffer = as<uint>(BUF_FRAMEBUFFER);

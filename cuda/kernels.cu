@@ -2,10 +2,12 @@
 // stage, each taking the frame parameters and the buffer table by value (kernel parameter space).
 #include "kernels.h"
 
+#include "bin.cuh"
+#include "bin_count.cuh"
+#include "bin_fill.cuh"
 #include "clear.cuh"
 #include "raster_tiles.cuh"
 #include "scan.cuh"
-#include "scan_add.cuh"
 #include "scan_blocks.cuh"
 #include "scan_sums.cuh"
 #include "setup.cuh"
@@ -26,6 +28,10 @@ __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams par
 {
     setupStage(params, b);
 }
+__global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams params, const Buffers b)
+{
+    binCountStage(params, b);
+}
 __global__ void __launch_bounds__(SCAN_GROUP_SIZE)
     scanBlocksKernel(const RasterParams params, const Buffers b)
 {
@@ -35,9 +41,9 @@ __global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanSumsKernel(const RasterPa
 {
     scanSumsStage(params, b);
 }
-__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanAddKernel(const RasterParams params, const Buffers b)
+__global__ void __launch_bounds__(GROUP_SIZE) binFillKernel(const RasterParams params, const Buffers b)
 {
-    scanAddStage(params, b);
+    binFillStage(params, b);
 }
 __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesKernel(const RasterParams params, const Buffers b)
@@ -53,8 +59,7 @@ uint stageBlockSize(uint stage)
 {
     switch (stage) {
     case STAGE_SCAN_BLOCKS:
-    case STAGE_SCAN_SUMS:
-    case STAGE_SCAN_ADD: return SCAN_GROUP_SIZE;
+    case STAGE_SCAN_SUMS: return SCAN_GROUP_SIZE;
     case STAGE_RASTER_TILES: return TILE_SIZE * TILE_SIZE;
     default: return GROUP_SIZE;
     }
@@ -69,9 +74,10 @@ cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, con
     case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SETUP: setupKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_BIN_COUNT: binCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
-    case STAGE_SCAN_ADD: scanAddKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_BIN_FILL: binFillKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_RASTER_TILES: rasterTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     default: return cudaErrorInvalidValue;

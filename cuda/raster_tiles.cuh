@@ -1,51 +1,77 @@
-// raster_tiles.cuh - stage `raster_tiles`: (big triangle, TILE_SIZE^2 tile) work items, one thread
-// per pixel of the tile, so a large triangle spreads over as many blocks as it has tiles.
-// Work item k belongs to the last big triangle whose scanned offset is <= k (binary search). A block
-// takes a batch of up to TILE_SIZE^2 consecutive items: each thread searches the owner of one item at
-// once (so the ~log2(n) dependent loads of the searches overlap instead of running back to back), then
-// the whole block rasterizes the batch's tiles one after another. With few items the batch shrinks to
-// what spreads them over all blocks, so they are not serialized in a few.
-// Grid-stride loop over the batches of counters[COUNTER_TILES] items; blocks = RasterParams.rasterGroups.
+// raster_tiles.cuh - stage `raster_tiles`: the blocks walk the active screen tiles (TILE_SIZE x
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
+// costs nothing here but the launch. For each tile the block walks the bin in batches of kLanes refs: each
+// thread sets one triangle up into shared memory, then every thread tests its pixels against the whole batch,
+// keeping the smallest visibility key of each in a register. The tile's pixels belong to this block alone, so
+// nothing is resolved with atomics: each key starts from what setup's small triangles left in the
+// visibility buffer and is stored once at the end. A triangle whose depth bound lies behind a pixel's
+// key is skipped there without a coverage test (early depth; off while counting hits, which must see
+// every triangle). CUDA runs TILE_SIZE^2 threads, one pixel each; the GLSL twin takes its lane count
+// from a specialization constant so that a CPU device runs fewer, longer invocations.
+// blocks = RasterParams.rasterGroups (as many as are resident at once on a GPU).
 namespace sr {
 
-// Index of the big triangle owning work item `item`.
-__device__ inline uint findBigTriangle(const Buffers& b, uint item, uint bigCount)
+constexpr uint kLanes = TILE_SIZE * TILE_SIZE;
+
+// Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the block.
+__device__ inline void rasterTile(const RasterParams& params, const Buffers& b, uint tile, uint lane,
+                                  uint begin, uint end)
 {
-    uint lo = 0u;
-    uint hi = bigCount - 1u;
-    while (lo < hi) {
-        uint mid = (lo + hi + 1u) >> 1u;
-        if (b.bigOffsets[mid] <= item)
-            lo = mid;
-        else
-            hi = mid - 1u;
+    __shared__ TriSetup tris[kLanes];
+    __shared__ uint minDepth[kLanes];
+    bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
+    int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
+    uint64_t key[MAX_PIXELS_PER_LANE];
+    uint hits[MAX_PIXELS_PER_LANE];
+    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        uint p = lane + j * kLanes;  // this thread's j-th pixel of the tile
+        px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
+        py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
+        bool mine =
+            p < uint(TILE_SIZE * TILE_SIZE) && uint(px[j]) < params.width && uint(py[j]) < params.height;
+        key[j] = mine ? uint64_t(b.visibility[uint(py[j]) * params.width + uint(px[j])]) : ~uint64_t(0);
+        if (!mine) px[j] = -1;
+        hits[j] = 0u;
     }
-    return lo;
+    for (uint base = begin; base < end; base += kLanes) {
+        uint count = min(end - base, kLanes);
+        if (lane < count) {
+            TriSetup t;
+            bool ok = loadBinTriangle(params, b, b.binEntries[base + lane], t);
+            tris[lane] = t;
+            minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
+        }
+        __syncthreads();
+        for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+            if (px[j] < 0) continue;
+            for (uint k = 0u; k < count; ++k) {
+                if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
+                float depth;
+                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth)) {
+                    key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
+                    ++hits[j];
+                }
+            }
+        }
+        __syncthreads();
+    }
+    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        if (px[j] < 0) continue;
+        uint pixel = uint(py[j]) * params.width + uint(px[j]);
+        b.visibility[pixel] = key[j];
+        if (countHits) b.hitCount[pixel] += hits[j];
+    }
 }
 
 __device__ inline void rasterTilesStage(const RasterParams& params, const Buffers& b)
 {
-    uint total = b.counters[COUNTER_TILES];
-    uint bigCount = b.counters[COUNTER_BIG];
     uint lane = threadIdx.x;
-    __shared__ uint owner[TILE_SIZE * TILE_SIZE];
-    uint batch = rasterBatchSize(total, gridDim.x);
-    for (uint base = blockIdx.x * batch; base < total; base += gridDim.x * batch) {
-        owner[lane] = lane < batch && base + lane < total ? findBigTriangle(b, base + lane, bigCount) : 0u;
-        __syncthreads();
-        uint count = min(batch, total - base);
-        for (uint k = 0u; k < count; ++k) {
-            uint big = owner[k];
-            TriSetup t = b.setupTris[b.bigTris[big]];
-            ivec4 bounds = setupPixelBounds(t, params.width, params.height);
-            ivec2 p = tilePixel(bounds, base + k - b.bigOffsets[big], lane);
-            float depth;
-            if (p.x >= bounds.x && p.x <= bounds.z && p.y >= bounds.y && p.y <= bounds.w &&
-                rasterPixel(t, p.x, p.y, depth))
-                mergeFragment(params, b, uint(p.y) * params.width + uint(p.x), depth, setupTriId(t));
-        }
-        __syncthreads();
+    uint activeCount = b.counters[COUNTER_ACTIVE_TILES];
+    for (uint index = blockIdx.x; index < activeCount; index += params.rasterGroups) {
+        uint tile = b.activeTiles[index];
+        uint begin = tile == 0u ? 0u : min(binEnd(b, tile - 1u), params.binCapacity);
+        uint end = min(binEnd(b, tile), params.binCapacity);
+        if (begin < end) rasterTile(params, b, tile, lane, begin, end);
     }
 }
-
 }  // namespace sr

@@ -1,12 +1,12 @@
 // scan_sums.cuh - stage `scan_sums`: exclusive scan of the block totals in scanSums, in place, and the
-// grand total of tile work items into counters[COUNTER_TILES]. One block of SCAN_GROUP_SIZE threads.
+// grand total of bin entries into counters[COUNTER_BIN_ENTRIES]. One block of SCAN_GROUP_SIZE threads.
 namespace sr {
 
-__device__ inline void scanSumsStage(const RasterParams&, const Buffers& b)
+__device__ inline void scanSumsStage(const RasterParams& params, const Buffers& b)
 {
     __shared__ uint partial[SCAN_GROUP_SIZE];
     uint lane = threadIdx.x;
-    uint blocks = (b.counters[COUNTER_BIG] + uint(SCAN_GROUP_SIZE) - 1u) / uint(SCAN_GROUP_SIZE);
+    uint blocks = (params.tilesX * params.tilesY + uint(SCAN_GROUP_SIZE) - 1u) / uint(SCAN_GROUP_SIZE);
     uint64_t carry = 0u;  // every thread keeps the same running total
     for (uint base = 0u; base < blocks; base += uint(SCAN_GROUP_SIZE)) {
         uint i = base + lane;
@@ -19,10 +19,10 @@ __device__ inline void scanSumsStage(const RasterParams&, const Buffers& b)
         __syncthreads();
     }
     if (lane == 0u) {
-        // Work item indices are uint; a total past 2^31 is reported instead of wrapping silently.
+        // Bin offsets are uint; a total past 2^31 is reported instead of wrapping silently.
         bool overflow = carry >= (uint64_t(1) << 31);
-        b.counters[COUNTER_TILES] = overflow ? 0u : uint(carry);
-        b.counters[COUNTER_WORK_OVERFLOW] = overflow ? 1u : 0u;
+        b.counters[COUNTER_BIN_ENTRIES] = overflow ? 0u : uint(carry);
+        if (overflow) b.counters[COUNTER_WORK_OVERFLOW] = 1u;
     }
 }
 

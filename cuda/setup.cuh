@@ -1,18 +1,21 @@
 // setup.cuh - stage `setup`: per input triangle, cull, clip and snap; a small (sub-)triangle (bbox at
 // most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by its thread, the one-thread fast
-// path that needs no record; a big one is appended as a TriSetup record for raster_tiles.
+// path that needs no memory; a big one is cut into pieces of consecutive bbox tiles (pieceCount) for
+// bin_count and bin_fill. Only a clipped big sub-triangle is stored (a TriSetup record); every other big
+// triangle is named by its input index and set up again where it is needed.
 // One thread per triangle; blocks = ceil(triangleCount / GROUP_SIZE).
 namespace sr {
 
-// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one. A full list still
-// counts the record, so the host sees the overflow, grows the buffers and redraws; nothing is written
-// past the capacity.
-__device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t)
+// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
+// list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
+// written past a capacity.
+__device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
+                                    bool clipped)
 {
     ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
-        uint id = setupTriId(t);
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
@@ -22,31 +25,34 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         }
         return;
     }
-    uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
-    if (slot >= params.setupCapacity) return;
-    b.setupTris[slot] = t;
-    uint i = atomicAdd(&b.counters[COUNTER_BIG], 1u);
-    b.bigTris[i] = slot;
-    b.bigOffsets[i] = tileCount(bounds);
+    atomicAdd(&b.counters[COUNTER_BIG], 1u);
+    uint ref = id;
+    if (clipped) {
+        uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
+        if (slot >= params.setupCapacity) return;
+        b.setupTris[slot] = t;
+        ref = slot | BIN_REF_RECORD;
+    }
+    uint tiles = tileCount(bounds);
+    uint n = pieceCount(tiles);
+    uint base = atomicAdd(&b.counters[COUNTER_PIECES], n);
+    // Piece indices are uint: a frame that needs 2^31 of them is reported, never wrapped.
+    if (base >= 0x80000000u) b.counters[COUNTER_WORK_OVERFLOW] = 1u;
+    for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
+        b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
     uint tri = globalThreadId();
     if (tri >= params.triangleCount) return;
-    uint i0 = b.indices[3u * tri];
-    uint i1 = b.indices[3u * tri + 1u];
-    uint i2 = b.indices[3u * tri + 2u];
-    if (max(i0, max(i1, i2)) >= params.vertexCount) {
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
     vec4 poly[MAX_CLIP_VERTS];
     uint count;
-    bool stored = params.transformInSetup == 0u;
-    vec4 c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
-    vec4 c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
-    vec4 c2 = setupClipPosition(params, b.positions[i2], stored ? b.clipPos[i2] : vec4(0.0f));
     uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
@@ -59,7 +65,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                           params.height, t)) {
-            emitTriangle(params, b, t);
+            emitTriangle(params, b, t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }

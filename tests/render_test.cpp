@@ -180,13 +180,38 @@ TEST_P(RenderTest, OverflowingListsGrowAndRedrawIdentically)
     FramedScene f = framedBuiltin(96, 96);
     RenderSettings s = f.settings;
     RenderOutput normal = render(f.scene, s, f.camera);
-    s.initialSetupCapacity = 1;
+    s.initialListCapacity = 1;
     RenderOutput tiny = render(f.scene, s, f.camera);
     EXPECT_EQ(normal.stats.redraws, 0u);
     EXPECT_GE(tiny.stats.redraws, 1u);
     EXPECT_EQ(tiny.aov.id, normal.aov.id);
     EXPECT_EQ(tiny.aov.depth, normal.aov.depth);
     EXPECT_EQ(tiny.color.pixels, normal.color.pixels);
+}
+
+// Clipped big triangles are the ones stored as records; with every list at capacity 1 the records, the
+// pieces and the bins all overflow, grow and redraw, and the image is the same.
+TEST_P(RenderTest, ClippedBigTrianglesUseRecordsAndGrowIdentically)
+{
+    // builtin:huge's ground plane reaches far past the guard band and behind the camera: its two
+    // triangles are clipped into big sub-triangles, the ones stored as records.
+    auto scene = builtinSceneNamed("builtin:huge");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    auto spec =
+        parseCameraSpec("orbit:35,4,1.5");  // as the near-plane golden: low, inside the plane's extent
+    ASSERT_TRUE(spec.ok());
+    auto camera = resolveCamera(*spec, *scene, 96, 96);
+    ASSERT_TRUE(camera.ok()) << camera.error().message;
+    RenderSettings s = testSettings(96, 96);
+    RenderOutput normal = render(*scene, s, *camera);
+    s.initialListCapacity = 1;
+    RenderOutput tiny = render(*scene, s, *camera);
+    EXPECT_GT(normal.stats.clipped, 0u);
+    EXPECT_GT(normal.stats.records, 0u);
+    EXPECT_GT(normal.stats.binEntries, normal.stats.pieces);
+    EXPECT_GE(tiny.stats.redraws, 2u);  // records and pieces first, then the bins they fill
+    EXPECT_EQ(tiny.aov.id, normal.aov.id);
+    EXPECT_EQ(tiny.aov.depth, normal.aov.depth);
 }
 
 TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)

@@ -267,4 +267,82 @@ TEST(SharedMath, SrgbEncodingEndpoints)
 }
 
 }  // namespace
+// raster_tiles skips a triangle at a pixel whose key is already nearer than triangleMinDepthBits: the
+// bound must hold at every covered pixel, or the early depth test would drop a visible fragment. Random
+// triangles with steep depth ranges, slivers and large areas (where 1 / area is truncated) all stay at
+// or above it.
+TEST(SharedMath, MinDepthBoundHoldsAtEveryCoveredPixel)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> pos(-0.2f * kSize, 1.2f * kSize), depth(0.0f, 1.0f);
+    size_t checked = 0;
+    for (int i = 0; i < 400; ++i) {
+        vec4 c[3];
+        for (vec4& v : c) v = atWindow(pos(rng), pos(rng), depth(rng));
+        if (i % 4 == 0) c[2] = atWindow(pos(rng), pos(rng), 0.0f);  // touching the near plane
+        TriSetup t;
+        if (!setupTriangle(c[0], c[1], c[2], 0, true, CULL_NONE, kSize, kSize, t)) continue;
+        uint bound = triangleMinDepthBits(t);
+        ivec4 b = setupPixelBounds(t, kSize, kSize);
+        for (int y = b.y; y <= b.w; ++y)
+            for (int x = b.x; x <= b.z; ++x) {
+                float d;
+                if (!rasterPixel(t, x, y, d)) continue;
+                ASSERT_GE(floatBitsToUint(d), bound) << "triangle " << i << " pixel " << x << "," << y;
+                ++checked;
+            }
+    }
+    EXPECT_GT(checked, 100000u);
+}
+
+// bin_count and bin_fill drop the tiles where triangleTouchesTile is false: it must be true for every
+// tile holding a covered pixel (never lose coverage), and false for tiles that lie entirely outside one
+// edge (the reason it exists).
+TEST(SharedMath, TileTestKeepsEveryCoveredTileAndDropsTilesOutsideAnEdge)
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> pos(-10.0f, kSize + 10.0f);
+    size_t dropped = 0;
+    for (int i = 0; i < 300; ++i) {
+        TriSetup t;
+        if (!setupTriangle(atWindow(pos(rng), pos(rng)), atWindow(pos(rng), pos(rng)),
+                           atWindow(pos(rng), pos(rng)), 0, true, CULL_NONE, kSize, kSize, t))
+            continue;
+        ivec4 b = setupPixelBounds(t, kSize, kSize);
+        ivec4 r = tileRect(b);
+        EXPECT_EQ(tileCount(b), uint(r.z - r.x + 1) * uint(r.w - r.y + 1));
+        for (int ty = r.y; ty <= r.w; ++ty)
+            for (int tx = r.x; tx <= r.z; ++tx) {
+                bool covered = false;
+                for (int y = max(ty * TILE_SIZE, b.y); y <= min(ty * TILE_SIZE + TILE_SIZE - 1, b.w); ++y)
+                    for (int x = max(tx * TILE_SIZE, b.x); x <= min(tx * TILE_SIZE + TILE_SIZE - 1, b.z);
+                         ++x) {
+                        float d;
+                        covered = covered || rasterPixel(t, x, y, d);
+                    }
+                bool kept = triangleTouchesTile(t, b, tx, ty);
+                if (covered) {
+                    ASSERT_TRUE(kept) << "triangle " << i << " tile " << tx << "," << ty;
+                }
+                dropped += kept ? 0 : 1;
+            }
+    }
+    EXPECT_GT(dropped, 1000u);  // the diagonal half of the bbox tiles of a big triangle
+}
+
+// Pieces cut a big triangle's bbox tiles into runs that cover each tile exactly once, TILES_PER_PIECE
+// long until there would be more than MAX_PIECES of them.
+TEST(SharedMath, PiecesCoverEveryTileOnce)
+{
+    for (uint tiles : {1u, 9u, 16u, 17u, 1000u, 16384u, 16385u, 32400u, 4194304u}) {
+        uint n = pieceCount(tiles), len = pieceTiles(tiles);
+        EXPECT_LE(n, uint(MAX_PIECES)) << tiles;
+        EXPECT_GE(uint64_t(n) * len, tiles) << tiles;      // the last piece ends at or past the end...
+        EXPECT_LT(uint64_t(n - 1) * len, tiles) << tiles;  // ...and every piece starts inside
+        if (uint64_t(tiles) <= uint64_t(TILES_PER_PIECE) * MAX_PIECES) {
+            EXPECT_EQ(len, uint(TILES_PER_PIECE)) << tiles;
+        }
+    }
+}
+
 }  // namespace sr

@@ -91,7 +91,6 @@ TEST(VulkanDeviceSelectionTest, ListsGpusFirstAndLavapipeAsCpu)
     for (const DeviceInfo& info : infos) {
         EXPECT_EQ(info.backend, "vulkan");
         EXPECT_FALSE(info.driver.empty());
-        EXPECT_GT(info.rasterGroups, 0u);
         const bool isLavapipe = info.name.find("llvmpipe") != std::string::npos;
         EXPECT_EQ(info.isCpu, isLavapipe) << info.name;
         EXPECT_FALSE(sawCpu && !info.isCpu) << info.name << " is listed after a CPU device";

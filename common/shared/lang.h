@@ -39,6 +39,7 @@ using glm::mix;
 using glm::normalize;
 using glm::pow;
 using glm::sqrt;
+using glm::uvec2;
 using glm::uvec4;
 using glm::vec2;
 using glm::vec3;

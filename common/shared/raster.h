@@ -1,27 +1,11 @@
-// shared/raster.h - the raster stages: pixel coverage and depth of a TriSetup, the tile walk of
-// raster_tiles, and the 64-bit visibility key that one atomicMin resolves.
+// shared/raster.h - the raster stages: pixel coverage and depth of a TriSetup, the early depth bound of
+// raster_tiles, and the 64-bit visibility key whose minimum resolves every pixel.
 //
 // Part of raster_shared.h (included from there, not on its own); same three-language rules.
 #ifndef RASTER_SHARED_RASTER_H
 #define RASTER_SHARED_RASTER_H
 
 SR_NAMESPACE_BEGIN
-
-// Pixel (px, py) of the tile with linear index `tileIndex` inside the bbox's tile rectangle, for the
-// thread `lane` of a TILE_SIZE^2 group.
-SR_FN ivec2 tilePixel(ivec4 bounds, uint tileIndex, uint lane)
-{
-    uint tilesX = uint((bounds.z / TILE_SIZE) - (bounds.x / TILE_SIZE) + 1);
-    int tx = bounds.x / TILE_SIZE + int(tileIndex % tilesX);
-    int ty = bounds.y / TILE_SIZE + int(tileIndex / tilesX);
-    return ivec2(tx * TILE_SIZE + int(lane % uint(TILE_SIZE)), ty * TILE_SIZE + int(lane / uint(TILE_SIZE)));
-}
-
-// Work items a raster_tiles group takes at once: enough to keep every group busy, at most one per thread.
-SR_FN uint rasterBatchSize(uint items, uint groups)
-{
-    return clamp((items + groups - 1u) / max(groups, 1u), 1u, uint(TILE_SIZE * TILE_SIZE));
-}
 
 // Coverage of pixel (px, py) and, when covered, its window depth. Depth is linear in screen space
 // (Vulkan's rule) and evaluated from the exact edge functions with correctly rounded float steps, so
@@ -43,6 +27,22 @@ SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
     // Clamp to the depth range; written so that -0.0 and NaN become +0.0 and keys stay ordered.
     depth = z > 0.0f ? min(z, 1.0f) : 0.0f;
     return true;
+}
+
+// A lower bound, as float bits, on the depth rasterPixel returns at any pixel the triangle covers, for
+// the per-pixel early depth test in raster_tiles: a pixel whose key already holds a smaller depth cannot
+// be won by this triangle, whatever its id. At a covered pixel centre the barycentrics e_i / area are
+// exact and non-negative, so the exact interpolated depth is a convex combination of the vertex depths.
+// rasterPixel's float steps differ from it by relative errors of about 2^-22 (float(e), the truncated
+// 1 / area, the products) on terms whose magnitudes sum to at most 1, plus a few roundings of 2^-24:
+// under 2^-20 in all, a quarter of the margin of 2^-18 taken here.
+SR_FN uint triangleMinDepthBits(TriSetup t)
+{
+    float z0 = t.depthPlane.x;
+    SR_PRECISE float z1 = z0 + t.depthPlane.y;
+    SR_PRECISE float z2 = z0 + t.depthPlane.z;
+    SR_PRECISE float zmin = min(z0, min(z1, z2)) - 3.814697265625e-6f;  // 2^-18
+    return zmin > 0.0f ? floatBitsToUint(zmin) : 0u;
 }
 
 // 64-bit visibility key: non-negative float bits order like the floats, so one atomicMin does the depth

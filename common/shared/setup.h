@@ -150,12 +150,60 @@ SR_FN bool isSmallTriangle(ivec4 bounds)
     return bounds.z - bounds.x < SMALL_TRI_SPAN && bounds.w - bounds.y < SMALL_TRI_SPAN;
 }
 
-// Number of TILE_SIZE x TILE_SIZE screen tiles the bbox touches.
+// The screen tiles (TILE_SIZE x TILE_SIZE pixels) the bbox touches, inclusive: (x0, y0, x1, y1).
+SR_FN ivec4 tileRect(ivec4 bounds)
+{
+    return ivec4(bounds.x / TILE_SIZE, bounds.y / TILE_SIZE, bounds.z / TILE_SIZE, bounds.w / TILE_SIZE);
+}
+
+// Number of screen tiles the bbox touches.
 SR_FN uint tileCount(ivec4 bounds)
 {
-    uint tilesX = uint((bounds.z / TILE_SIZE) - (bounds.x / TILE_SIZE) + 1);
-    uint tilesY = uint((bounds.w / TILE_SIZE) - (bounds.y / TILE_SIZE) + 1);
-    return tilesX * tilesY;
+    ivec4 r = tileRect(bounds);
+    return uint(r.z - r.x + 1) * uint(r.w - r.y + 1);
+}
+
+// Pieces a big triangle is cut into: bin_count and bin_fill give each piece one thread, which walks
+// pieceTiles consecutive tiles of the bbox (row-major). TILES_PER_PIECE tiles each, so a screen-filling
+// triangle spreads over many threads, but at most MAX_PIECES pieces, so the setup thread that writes
+// them stays short; a larger triangle gets larger pieces.
+SR_FN uint pieceTiles(uint tiles)
+{
+    return max(uint(TILES_PER_PIECE), (tiles + uint(MAX_PIECES) - 1u) / uint(MAX_PIECES));
+}
+SR_FN uint pieceCount(uint tiles)
+{
+    uint length = pieceTiles(tiles);
+    return (tiles + length - 1u) / length;
+}
+
+// Largest value of edge function a->b (as edgeFunction) over the rectangle of subpixel positions
+// [lo, hi]: the function is linear, so its maximum sits at the corner it grows towards.
+SR_FN int64_t edgeMaxOverRect(ivec2 a, ivec2 b, ivec2 lo, ivec2 hi)
+{
+    int dx = b.x - a.x;
+    int dy = b.y - a.y;
+    ivec2 p = ivec2(dy > 0 ? lo.x : hi.x, dx > 0 ? hi.y : lo.y);
+    return edgeFunction(a, b, p);
+}
+
+// Whether the triangle may cover a pixel centre of screen tile (tx, ty) inside its bbox. Exact for the
+// rectangle of those pixel centres: false only when one edge function, with its fill-rule bias, is
+// negative at every one of them, so no pixel that rasterPixel would cover is ever dropped; a tile that
+// only the rectangle's corner region reaches costs one empty walk in raster_tiles.
+SR_FN bool triangleTouchesTile(TriSetup t, ivec4 bounds, int tx, int ty)
+{
+    int x0 = max(tx * TILE_SIZE, bounds.x);
+    int y0 = max(ty * TILE_SIZE, bounds.y);
+    int x1 = min(tx * TILE_SIZE + TILE_SIZE - 1, bounds.z);
+    int y1 = min(ty * TILE_SIZE + TILE_SIZE - 1, bounds.w);
+    ivec2 lo = ivec2(x0 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, y0 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
+    ivec2 hi = ivec2(x1 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, y1 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
+    ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
+    if (edgeMaxOverRect(v1, v2, lo, hi) - edgeBias(v1, v2) < int64_t(0)) return false;
+    if (edgeMaxOverRect(v2, v0, lo, hi) - edgeBias(v2, v0) < int64_t(0)) return false;
+    if (edgeMaxOverRect(v0, v1, lo, hi) - edgeBias(v0, v1) < int64_t(0)) return false;
+    return true;
 }
 
 SR_NAMESPACE_END

@@ -39,14 +39,19 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
           {"rasterized", s.rasterized},
           {"small", s.smallTris},
           {"big", s.bigTris},
-          {"tiles", s.tiles}}},
+          {"records", s.records},
+          {"pieces", s.pieces},
+          {"bin_entries", s.binEntries}}},
         {"stages_ms", stagesJson(out.stages)},
         {"gpu_total_ms", timingJson(out.total)},
         {"peak_device_bytes", out.peakDeviceBytes},
         {"warmup", settings.warmup},
         {"repeat", settings.repeat},
         {"redraws", s.redraws},
-        {"setup_capacity", s.setupCapacity},
+        {"capacities",
+         {{"records", s.capacities.records},
+          {"pieces", s.capacities.pieces},
+          {"bin_entries", s.capacities.binEntries}}},
     };
 }
 

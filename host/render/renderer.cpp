@@ -22,27 +22,36 @@ Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>
     return device.upload(buffer, data.data(), data.size() * sizeof(T));
 }
 
-// (Re)allocates the per-triangle lists for `capacity` records. Work and memory grow with the scene:
-// nothing here depends on a worst case such as pixels x triangles.
-Status allocateLists(ComputeDevice& device, uint32_t capacity)
+// (Re)allocates the lists. Work and memory grow with the scene: nothing here depends on a worst case
+// such as pixels x triangles.
+Status allocateLists(ComputeDevice& device, const ListCapacities& c)
 {
-    SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(capacity) * sizeof(TriSetup)));
-    SR_TRY(device.resize(BUF_BIG_TRIS, size_t(capacity) * sizeof(uint32_t)));
-    SR_TRY(device.resize(BUF_BIG_OFFSETS, size_t(capacity) * sizeof(uint32_t)));
-    return device.resize(BUF_SCAN_SUMS, size_t(groupsFor(capacity, SCAN_GROUP_SIZE)) * sizeof(uint32_t));
+    SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(c.records) * sizeof(TriSetup)));
+    SR_TRY(device.resize(BUF_PIECES, size_t(c.pieces) * 2 * sizeof(uint32_t)));
+    return device.resize(BUF_BIN_ENTRIES, size_t(c.binEntries) * sizeof(uint32_t));
+}
+
+// Capacity for a list that needed `counted` entries: what was counted plus an eighth, so that a
+// camera that moves a little does not overflow again, and no more (memory is budgeted per triangle).
+uint64_t grownCapacity(uint64_t counted)
+{
+    return counted + counted / 8 + 64;
 }
 
 std::vector<Dispatch> frameDispatches(const RasterParams& p)
 {
     uint64_t pixels = uint64_t(p.width) * p.height;
-    uint32_t scanGroups = groupsFor(p.setupCapacity, SCAN_GROUP_SIZE);
+    uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
+    uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
+    uint32_t pieceGroups = groupsFor(p.pieceCapacity, GROUP_SIZE);
     return {
-        {STAGE_CLEAR, groupsFor(std::max<uint64_t>(pixels, COUNTER_COUNT), GROUP_SIZE)},
+        {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
+        {STAGE_BIN_COUNT, pieceGroups},
         {STAGE_SCAN_BLOCKS, scanGroups},
         {STAGE_SCAN_SUMS, 1},
-        {STAGE_SCAN_ADD, scanGroups},
+        {STAGE_BIN_FILL, pieceGroups},
         {STAGE_RASTER_TILES, p.rasterGroups},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
@@ -72,7 +81,7 @@ StageTiming summarize(std::string name, const std::vector<double>& ms)
 }  // namespace
 
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
-                         uint32_t capacity, uint32_t rasterGroups)
+                         const ListCapacities& capacities, uint32_t rasterGroups)
 {
     RasterParams p{};
     p.clipFromWorld = camera.clipFromWorld;
@@ -92,8 +101,12 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.cullMode = s.cullMode;
     p.shadingMode = s.shadingMode;
     p.hasColors = scene.colors.empty() ? 0u : 1u;
-    p.setupCapacity = capacity;
-    p.rasterGroups = rasterGroups;
+    p.setupCapacity = capacities.records;
+    p.pieceCapacity = capacities.pieces;
+    p.binCapacity = capacities.binEntries;
+    p.tilesX = (s.width + TILE_SIZE - 1) / TILE_SIZE;
+    p.tilesY = (s.height + TILE_SIZE - 1) / TILE_SIZE;
+    p.rasterGroups = std::clamp(rasterGroups, 1u, p.tilesX * p.tilesY);
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
     p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
     return p;
@@ -130,11 +143,21 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(checkRenderInputs(scene, settings));
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
+    const uint64_t tiles = uint64_t((settings.width + TILE_SIZE - 1) / TILE_SIZE) *
+                           ((settings.height + TILE_SIZE - 1) / TILE_SIZE);
     const uint64_t tris = scene.triangleCount();
-    // Only big triangles (bbox over SMALL_TRI_SPAN pixels) need a record; culled and small ones need
-    // none. Start at an eighth of the triangles: a scene that needs more overflows once, in its first
-    // frame, and is grown and redrawn; nothing is sized for the worst case.
-    uint64_t capacity = settings.initialSetupCapacity ? settings.initialSetupCapacity : tris / 8 + 1024;
+    // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
+    // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
+    // A scene that needs more overflows once, in its first frame, and is grown and redrawn; nothing is
+    // sized for the worst case.
+    ListCapacities capacity;
+    if (settings.initialListCapacity) {
+        capacity.records = capacity.pieces = capacity.binEntries = settings.initialListCapacity;
+    } else {
+        capacity.pieces = uint32_t(tris / 8 + 1024);
+        capacity.binEntries = uint32_t(std::min<uint64_t>(4 * uint64_t(capacity.pieces) + tiles, 1u << 30));
+        capacity.records = uint32_t(tris / 64 + 64);
+    }
 
     SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
     SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
@@ -150,8 +173,15 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
     // The debug counter costs memory only when it is asked for.
     SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? pixels * sizeof(uint32_t) : 16));
-    SR_TRY(allocateLists(device, uint32_t(capacity)));
+    SR_TRY(device.resize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
+    SR_TRY(allocateLists(device, capacity));
 
+    // Groups for raster_tiles: the device's fixed count, or (GPUs) one per tile that was active in the
+    // previous frame, starting from one per tile. Any count renders correctly (the groups walk the
+    // active tiles rasterGroups apart); the estimate only balances the work.
+    uint32_t rasterGroups = device.info().rasterGroups ? device.info().rasterGroups : uint32_t(tiles);
     RenderOutput out;
     out.device = device.info();
     std::vector<std::vector<double>> stageMs(STAGE_COUNT);
@@ -159,19 +189,30 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     uint32_t counters[COUNTER_COUNT] = {};
     RasterParams params{};
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
-        params = frameParams(scene, camera, settings, uint32_t(capacity), device.info().rasterGroups);
+        params = frameParams(scene, camera, settings, capacity, rasterGroups);
         std::vector<Dispatch> dispatches = frameDispatches(params);
         std::vector<double> gpuMs;
         SR_TRY(device.run(params, dispatches, gpuMs));
         SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
+        if (!device.info().rasterGroups) rasterGroups = counters[COUNTER_ACTIVE_TILES];
         if (counters[COUNTER_WORK_OVERFLOW])
-            return makeError(ExitCode::Runtime, "too much raster work: more than 2^31 tiles in one frame");
-        if (counters[COUNTER_SETUP] > capacity) {
-            // The lists overflowed: the frame is incomplete. Grow with headroom and draw it again.
-            capacity = uint64_t(counters[COUNTER_SETUP]) + counters[COUNTER_SETUP] / 4 + 64;
-            if (capacity >= (uint64_t(1) << 32))
-                return makeError(ExitCode::Runtime, "triangle lists would need {} entries", capacity);
-            SR_TRY(allocateLists(device, uint32_t(capacity)));
+            return makeError(ExitCode::Runtime,
+                             "too much raster work: more than 2^31 pieces or bin entries in one frame");
+        // A list that overflowed leaves the frame incomplete: grow every list that did and draw it again
+        // (bins counted from incomplete pieces may need a second round).
+        bool grown = false;
+        for (auto [count, cap] : {std::pair<uint32_t, uint32_t*>{counters[COUNTER_SETUP], &capacity.records},
+                                  {counters[COUNTER_PIECES], &capacity.pieces},
+                                  {counters[COUNTER_BIN_ENTRIES], &capacity.binEntries}}) {
+            if (count <= *cap) continue;
+            uint64_t wanted = grownCapacity(count);
+            if (wanted >= (uint64_t(1) << 31))
+                return makeError(ExitCode::Runtime, "triangle lists would need {} entries", wanted);
+            *cap = uint32_t(wanted);
+            grown = true;
+        }
+        if (grown) {
+            SR_TRY(allocateLists(device, capacity));
             ++out.stats.redraws;
             continue;
         }
@@ -197,11 +238,13 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     st.culled = counters[COUNTER_CULLED];
     st.clipped = counters[COUNTER_CLIPPED];
     st.invalid = counters[COUNTER_INVALID];
-    st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_SETUP];
+    st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_BIG];
     st.smallTris = counters[COUNTER_SMALL];
     st.bigTris = counters[COUNTER_BIG];
-    st.tiles = counters[COUNTER_TILES];
-    st.setupCapacity = uint32_t(capacity);
+    st.records = counters[COUNTER_SETUP];
+    st.pieces = counters[COUNTER_PIECES];
+    st.binEntries = counters[COUNTER_BIN_ENTRIES];
+    st.capacities = capacity;
 
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;

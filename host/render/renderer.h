@@ -31,11 +31,18 @@ struct RenderSettings {
     float ambient = 0.15f;
     glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
     float specularPower = 32.0f;
-    uint32_t warmup = 1;                // untimed runs before the timed ones
-    uint32_t repeat = 1;                // timed runs (>= 1)
-    uint32_t initialSetupCapacity = 0;  // 0: sized from the scene; tests force tiny ones
-    bool countHits = false;             // debug: count covering triangles per pixel
-    bool visibilityOnly = false;        // vulkan-graphics: depth + id only (the bench's hardware baseline)
+    uint32_t warmup = 1;               // untimed runs before the timed ones
+    uint32_t repeat = 1;               // timed runs (>= 1)
+    uint32_t initialListCapacity = 0;  // 0: lists sized from the scene; tests force tiny ones
+    bool countHits = false;            // debug: count covering triangles per pixel
+    bool visibilityOnly = false;       // vulkan-graphics: depth + id only (the bench's hardware baseline)
+};
+
+// Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
+struct ListCapacities {
+    uint32_t records = 0;     // TriSetup records of clipped big sub-triangles
+    uint32_t pieces = 0;      // pieces of big triangles
+    uint32_t binEntries = 0;  // (big triangle, screen tile) bin entries
 };
 
 struct StageTiming {
@@ -44,16 +51,18 @@ struct StageTiming {
 };
 
 struct RenderStats {
-    uint64_t trianglesIn = 0;    // triangles handed to the GPU
-    uint64_t culled = 0;         // input triangles that produced nothing to rasterize
-    uint64_t clipped = 0;        // input triangles that went through the clipper
-    uint64_t invalid = 0;        // input triangles dropped on the GPU for NaN/Inf positions
-    uint64_t rasterized = 0;     // (sub-)triangles set up for rasterization
-    uint64_t smallTris = 0;      // of which rasterized by their setup thread (no record)
-    uint64_t bigTris = 0;        // of which walked tile by tile
-    uint64_t tiles = 0;          // (big triangle, tile) work items
-    uint32_t redraws = 0;        // frames redrawn after growing an overflowing buffer
-    uint32_t setupCapacity = 0;  // final capacity of the triangle lists
+    uint64_t trianglesIn = 0;   // triangles handed to the GPU
+    uint64_t culled = 0;        // input triangles that produced nothing to rasterize
+    uint64_t clipped = 0;       // input triangles that went through the clipper
+    uint64_t invalid = 0;       // input triangles dropped on the GPU for NaN/Inf positions
+    uint64_t rasterized = 0;    // (sub-)triangles set up for rasterization
+    uint64_t smallTris = 0;     // of which rasterized by their setup thread
+    uint64_t bigTris = 0;       // of which binned to screen tiles
+    uint64_t records = 0;       // big sub-triangles of clipped triangles, stored as records
+    uint64_t pieces = 0;        // pieces the big triangles were cut into
+    uint64_t binEntries = 0;    // (big triangle, screen tile) bin entries
+    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list
+    ListCapacities capacities;  // final capacities of the lists
 };
 
 struct RenderOutput {
@@ -75,10 +84,10 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings);
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings);
 
-// The per-frame constants every backend uses for this scene, camera and settings; setupCapacity and
-// rasterGroups are the compute pipeline's list capacity and grid-stride group count.
+// The per-frame constants every backend uses for this scene, camera and settings, with the compute
+// pipeline's list capacities and raster_tiles group count (DeviceInfo::rasterGroups).
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
-                         uint32_t setupCapacity, uint32_t rasterGroups);
+                         const ListCapacities& capacities, uint32_t rasterGroups);
 
 // Median of a non-empty list (mean of the two middle values for even sizes).
 double median(std::vector<double> values);

@@ -112,7 +112,7 @@ public:
     // Sends `message` through the debug messenger as a validation error, exactly as the layer would.
     Status injectValidationError(const char* message);
 
-    // backend, name, driver and isCpu of the selected device; rasterGroups is left 0.
+    // backend, name, driver and isCpu of the selected device.
     DeviceInfo deviceInfo(const std::string& backend) const;
     VkDevice device() const { return device_; }
     VkPhysicalDevice physicalDevice() const { return physical_; }

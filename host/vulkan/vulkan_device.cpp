@@ -26,9 +26,10 @@ namespace sr {
 namespace {
 
 // The generated headers each define `const uint32_t kSpv_<stage>[]`.
+#include "bin_count.spv.h"
+#include "bin_fill.spv.h"
 #include "clear.spv.h"
 #include "raster_tiles.spv.h"
-#include "scan_add.spv.h"
 #include "scan_blocks.spv.h"
 #include "scan_sums.spv.h"
 #include "setup.spv.h"
@@ -45,13 +46,17 @@ const StageSpirv kStageSpirv[] = {
     {kSpv_clear, sizeof kSpv_clear},
     {kSpv_vertex, sizeof kSpv_vertex},
     {kSpv_setup, sizeof kSpv_setup},
+    {kSpv_bin_count, sizeof kSpv_bin_count},
     {kSpv_scan_blocks, sizeof kSpv_scan_blocks},
     {kSpv_scan_sums, sizeof kSpv_scan_sums},
-    {kSpv_scan_add, sizeof kSpv_scan_add},
+    {kSpv_bin_fill, sizeof kSpv_bin_fill},
     {kSpv_raster_tiles, sizeof kSpv_raster_tiles},
     {kSpv_shade, sizeof kSpv_shade},
 };
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
+
+// raster_tiles groups on a CPU device (DeviceInfo::rasterGroups): a few per thread balance the load.
+constexpr uint32_t kCpuRasterGroups = 64;
 
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -62,12 +67,6 @@ constexpr VkPipelineStageFlags kBufferUserStages =
     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
 constexpr VkAccessFlags kBufferUserAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                                             VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-
-// Groups launched for the grid-stride raster stages. A GPU needs thousands of groups in flight to
-// fill its multiprocessors; lavapipe runs one group per CPU thread at a time, and a few per thread
-// are enough to balance the load.
-constexpr uint32_t kGpuRasterGroups = 4096;
-constexpr uint32_t kCpuRasterGroups = 64;
 
 class VulkanDevice final : public ComputeDevice {
 public:
@@ -146,6 +145,8 @@ VulkanDevice::~VulkanDevice()
 Status VulkanDevice::init(int index)
 {
     SR_TRY(context_.init(index, QueueKind::Compute));
+    info_ = context_.deviceInfo("vulkan");
+    info_.rasterGroups = info_.isCpu ? kCpuRasterGroups : 0;
     SR_TRY(createPipelines());
     // Host-visible so that run() writes the parameters directly; device-local where the device
     // offers such memory (resizable BAR), which makes the reads from every stage cheaper.
@@ -155,13 +156,21 @@ Status VulkanDevice::init(int index)
         {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
-    info_ = context_.deviceInfo("vulkan");
-    info_.rasterGroups = info_.isCpu ? kCpuRasterGroups : kGpuRasterGroups;
     return context_.validationStatus();
 }
 
 Status VulkanDevice::createPipelines()
 {
+    // Specialization constant 0, the invocations of a raster_tiles group: one per tile pixel on a GPU;
+    // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
+    // coroutine, one SIMD-wide bundle that walks several pixels each (compute_glsl/raster_tiles.comp).
+    const uint32_t rasterLanes = info_.isCpu ? MIN_RASTER_LANES : TILE_SIZE * TILE_SIZE;
+    const VkSpecializationMapEntry laneEntry{0, 0, sizeof rasterLanes};
+    VkSpecializationInfo specialization{};
+    specialization.mapEntryCount = 1;
+    specialization.pMapEntries = &laneEntry;
+    specialization.dataSize = sizeof rasterLanes;
+    specialization.pData = &rasterLanes;
     // All at construction: a shader the driver rejects is reported before any work is done, and
     // lazy creation would only move the compile time into the first frame's timings.
     for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
@@ -171,10 +180,12 @@ Status VulkanDevice::createPipelines()
 
         VkComputePipelineCreateInfo info{};
         info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+        info.flags = VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // large dispatches are split, see runDispatches
         info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         info.stage.module = *module;
         info.stage.pName = "main";
+        info.stage.pSpecializationInfo = stage == STAGE_RASTER_TILES ? &specialization : nullptr;
         info.layout = context_.pipelineLayout();
         VkResult result = vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr,
                                                    &pipelines_[stage]);
@@ -270,10 +281,10 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     for (const Dispatch& d : dispatches) {
         if (d.stage >= STAGE_COUNT)
             return makeError(ExitCode::Runtime, "vulkan: dispatch of unknown stage {}", d.stage);
-        if (d.groups > maxGroups)
+        if (d.groups > MAX_DISPATCH_GROUPS)
             return makeError(ExitCode::Runtime,
-                             "vulkan: stage {} needs {} groups, more than the device's limit of {}",
-                             stageName(d.stage), d.groups, maxGroups);
+                             "vulkan: stage {} needs {} groups, more than the {} of one dispatch",
+                             stageName(d.stage), d.groups, MAX_DISPATCH_GROUPS);
     }
     if (dispatches.empty()) return okStatus();
 
@@ -297,7 +308,11 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[d.stage]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
         // An empty stage still gets its two timestamps, so gpuMs keeps one entry per dispatch.
-        if (d.groups > 0) vkCmdDispatch(cmd, d.groups, 1, 1);
+        // More groups than the device takes in one dispatch (lavapipe: 65,535) run as several
+        // dispatches with a base group: gl_WorkGroupID, and so gl_GlobalInvocationID, counts on
+        // across them, which is all the stages use.
+        for (uint32_t base = 0; base < d.groups; base += maxGroups)
+            vkCmdDispatchBase(cmd, base, 0, 0, std::min(maxGroups, d.groups - base), 1, 1);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool, first + 1);
         // Each stage reads what the previous ones wrote. The transfer bits reach past this
         // submission (barriers follow submission order) and cover the downloads and uploads that
