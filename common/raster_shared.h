@@ -86,6 +86,7 @@ SR_NAMESPACE_BEGIN
     8  // raster_tiles groups have TILE_SIZE^2 invocations on a GPU, down to this on a CPU
 #define MAX_PIXELS_PER_LANE 8       // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
 #define BIN_REF_RECORD 0x80000000u  // bin ref bit: the rest indexes BUF_SETUP_TRIS, else an input triangle
+#define PIECE_COUNTED 0x80000000u   // piece first-tile bit: setup already counted the piece's tiles
 #define SUBPIXEL_BITS 8             // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D
 #define SUBPIXEL_SCALE 256
 #define MAX_CLIP_VERTS 9    // a triangle clipped by the 6 planes below has at most 3 + 6 vertices

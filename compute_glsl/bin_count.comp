@@ -1,16 +1,15 @@
 // bin_count.comp - stage `bin_count`: per piece of a big triangle, add one to the bin count of every
-// screen tile of the piece that the triangle touches (the walk is in bin.glsl).
+// screen tile of the piece that the triangle touches, unless setup counted it (the walk is in bin.glsl).
 // One invocation per piece; groups = ceil(pieceCapacity / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
-#define BIN_FILL 0
 #include "bin.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
 
 void main()
 {
-    binPiece();
+    binPiece(false);
 }

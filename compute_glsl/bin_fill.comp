@@ -6,12 +6,11 @@
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
-#define BIN_FILL 1
 #include "bin.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
 
 void main()
 {
-    binPiece();
+    binPiece(true);
 }

@@ -51,12 +51,16 @@ bool loadClipTriangle(uint tri, out vec4 c0, out vec4 c1, out vec4 c2)
 
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
 // the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
-// no second look). False only for a ref setup would never have written.
+// no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 bool loadBinTriangle(uint ref, out TriSetup t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
-        t = setupTris[ref & ~BIN_REF_RECORD];
-        return true;
+        t = setupTris[min(ref & ~BIN_REF_RECORD, params.setupCapacity - 1u)];
+        return (ref & ~BIN_REF_RECORD) < params.setupCapacity;
+    }
+    if (ref >= params.triangleCount) {
+        t = setupTris[0];
+        return false;
     }
     vec4 c0, c1, c2;
     if (!loadClipTriangle(ref, c0, c1, c2)) {

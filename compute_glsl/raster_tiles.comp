@@ -19,6 +19,7 @@
 
 layout(local_size_x_id = 0) in;
 #define LANES gl_WorkGroupSize.x
+#define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
 shared TriSetup tris[TILE_SIZE * TILE_SIZE];
 shared uint minDepth[TILE_SIZE * TILE_SIZE];
@@ -30,7 +31,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
     int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
     uint64_t key[MAX_PIXELS_PER_LANE];
     uint hits[MAX_PIXELS_PER_LANE];
-    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+    for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
         uint p = lane + j * LANES;  // this invocation's j-th pixel of the tile
         px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
         py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
@@ -48,7 +49,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
         }
         barrier();
-        for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
             if (px[j] < 0) continue;
             for (uint k = 0u; k < count; ++k) {
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
@@ -61,7 +62,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         }
         barrier();
     }
-    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+    for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
         if (px[j] < 0) continue;
         uint pixel = uint(py[j]) * params.width + uint(px[j]);
         visibility[pixel] = key[j];

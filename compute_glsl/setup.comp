@@ -8,6 +8,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
+#include "bin.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
 
@@ -41,6 +42,12 @@ void emitTriangle(TriSetup t, bool clipped)
     uint base = atomicAdd(counters[COUNTER_PIECES], n);
     // Piece indices are uint: a frame that needs 2^31 of them is reported, never wrapped.
     if (base >= 0x80000000u) counters[COUNTER_WORK_OVERFLOW] = 1u;
+    if (n == 1u) {  // counted here, while the triangle is at hand; bin_count skips the piece
+        if (base >= params.pieceCapacity) return;  // counts must match what bin_fill will find
+        pieces[base] = uvec2(ref, PIECE_COUNTED);
+        binTiles(t, bounds, ref, 0u, tiles, false);
+        return;
+    }
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }

@@ -1,5 +1,5 @@
 // bin_count.cuh - stage `bin_count`: per piece of a big triangle, add one to the bin count of every
-// screen tile of the piece that the triangle touches (the walk is in bin.cuh).
+// screen tile of the piece that the triangle touches, unless setup counted it (the walk is in bin.cuh).
 // One thread per piece; blocks = ceil(pieceCapacity / GROUP_SIZE).
 namespace sr {
 

@@ -55,13 +55,15 @@ __device__ inline bool loadClipTriangle(const RasterParams& params, const Buffer
 
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
 // the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
-// no second look). False only for a ref setup would never have written.
+// no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers& b, uint ref, TriSetup& t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
+        if ((ref & ~BIN_REF_RECORD) >= params.setupCapacity) return false;
         t = b.setupTris[ref & ~BIN_REF_RECORD];
         return true;
     }
+    if (ref >= params.triangleCount) return false;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, ref, c0, c1, c2)) return false;
     return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);

@@ -12,6 +12,7 @@
 namespace sr {
 
 constexpr uint kLanes = TILE_SIZE * TILE_SIZE;
+constexpr uint kPixelsPerLane = TILE_SIZE * TILE_SIZE / kLanes;  // 1: the GLSL twin's loops run once here
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the block.
 __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, uint tile, uint lane,
@@ -20,10 +21,10 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
     __shared__ TriSetup tris[kLanes];
     __shared__ uint minDepth[kLanes];
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
-    int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
-    uint64_t key[MAX_PIXELS_PER_LANE];
-    uint hits[MAX_PIXELS_PER_LANE];
-    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+    int px[kPixelsPerLane], py[kPixelsPerLane];
+    uint64_t key[kPixelsPerLane];
+    uint hits[kPixelsPerLane];
+    for (uint j = 0u; j < kPixelsPerLane; ++j) {
         uint p = lane + j * kLanes;  // this thread's j-th pixel of the tile
         px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
         py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
@@ -42,7 +43,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
         }
         __syncthreads();
-        for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+        for (uint j = 0u; j < kPixelsPerLane; ++j) {
             if (px[j] < 0) continue;
             for (uint k = 0u; k < count; ++k) {
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
@@ -55,7 +56,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
         }
         __syncthreads();
     }
-    for (uint j = 0u; j < uint(MAX_PIXELS_PER_LANE); ++j) {
+    for (uint j = 0u; j < kPixelsPerLane; ++j) {
         if (px[j] < 0) continue;
         uint pixel = uint(py[j]) * params.width + uint(px[j]);
         b.visibility[pixel] = key[j];

@@ -38,6 +38,12 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     uint base = atomicAdd(&b.counters[COUNTER_PIECES], n);
     // Piece indices are uint: a frame that needs 2^31 of them is reported, never wrapped.
     if (base >= 0x80000000u) b.counters[COUNTER_WORK_OVERFLOW] = 1u;
+    if (n == 1u) {  // counted here, while the triangle is at hand; bin_count skips the piece
+        if (base >= params.pieceCapacity) return;  // counts must match what bin_fill will find
+        b.pieces[base] = uvec2(ref, PIECE_COUNTED);
+        binTiles<false>(params, b, t, bounds, ref, 0u, tiles);
+        return;
+    }
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
