@@ -146,7 +146,8 @@ struct RasterParams {
     uint rasterGroups;      // groups raster_tiles runs; group g takes active tiles g, g + rasterGroups, ...
     uint debugFlags;        // DEBUG_* bits
     uint transformInSetup;  // 1: no vertex is shared, setup transforms positions itself (no vertex stage)
-    uint padding0;          // pads the block to a multiple of 16 bytes
+    uint binGroups;         // groups bin_count and bin_fill run; thread i takes pieces i, i + binGroups *
+                            // GROUP_SIZE, ...
 };
 
 // One rasterizable triangle after clipping and snapping, positively oriented (edge functions are

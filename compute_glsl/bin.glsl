@@ -26,19 +26,20 @@ void binTiles(TriSetup t, ivec4 bounds, uint ref, uint first, uint end, bool fil
     }
 }
 
-// One invocation per piece; groups = ceil(pieceCapacity / GROUP_SIZE), idle past the piece count.
-void binPiece(bool fill)
+// One invocation per piece, striding over the pieces; groups = RasterParams.binGroups.
+void binPieces(bool fill)
 {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= min(counters[COUNTER_PIECES], params.pieceCapacity)) return;
-    uvec2 piece = pieces[i];
-    if (!fill && (piece.y & PIECE_COUNTED) != 0u) return;
-    TriSetup t;
-    if (!loadBinTriangle(piece.x, t)) return;
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
-    uint tiles = tileCount(bounds);
-    uint first = piece.y & ~PIECE_COUNTED;
-    binTiles(t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles), fill);
+    uint count = min(counters[COUNTER_PIECES], params.pieceCapacity);
+    for (uint i = gl_GlobalInvocationID.x; i < count; i += params.binGroups * uint(GROUP_SIZE)) {
+        uvec2 piece = pieces[i];
+        if (!fill && (piece.y & PIECE_COUNTED) != 0u) continue;
+        TriSetup t;
+        if (!loadBinTriangle(piece.x, t)) continue;
+        ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+        uint tiles = tileCount(bounds);
+        uint first = piece.y & ~PIECE_COUNTED;
+        binTiles(t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles), fill);
+    }
 }
 
 #endif  // RASTER_BIN_GLSL

@@ -27,20 +27,21 @@ __device__ inline void binTiles(const RasterParams& params, const Buffers& b, co
     }
 }
 
-// One thread per piece; blocks = ceil(pieceCapacity / GROUP_SIZE), idle past the piece count.
+// One thread per piece, striding over the pieces; blocks = RasterParams.binGroups.
 template <bool kFill>
-__device__ inline void binPiece(const RasterParams& params, const Buffers& b)
+__device__ inline void binPieces(const RasterParams& params, const Buffers& b)
 {
-    uint i = globalThreadId();
-    if (i >= min(b.counters[COUNTER_PIECES], params.pieceCapacity)) return;
-    uvec2 piece = b.pieces[i];
-    if (!kFill && (piece.y & PIECE_COUNTED) != 0u) return;
-    TriSetup t;
-    if (!loadBinTriangle(params, b, piece.x, t)) return;
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
-    uint tiles = tileCount(bounds);
-    uint first = piece.y & ~PIECE_COUNTED;
-    binTiles<kFill>(params, b, t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles));
+    uint count = min(b.counters[COUNTER_PIECES], params.pieceCapacity);
+    for (uint i = globalThreadId(); i < count; i += params.binGroups * uint(GROUP_SIZE)) {
+        uvec2 piece = b.pieces[i];
+        if (!kFill && (piece.y & PIECE_COUNTED) != 0u) continue;
+        TriSetup t;
+        if (!loadBinTriangle(params, b, piece.x, t)) continue;
+        ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+        uint tiles = tileCount(bounds);
+        uint first = piece.y & ~PIECE_COUNTED;
+        binTiles<kFill>(params, b, t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles));
+    }
 }
 
 }  // namespace sr

@@ -1,11 +1,11 @@
 // bin_count.cuh - stage `bin_count`: per piece of a big triangle, add one to the bin count of every
 // screen tile of the piece that the triangle touches, unless setup counted it (the walk is in bin.cuh).
-// One thread per piece; blocks = ceil(pieceCapacity / GROUP_SIZE).
+// One thread per piece, striding; blocks = RasterParams.binGroups.
 namespace sr {
 
 __device__ inline void binCountStage(const RasterParams& params, const Buffers& b)
 {
-    binPiece<false>(params, b);
+    binPieces<false>(params, b);
 }
 
 }  // namespace sr

@@ -1,12 +1,12 @@
 // bin_fill.cuh - stage `bin_fill`: per piece of a big triangle, write its ref into the bin of every
 // screen tile of the piece that the triangle touches, at the slots the scanned counts reserved (the walk
 // is in bin.cuh). Afterwards binEnd(tile) is the end of the tile's bin and binEnd(tile - 1) its start.
-// One thread per piece; blocks = ceil(pieceCapacity / GROUP_SIZE).
+// One thread per piece, striding; blocks = RasterParams.binGroups.
 namespace sr {
 
 __device__ inline void binFillStage(const RasterParams& params, const Buffers& b)
 {
-    binPiece<true>(params, b);
+    binPieces<true>(params, b);
 }
 
 }  // namespace sr

@@ -43,15 +43,15 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
     uint64_t pixels = uint64_t(p.width) * p.height;
     uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
     uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
-    uint32_t pieceGroups = groupsFor(p.pieceCapacity, GROUP_SIZE);
+
     return {
         {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
-        {STAGE_BIN_COUNT, pieceGroups},
+        {STAGE_BIN_COUNT, p.binGroups},
         {STAGE_SCAN_BLOCKS, scanGroups},
         {STAGE_SCAN_SUMS, 1},
-        {STAGE_BIN_FILL, pieceGroups},
+        {STAGE_BIN_FILL, p.binGroups},
         {STAGE_RASTER_TILES, p.rasterGroups},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
@@ -81,7 +81,7 @@ StageTiming summarize(std::string name, const std::vector<double>& ms)
 }  // namespace
 
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
-                         const ListCapacities& capacities, uint32_t rasterGroups)
+                         const ListCapacities& capacities, const GroupCounts& groups)
 {
     RasterParams p{};
     p.clipFromWorld = camera.clipFromWorld;
@@ -106,7 +106,8 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.binCapacity = capacities.binEntries;
     p.tilesX = (s.width + TILE_SIZE - 1) / TILE_SIZE;
     p.tilesY = (s.height + TILE_SIZE - 1) / TILE_SIZE;
-    p.rasterGroups = std::clamp(rasterGroups, 1u, p.tilesX * p.tilesY);
+    p.rasterGroups = std::clamp(groups.raster, 1u, p.tilesX * p.tilesY);
+    p.binGroups = std::clamp(groups.bin, 1u, std::max(groupsFor(capacities.pieces, GROUP_SIZE), 1u));
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
     p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
     return p;
@@ -178,10 +179,12 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
     SR_TRY(allocateLists(device, capacity));
 
-    // Groups for raster_tiles: the device's fixed count, or (GPUs) one per tile that was active in the
-    // previous frame, starting from one per tile. Any count renders correctly (the groups walk the
-    // active tiles rasterGroups apart); the estimate only balances the work.
-    uint32_t rasterGroups = device.info().rasterGroups ? device.info().rasterGroups : uint32_t(tiles);
+    // Groups for the stages that walk device-counted lists. Any count renders correctly (the threads
+    // stride over the list); the counts only balance the work, so they follow the previous frame: for
+    // bin_count and bin_fill one thread per piece it had (one per piece of capacity at first), for
+    // raster_tiles the device's fixed count or (GPUs) one group per tile it had active (all at first).
+    GroupCounts groups{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE)};
+    if (device.info().rasterGroups) groups.raster = device.info().rasterGroups;
     RenderOutput out;
     out.device = device.info();
     std::vector<std::vector<double>> stageMs(STAGE_COUNT);
@@ -189,12 +192,13 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     uint32_t counters[COUNTER_COUNT] = {};
     RasterParams params{};
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
-        params = frameParams(scene, camera, settings, capacity, rasterGroups);
+        params = frameParams(scene, camera, settings, capacity, groups);
         std::vector<Dispatch> dispatches = frameDispatches(params);
         std::vector<double> gpuMs;
         SR_TRY(device.run(params, dispatches, gpuMs));
         SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
-        if (!device.info().rasterGroups) rasterGroups = counters[COUNTER_ACTIVE_TILES];
+        if (!device.info().rasterGroups) groups.raster = counters[COUNTER_ACTIVE_TILES];
+        groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacity.pieces), GROUP_SIZE);
         if (counters[COUNTER_WORK_OVERFLOW])
             return makeError(ExitCode::Runtime,
                              "too much raster work: more than 2^31 pieces or bin entries in one frame");

@@ -45,6 +45,12 @@ struct ListCapacities {
     uint32_t binEntries = 0;  // (big triangle, screen tile) bin entries
 };
 
+// Groups of the stages that walk device-counted lists (RasterParams.binGroups, rasterGroups).
+struct GroupCounts {
+    uint32_t raster = 0;  // raster_tiles
+    uint32_t bin = 0;     // bin_count and bin_fill
+};
+
 struct StageTiming {
     std::string name;
     double minMs = 0.0, medianMs = 0.0, maxMs = 0.0;  // over the timed runs
@@ -85,9 +91,9 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
                                  const RenderSettings& settings);
 
 // The per-frame constants every backend uses for this scene, camera and settings, with the compute
-// pipeline's list capacities and raster_tiles group count (DeviceInfo::rasterGroups).
+// pipeline's list capacities and the group counts of its list-walking stages.
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
-                         const ListCapacities& capacities, uint32_t rasterGroups);
+                         const ListCapacities& capacities, const GroupCounts& groups);
 
 // Median of a non-empty list (mean of the two middle values for even sizes).
 double median(std::vector<double> values);

@@ -489,7 +489,7 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
 {
     SR_TRY(context.init(deviceIndex, QueueKind::Graphics));
     RenderOutput out;
-    out.params = frameParams(scene, camera, settings, ListCapacities{}, 0);
+    out.params = frameParams(scene, camera, settings, ListCapacities{}, GroupCounts{});
     out.device = context.deviceInfo("vulkan-graphics");
 
     GraphicsRender render(context);
