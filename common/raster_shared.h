@@ -77,6 +77,7 @@ SR_NAMESPACE_BEGIN
 #define STAGE_COUNT 9
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
+#define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
 #define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
 #define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
 #define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small

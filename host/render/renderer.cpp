@@ -45,7 +45,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
     uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
 
     return {
-        {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE)},
+        {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
         {STAGE_BIN_COUNT, p.binGroups},
