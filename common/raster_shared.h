@@ -29,23 +29,24 @@ SR_NAMESPACE_BEGIN
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0        // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1     // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2       // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3        // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4       // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5     // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6      // vec4 per vertex: clip-space position (vertex stage output, read by setup)
-#define BUF_SETUP_TRIS 7    // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs), appended by setup
-#define BUF_PIECES 8        // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
-#define BUF_TILE_BINS 9     // uint per screen tile: bin count -> bin start (scan_tiles) -> bin end (bin_fill)
-#define BUF_BIN_ENTRIES 10  // uint bin refs, grouped by screen tile: tile t's are [end(t - 1), end(t))
-#define BUF_ACTIVE_TILES 11  // uint: the screen tiles whose bin is not empty, in no particular order
-#define BUF_COUNTERS 12      // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 13    // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 14   // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 15     // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_COUNT 16
+#define BUF_PARAMS 0         // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1      // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2        // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs), appended by setup
+#define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
+#define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
+#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned in place to its base offset
+#define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
+#define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
+#define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY 14    // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
+#define BUF_FRAMEBUFFER 15   // uint per pixel: RGBA8, sRGB-encoded colour
+#define BUF_HIT_COUNT 16     // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_COUNT 17
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -53,34 +54,35 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_SMALL 1          // small (sub-)triangles rasterized by setup itself
 #define COUNTER_BIG 2            // big (sub-)triangles binned to screen tiles
 #define COUNTER_PIECES 3         // pieces appended to BUF_PIECES
-#define COUNTER_BIN_ENTRIES 4    // (big triangle, screen tile) bin entries, written by scan_tiles
+#define COUNTER_BIN_ENTRIES 4    // (big triangle, screen tile) bin entries, written by scan_sums
 #define COUNTER_CULLED 5         // input triangles that produced nothing to rasterize
 #define COUNTER_CLIPPED 6        // input triangles that went through the polygon clipper
 #define COUNTER_INVALID 7        // input triangles dropped for NaN/Inf positions or bad indices
 #define COUNTER_WORK_OVERFLOW 8  // non-zero when the pieces or bin entries of one frame pass 2^31
-#define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_tiles
+#define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_blocks
 #define COUNTER_COUNT 10
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
-#define STAGE_CLEAR 0       // visibility := empty, counters and tile bins := 0
-#define STAGE_VERTEX 1      // per vertex: clip position
-#define STAGE_SETUP 2       // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
-#define STAGE_BIN_COUNT 3   // per piece: count the screen tiles its triangle touches, per tile
-#define STAGE_SCAN_TILES 4  // one group: bin counts -> offsets, active tile list, bin entry total
-#define STAGE_BIN_FILL 5    // per piece: write its triangle's ref into the bin of every tile it touches
+#define STAGE_CLEAR 0        // visibility := empty, counters and tile bins := 0
+#define STAGE_VERTEX 1       // per vertex: clip position
+#define STAGE_SETUP 2        // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
+#define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
+#define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
+#define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
+#define STAGE_BIN_FILL 6     // per piece: write its triangle's ref into the bin of every tile it touches
 #define STAGE_RASTER_TILES \
-    6                  // per active 8x8 screen tile: resolve its bin in registers, no atomics per pixel
-#define STAGE_SHADE 7  // per pixel: resolve the visibility key and shade
-#define STAGE_COUNT 8
+    7                  // per active 8x8 screen tile: resolve its bin in registers, no atomics per pixel
+#define STAGE_SHADE 8  // per pixel: resolve the visibility key and shade
+#define STAGE_COUNT 9
 
-#define GROUP_SIZE 128        // threads per group of the 1D stages
-#define CLEAR_SPAN 8          // elements each clear thread resets, GROUP_SIZE apart
-#define SCAN_GROUP_SIZE 1024  // threads of the one scan_tiles group
-#define TILE_SIZE 8           // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
-#define SMALL_TRI_SPAN 12     // triangles whose pixel bbox is at most this wide and high are small
-#define TILES_PER_PIECE 16    // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
-#define MAX_PIECES 1024       // ...unless that would make more pieces than this; then pieces grow
+#define GROUP_SIZE 128       // threads per group of the 1D stages
+#define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
+#define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
+#define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
+#define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
+#define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
+#define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
 #define MIN_RASTER_LANES \
     8  // raster_tiles groups have TILE_SIZE^2 invocations on a GPU, down to this on a CPU
 #define MAX_PIXELS_PER_LANE 8       // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
@@ -96,9 +98,9 @@ SR_NAMESPACE_BEGIN
 // stay below 2^23 subpixels and edge-function products below 2^48, comfortably inside int64.
 #define GUARD_BAND_PX 16384.0f
 #define MAX_FRAMEBUFFER_DIM 16384
-// The most groups one dispatch may have: invocation indices are 32-bit and a group has at most 256
-// invocations where more than one group runs. The largest the pipeline asks for is setup's for
-// 2^31 / 3 triangles, 5.6M groups.
+// The most groups one dispatch may have: invocation indices are 32-bit and the largest group has
+// SCAN_GROUP_SIZE = 256 invocations. The largest the pipeline asks for is setup's for 2^31 / 3
+// triangles, 5.6M groups.
 #define MAX_DISPATCH_GROUPS 16777216u
 #define EMPTY_ID 0xFFFFFFFFu
 

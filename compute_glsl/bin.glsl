@@ -1,7 +1,8 @@
 // bin.glsl - the tile walk shared by setup, bin_count and bin_fill (cuda/bin.cuh has the CUDA twin). A
 // walk visits a run of a big triangle's bbox tiles and keeps those triangleTouchesTile accepts.
-// Counting adds one to each kept tile's bin; filling, after scan_tiles turned the counts into offsets,
-// takes a slot in each kept tile's bin and writes the ref there. Both make the same decisions, so every bin gets exactly the slots it counted.
+// Counting adds one to each kept tile's bin; filling, after the scan turned the counts into offsets
+// (within the tile's scan block, plus the block's base in scanSums), takes a slot in each kept tile's bin
+// and writes the ref there. Both make the same decisions, so every bin gets exactly the slots it counted.
 // A triangle of one piece is counted by its setup thread, which has it at hand (its piece carries
 // PIECE_COUNTED); bin_count sets up and counts the pieces of larger triangles.
 #ifndef RASTER_BIN_GLSL
@@ -17,7 +18,7 @@ void binTiles(TriSetup t, ivec4 bounds, uint ref, uint first, uint end, bool fil
         if (!triangleTouchesTile(t, bounds, tx, ty)) continue;
         uint tile = uint(ty) * params.tilesX + uint(tx);
         if (fill) {
-            uint slot = atomicAdd(tileBins[tile], 1u);
+            uint slot = scanSums[tile / uint(SCAN_GROUP_SIZE)] + atomicAdd(tileBins[tile], 1u);
             if (slot < params.binCapacity) binEntries[slot] = ref;
         } else {
             atomicAdd(tileBins[tile], 1u);

@@ -16,6 +16,7 @@ layout(std430, set = 0, binding = BUF_CLIP_POS) buffer ClipPosBlock { vec4 clipP
 layout(std430, set = 0, binding = BUF_SETUP_TRIS) buffer SetupTrisBlock { TriSetup setupTris[]; };
 layout(std430, set = 0, binding = BUF_PIECES) buffer PiecesBlock { uvec2 pieces[]; };
 layout(std430, set = 0, binding = BUF_TILE_BINS) buffer TileBinsBlock { uint tileBins[]; };
+layout(std430, set = 0, binding = BUF_SCAN_SUMS) buffer ScanSumsBlock { uint scanSums[]; };
 layout(std430, set = 0, binding = BUF_BIN_ENTRIES) buffer BinEntriesBlock { uint binEntries[]; };
 layout(std430, set = 0, binding = BUF_ACTIVE_TILES) buffer ActiveTilesBlock { uint activeTiles[]; };
 layout(std430, set = 0, binding = BUF_COUNTERS) buffer CountersBlock { uint counters[]; };
@@ -67,6 +68,14 @@ bool loadBinTriangle(uint ref, out TriSetup t)
         return false;
     }
     return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
+}
+
+// End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's
+// end): the tile's offset within its scan block, advanced by every slot bin_fill took, plus the block's
+// base from scan_sums.
+uint binEnd(uint tile)
+{
+    return scanSums[tile / uint(SCAN_GROUP_SIZE)] + tileBins[tile];
 }
 
 #endif  // RASTER_BUFFERS_GLSL

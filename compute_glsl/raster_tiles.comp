@@ -1,5 +1,5 @@
 // raster_tiles.comp - stage `raster_tiles`: the groups walk the active screen tiles (TILE_SIZE x
-// TILE_SIZE pixels with big triangles in their bin, listed by scan_tiles), so a frame of small triangles
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
 // costs nothing here but the launch. For each tile the group walks the bin in batches of LANES refs: each invocation sets one
 // triangle up into shared memory, then every invocation tests its pixels against the whole batch,
 // keeping the smallest visibility key of each in a register. The tile's pixels belong to this group
@@ -76,8 +76,8 @@ void main()
     uint activeCount = counters[COUNTER_ACTIVE_TILES];
     for (uint index = gl_WorkGroupID.x; index < activeCount; index += params.rasterGroups) {
         uint tile = activeTiles[index];
-        uint begin = tile == 0u ? 0u : min(tileBins[tile - 1u], params.binCapacity);
-        uint end = min(tileBins[tile], params.binCapacity);
+        uint begin = tile == 0u ? 0u : min(binEnd(tile - 1u), params.binCapacity);
+        uint end = min(binEnd(tile), params.binCapacity);
         if (begin < end) rasterTile(tile, lane, begin, end);
     }
 }

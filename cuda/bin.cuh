@@ -1,9 +1,10 @@
 // bin.cuh - the tile walk shared by setup, bin_count and bin_fill (compute_glsl/bin.glsl has the GLSL
 // twin). A walk visits a run of a big triangle's bbox tiles and keeps those triangleTouchesTile accepts.
-// Counting adds one to each kept tile's bin; filling, after scan_tiles turned the counts into offsets,
-// takes a slot in each kept tile's bin and writes the ref there. Both make the same decisions, so every bin
-// gets exactly the slots it counted. A triangle of one piece is counted by its setup thread, which has it at
-// hand (its piece carries PIECE_COUNTED); bin_count sets up and counts the pieces of larger triangles.
+// Counting adds one to each kept tile's bin; filling, after the scan turned the counts into offsets
+// (within the tile's scan block, plus the block's base in scanSums), takes a slot in each kept tile's bin
+// and writes the ref there. Both make the same decisions, so every bin gets exactly the slots it counted.
+// A triangle of one piece is counted by its setup thread, which has it at hand (its piece carries
+// PIECE_COUNTED); bin_count sets up and counts the pieces of larger triangles.
 namespace sr {
 
 template <bool kFill>
@@ -18,7 +19,7 @@ __device__ inline void binTiles(const RasterParams& params, const Buffers& b, co
         if (!triangleTouchesTile(t, bounds, tx, ty)) continue;
         uint tile = uint(ty) * params.tilesX + uint(tx);
         if (kFill) {
-            uint slot = atomicAdd(&b.tileBins[tile], 1u);
+            uint slot = b.scanSums[tile / uint(SCAN_GROUP_SIZE)] + atomicAdd(&b.tileBins[tile], 1u);
             if (slot < params.binCapacity) b.binEntries[slot] = ref;
         } else {
             atomicAdd(&b.tileBins[tile], 1u);

@@ -18,6 +18,7 @@ struct Buffers {
     TriSetup* setupTris;             // BUF_SETUP_TRIS
     uvec2* pieces;                   // BUF_PIECES
     uint* tileBins;                  // BUF_TILE_BINS
+    uint* scanSums;                  // BUF_SCAN_SUMS
     uint* binEntries;                // BUF_BIN_ENTRIES
     uint* activeTiles;               // BUF_ACTIVE_TILES
     uint* counters;                  // BUF_COUNTERS
@@ -66,6 +67,14 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, ref, c0, c1, c2)) return false;
     return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
+}
+
+// End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's
+// end): the tile's offset within its scan block, advanced by every slot bin_fill took, plus the block's
+// base from scan_sums.
+__device__ inline uint binEnd(const Buffers& b, uint tile)
+{
+    return b.scanSums[tile / uint(SCAN_GROUP_SIZE)] + b.tileBins[tile];
 }
 
 // Thread index in a 1D grid, as gl_GlobalInvocationID.x.

@@ -142,6 +142,7 @@ private:
         b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
         b.pieces = as<uvec2>(BUF_PIECES);
         b.tileBins = as<uint>(BUF_TILE_BINS);
+        b.scanSums = as<uint>(BUF_SCAN_SUMS);
         b.binEntries = as<uint>(BUF_BIN_ENTRIES);
         b.activeTiles = as<uint>(BUF_ACTIVE_TILES);
         b.counters = as<uint>(BUF_COUNTERS);

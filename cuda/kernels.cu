@@ -7,7 +7,9 @@
 #include "bin_fill.cuh"
 #include "clear.cuh"
 #include "raster_tiles.cuh"
-#include "scan_tiles.cuh"
+#include "scan.cuh"
+#include "scan_blocks.cuh"
+#include "scan_sums.cuh"
 #include "setup.cuh"
 #include "shade.cuh"
 #include "vertex.cuh"
@@ -30,9 +32,14 @@ __global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams 
 {
     binCountStage(params, b);
 }
-__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanTilesKernel(const RasterParams params, const Buffers b)
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE)
+    scanBlocksKernel(const RasterParams params, const Buffers b)
 {
-    scanTilesStage(params, b);
+    scanBlocksStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanSumsKernel(const RasterParams params, const Buffers b)
+{
+    scanSumsStage(params, b);
 }
 __global__ void __launch_bounds__(GROUP_SIZE) binFillKernel(const RasterParams params, const Buffers b)
 {
@@ -51,7 +58,8 @@ __global__ void __launch_bounds__(GROUP_SIZE) shadeKernel(const RasterParams par
 uint stageBlockSize(uint stage)
 {
     switch (stage) {
-    case STAGE_SCAN_TILES: return SCAN_GROUP_SIZE;
+    case STAGE_SCAN_BLOCKS:
+    case STAGE_SCAN_SUMS: return SCAN_GROUP_SIZE;
     case STAGE_RASTER_TILES: return TILE_SIZE * TILE_SIZE;
     default: return GROUP_SIZE;
     }
@@ -67,7 +75,8 @@ cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, con
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SETUP: setupKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_BIN_COUNT: binCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
-    case STAGE_SCAN_TILES: scanTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_BIN_FILL: binFillKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_RASTER_TILES: rasterTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;

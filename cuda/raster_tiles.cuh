@@ -1,5 +1,5 @@
 // raster_tiles.cuh - stage `raster_tiles`: the blocks walk the active screen tiles (TILE_SIZE x
-// TILE_SIZE pixels with big triangles in their bin, listed by scan_tiles), so a frame of small triangles
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
 // costs nothing here but the launch. For each tile the block walks the bin in batches of kLanes refs: each
 // thread sets one triangle up into shared memory, then every thread tests its pixels against the whole batch,
 // keeping the smallest visibility key of each in a register. The tile's pixels belong to this block alone, so
@@ -70,8 +70,8 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
     uint activeCount = b.counters[COUNTER_ACTIVE_TILES];
     for (uint index = blockIdx.x; index < activeCount; index += params.rasterGroups) {
         uint tile = b.activeTiles[index];
-        uint begin = tile == 0u ? 0u : min(b.tileBins[tile - 1u], params.binCapacity);
-        uint end = min(b.tileBins[tile], params.binCapacity);
+        uint begin = tile == 0u ? 0u : min(binEnd(b, tile - 1u), params.binCapacity);
+        uint end = min(binEnd(b, tile), params.binCapacity);
         if (begin < end) rasterTile(params, b, tile, lane, begin, end);
     }
 }

@@ -5,8 +5,9 @@ namespace sr {
 
 const char* stageName(uint32_t stage)
 {
-    static const char* const names[STAGE_COUNT] = {"clear",      "vertex",   "setup",        "bin_count",
-                                                   "scan_tiles", "bin_fill", "raster_tiles", "shade"};
+    static const char* const names[STAGE_COUNT] = {"clear",     "vertex",       "setup",
+                                                   "bin_count", "scan_blocks",  "scan_sums",
+                                                   "bin_fill",  "raster_tiles", "shade"};
     return stage < STAGE_COUNT ? names[stage] : "unknown";
 }
 

@@ -42,13 +42,15 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
 {
     uint64_t pixels = uint64_t(p.width) * p.height;
     uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
+    uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
 
     return {
         {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
         {STAGE_BIN_COUNT, p.binGroups},
-        {STAGE_SCAN_TILES, 1},
+        {STAGE_SCAN_BLOCKS, scanGroups},
+        {STAGE_SCAN_SUMS, 1},
         {STAGE_BIN_FILL, p.binGroups},
         {STAGE_RASTER_TILES, p.rasterGroups},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
@@ -174,6 +176,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? pixels * sizeof(uint32_t) : 16));
     SR_TRY(device.resize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
+    SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
     SR_TRY(allocateLists(device, capacity));
 
     // Groups for the stages that walk device-counted lists. Any count renders correctly (the threads

@@ -30,7 +30,8 @@ namespace {
 #include "bin_fill.spv.h"
 #include "clear.spv.h"
 #include "raster_tiles.spv.h"
-#include "scan_tiles.spv.h"
+#include "scan_blocks.spv.h"
+#include "scan_sums.spv.h"
 #include "setup.spv.h"
 #include "shade.spv.h"
 #include "vertex.spv.h"
@@ -46,7 +47,8 @@ const StageSpirv kStageSpirv[] = {
     {kSpv_vertex, sizeof kSpv_vertex},
     {kSpv_setup, sizeof kSpv_setup},
     {kSpv_bin_count, sizeof kSpv_bin_count},
-    {kSpv_scan_tiles, sizeof kSpv_scan_tiles},
+    {kSpv_scan_blocks, sizeof kSpv_scan_blocks},
+    {kSpv_scan_sums, sizeof kSpv_scan_sums},
     {kSpv_bin_fill, sizeof kSpv_bin_fill},
     {kSpv_raster_tiles, sizeof kSpv_raster_tiles},
     {kSpv_shade, sizeof kSpv_shade},
