@@ -35,7 +35,7 @@ SR_NAMESPACE_BEGIN
 #define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
 #define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
 #define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SNAPPED 6        // ivec4 per vertex: snapVertexRecord of its clip position (vertex stage output)
 #define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs), appended by setup
 #define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
 #define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)

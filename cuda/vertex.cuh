@@ -5,7 +5,9 @@ namespace sr {
 __device__ inline void vertexStage(const RasterParams& params, const Buffers& b)
 {
     uint v = globalThreadId();
-    if (v < params.vertexCount) b.clipPos[v] = mulPoint(params.clipFromWorld, b.positions[v]);
+    if (v < params.vertexCount)
+        b.snapped[v] = snapVertexRecord(mulPoint(params.clipFromWorld, b.positions[v]), params.guardBand,
+                                        params.width, params.height);
 }
 
 }  // namespace sr

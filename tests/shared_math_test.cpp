@@ -345,4 +345,52 @@ TEST(SharedMath, PiecesCoverEveryTileOnce)
     }
 }
 
+// setup works from the vertex stage's per-vertex records: classifying and setting a triangle up from
+// them must give exactly what prepareTriangle and setupTriangle give from the clip positions, for
+// triangles inside, crossing the near plane and the guard band, outside, and with NaN/Inf vertices.
+TEST(SharedMath, VertexRecordsClassifyAndSetUpLikeClipPositions)
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> xy(-3.0f, 3.0f), zw(-0.5f, 1.5f), w(0.05f, 2.0f);
+    vec4 guardBand(float(GUARD_BAND_PX) / (0.5f * kSize), float(GUARD_BAND_PX) / (0.5f * kSize), 0.0f, 0.0f);
+    int direct = 0, clipped = 0, culled = 0, invalid = 0;
+    for (int i = 0; i < 20000; ++i) {
+        vec4 c[3];
+        for (vec4& v : c) {
+            float ww = w(rng);
+            v = vec4(xy(rng) * ww, xy(rng) * ww, zw(rng) * ww, ww);
+        }
+        if (i % 97 == 0) c[i % 3].y = NAN;
+        if (i % 89 == 0) c[i % 3].x = INFINITY;
+        if (i % 7 == 0) c[1].x = c[0].x * 1e5f;  // far outside the guard band
+        ivec4 s[3];
+        for (int k = 0; k < 3; ++k) s[k] = snapVertexRecord(c[k], guardBand, kSize, kSize);
+        vec4 poly[MAX_CLIP_VERTS];
+        uint count;
+        uint expected = prepareTriangle(c[0], c[1], c[2], guardBand, poly, count);
+        uint kind = classifySnapped(s[0], s[1], s[2]);
+        ASSERT_EQ(kind, expected) << "triangle " << i;
+        direct += kind == PREPARE_DIRECT;
+        clipped += kind == PREPARE_CLIPPED;
+        culled += kind == PREPARE_CULLED;
+        invalid += kind == PREPARE_INVALID;
+        if (kind != PREPARE_DIRECT) continue;
+        for (uint cull : {CULL_NONE, CULL_BACK, CULL_FRONT}) {
+            TriSetup a{}, b{};
+            bool okA = setupTriangle(c[0], c[1], c[2], 7, false, cull, kSize, kSize, a);
+            bool okB = setupSnappedRecords(s[0], s[1], s[2], 7, false, cull, kSize, kSize, b);
+            ASSERT_EQ(okA, okB) << "triangle " << i;
+            if (!okA) continue;
+            EXPECT_EQ(a.xy01, b.xy01);
+            EXPECT_EQ(a.xy2Id, b.xy2Id);
+            for (int k = 0; k < 4; ++k)
+                EXPECT_EQ(floatBitsToUint(a.depthPlane[k]), floatBitsToUint(b.depthPlane[k]));
+        }
+    }
+    EXPECT_GT(direct, 1000);
+    EXPECT_GT(clipped, 1000);
+    EXPECT_GT(culled, 100);
+    EXPECT_GT(invalid, 100);
+}
+
 }  // namespace sr
