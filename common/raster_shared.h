@@ -60,7 +60,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_INVALID 7        // input triangles dropped for NaN/Inf positions or bad indices
 #define COUNTER_WORK_OVERFLOW 8  // non-zero when the pieces or bin entries of one frame pass 2^31
 #define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_blocks
-#define COUNTER_COUNT 10
+#define COUNTER_SPLIT 10         // big triangles of more than one piece (their pieces need bin_count)
+#define COUNTER_COUNT 11
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).

@@ -50,6 +50,7 @@ void emitTriangle(TriSetup t, bool clipped)
         binTiles(t, bounds, ref, 0u, tiles, false);
         return;
     }
+    atomicAdd(counters[COUNTER_SPLIT], 1u);
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }

@@ -46,6 +46,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         binTiles<false>(params, b, t, bounds, ref, 0u, tiles);
         return;
     }
+    atomicAdd(&b.counters[COUNTER_SPLIT], 1u);
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }

@@ -214,6 +214,37 @@ TEST_P(RenderTest, ClippedBigTrianglesUseRecordsAndGrowIdentically)
     EXPECT_EQ(tiny.aov.depth, normal.aov.depth);
 }
 
+// Frames after the first skip the binning stages when the previous frame had no big triangle: a scene of
+// small triangles renders the same over several frames, and a frame that skipped binning but met big
+// triangles is drawn again with it, identical to a render that never skipped.
+TEST_P(RenderTest, SkippedBinningFollowsThePreviousFrameAndRedrawsWhenNeeded)
+{
+    auto dense = builtinSceneNamed("builtin:dense");  // sub-pixel triangles at this size: no big one
+    ASSERT_TRUE(dense.ok());
+    auto camera = resolveCamera(CameraSpec{}, *dense, 64, 64);
+    ASSERT_TRUE(camera.ok());
+    RenderSettings one = testSettings(64, 64);
+    RenderSettings three = one;
+    three.warmup = 1;
+    three.repeat = 3;
+    RenderOutput a = render(*dense, one, *camera), b = render(*dense, three, *camera);
+    EXPECT_EQ(a.stats.bigTris, 0u);
+    EXPECT_EQ(b.stats.redraws, 0u);
+    EXPECT_EQ(a.aov.id, b.aov.id);
+    EXPECT_EQ(a.aov.depth, b.aov.depth);
+
+    FramedScene f = framedBuiltin(96, 96);
+    RenderOutput normal = render(f.scene, f.settings, f.camera);
+    RenderSettings skipping = f.settings;
+    skipping.firstFrameSkipsBinning = true;
+    RenderOutput redrawn = render(f.scene, skipping, f.camera);
+    EXPECT_GT(normal.stats.bigTris, 0u);
+    EXPECT_EQ(normal.stats.redraws, 0u);
+    EXPECT_GE(redrawn.stats.redraws, 1u);
+    EXPECT_EQ(redrawn.aov.id, normal.aov.id);
+    EXPECT_EQ(redrawn.aov.depth, normal.aov.depth);
+}
+
 TEST_P(RenderTest, BuiltinSceneIsNonTrivialAndDeterministic)
 {
     FramedScene f = framedBuiltin(128, 96);

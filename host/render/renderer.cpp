@@ -38,7 +38,7 @@ uint64_t grownCapacity(uint64_t counted)
     return counted + counted / 8 + 64;
 }
 
-std::vector<Dispatch> frameDispatches(const RasterParams& p)
+std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& work)
 {
     uint64_t pixels = uint64_t(p.width) * p.height;
     uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
@@ -48,11 +48,11 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p)
         {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
-        {STAGE_BIN_COUNT, p.binGroups},
-        {STAGE_SCAN_BLOCKS, scanGroups},
-        {STAGE_SCAN_SUMS, 1},
-        {STAGE_BIN_FILL, p.binGroups},
-        {STAGE_RASTER_TILES, p.rasterGroups},
+        {STAGE_BIN_COUNT, work.binBig && work.countSplit ? p.binGroups : 0u},
+        {STAGE_SCAN_BLOCKS, work.binBig ? scanGroups : 0u},
+        {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
+        {STAGE_BIN_FILL, work.binBig ? p.binGroups : 0u},
+        {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
 }
@@ -179,12 +179,16 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
     SR_TRY(allocateLists(device, capacity));
 
-    // Groups for the stages that walk device-counted lists. Any count renders correctly (the threads
-    // stride over the list); the counts only balance the work, so they follow the previous frame: for
-    // bin_count and bin_fill one thread per piece it had (one per piece of capacity at first), for
-    // raster_tiles the device's fixed count or (GPUs) one group per tile it had active (all at first).
-    GroupCounts groups{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE)};
-    if (device.info().rasterGroups) groups.raster = device.info().rasterGroups;
+    // What each frame runs follows the previous frame (FrameWork). The group counts of the stages that
+    // walk device-counted lists only balance the work (any count renders correctly: the threads stride
+    // over the lists): for bin_count and bin_fill one thread per piece it had (one per piece of capacity
+    // at first), for raster_tiles the device's fixed count or (GPUs) one group per tile it had active
+    // (all at first). The binning stages run only if it had big triangles, bin_count only if it had
+    // triangles of several pieces; a frame that needed a skipped stage is drawn again.
+    FrameWork work;
+    work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE)};
+    if (device.info().rasterGroups) work.groups.raster = device.info().rasterGroups;
+    work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
     RenderOutput out;
     out.device = device.info();
     std::vector<std::vector<double>> stageMs(STAGE_COUNT);
@@ -192,13 +196,17 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     uint32_t counters[COUNTER_COUNT] = {};
     RasterParams params{};
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
-        params = frameParams(scene, camera, settings, capacity, groups);
-        std::vector<Dispatch> dispatches = frameDispatches(params);
+        params = frameParams(scene, camera, settings, capacity, work.groups);
+        std::vector<Dispatch> dispatches = frameDispatches(params, work);
         std::vector<double> gpuMs;
         SR_TRY(device.run(params, dispatches, gpuMs));
         SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
-        if (!device.info().rasterGroups) groups.raster = counters[COUNTER_ACTIVE_TILES];
-        groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacity.pieces), GROUP_SIZE);
+        bool skippedNeeded =
+            (!work.binBig && counters[COUNTER_BIG] > 0) || (!work.countSplit && counters[COUNTER_SPLIT] > 0);
+        work.binBig = counters[COUNTER_BIG] > 0;
+        work.countSplit = counters[COUNTER_SPLIT] > 0;
+        if (!device.info().rasterGroups) work.groups.raster = counters[COUNTER_ACTIVE_TILES];
+        work.groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacity.pieces), GROUP_SIZE);
         if (counters[COUNTER_WORK_OVERFLOW])
             return makeError(ExitCode::Runtime,
                              "too much raster work: more than 2^31 pieces or bin entries in one frame");
@@ -215,8 +223,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
             *cap = uint32_t(wanted);
             grown = true;
         }
-        if (grown) {
-            SR_TRY(allocateLists(device, capacity));
+        if (grown) SR_TRY(allocateLists(device, capacity));
+        if (grown || skippedNeeded) {
             ++out.stats.redraws;
             continue;
         }

@@ -31,11 +31,12 @@ struct RenderSettings {
     float ambient = 0.15f;
     glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
     float specularPower = 32.0f;
-    uint32_t warmup = 1;               // untimed runs before the timed ones
-    uint32_t repeat = 1;               // timed runs (>= 1)
-    uint32_t initialListCapacity = 0;  // 0: lists sized from the scene; tests force tiny ones
-    bool countHits = false;            // debug: count covering triangles per pixel
-    bool visibilityOnly = false;       // vulkan-graphics: depth + id only (the bench's hardware baseline)
+    uint32_t warmup = 1;                  // untimed runs before the timed ones
+    uint32_t repeat = 1;                  // timed runs (>= 1)
+    uint32_t initialListCapacity = 0;     // 0: lists sized from the scene; tests force tiny ones
+    bool countHits = false;               // debug: count covering triangles per pixel
+    bool visibilityOnly = false;          // vulkan-graphics: depth + id only (the bench's hardware baseline)
+    bool firstFrameSkipsBinning = false;  // tests: start as if the last frame had no big triangle
 };
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
@@ -49,6 +50,15 @@ struct ListCapacities {
 struct GroupCounts {
     uint32_t raster = 0;  // raster_tiles
     uint32_t bin = 0;     // bin_count and bin_fill
+};
+
+// Which stages a frame runs, decided from the previous frame (all of them in the first): the binning
+// stages only where it had big triangles, bin_count only where it had triangles of several pieces. A
+// frame that turns out to need a skipped stage is drawn again with it, like an overflowing list.
+struct FrameWork {
+    GroupCounts groups;
+    bool binBig = true;      // bin_count, the scans, bin_fill and raster_tiles
+    bool countSplit = true;  // bin_count
 };
 
 struct StageTiming {
@@ -67,7 +77,7 @@ struct RenderStats {
     uint64_t records = 0;       // big sub-triangles of clipped triangles, stored as records
     uint64_t pieces = 0;        // pieces the big triangles were cut into
     uint64_t binEntries = 0;    // (big triangle, screen tile) bin entries
-    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list
+    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list or for a skipped stage
     ListCapacities capacities;  // final capacities of the lists
 };
 
