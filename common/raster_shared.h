@@ -35,11 +35,11 @@ SR_NAMESPACE_BEGIN
 #define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
 #define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
 #define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
-#define BUF_SNAPPED 6        // ivec4 per vertex: snapVertexRecord of its clip position (vertex stage output)
-#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs), appended by setup
+#define BUF_SNAPPED 6        // ivec4 per vertex: snapVertexRecord of its clip position (vertex stage)
+#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
 #define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
 #define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
-#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned in place to its base offset
+#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned to its base offset
 #define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
 #define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
 #define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
@@ -66,27 +66,25 @@ SR_NAMESPACE_BEGIN
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
 #define STAGE_CLEAR 0        // visibility := empty, counters and tile bins := 0
-#define STAGE_VERTEX 1       // per vertex: clip position
+#define STAGE_VERTEX 1       // per vertex: clip position, snapped once (snapVertexRecord)
 #define STAGE_SETUP 2        // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
 #define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
 #define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
 #define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
 #define STAGE_BIN_FILL 6     // per piece: write its triangle's ref into the bin of every tile it touches
-#define STAGE_RASTER_TILES \
-    7                  // per active 8x8 screen tile: resolve its bin in registers, no atomics per pixel
-#define STAGE_SHADE 8  // per pixel: resolve the visibility key and shade
+#define STAGE_RASTER_TILES 7  // per active 8x8 screen tile: resolve its bin in registers, no atomics
+#define STAGE_SHADE 8         // per pixel: resolve the visibility key and shade
 #define STAGE_COUNT 9
 
-#define GROUP_SIZE 128       // threads per group of the 1D stages
-#define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
-#define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
-#define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
-#define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
-#define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
-#define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
-#define MIN_RASTER_LANES \
-    8  // raster_tiles groups have TILE_SIZE^2 invocations on a GPU, down to this on a CPU
-#define MAX_PIXELS_PER_LANE 8       // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
+#define GROUP_SIZE 128         // threads per group of the 1D stages
+#define CLEAR_SPAN 8           // elements each clear thread resets, GROUP_SIZE apart
+#define SCAN_GROUP_SIZE 256    // elements per scan block (one per thread)
+#define TILE_SIZE 8            // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
+#define SMALL_TRI_SPAN 12      // triangles whose pixel bbox is at most this wide and high are small
+#define TILES_PER_PIECE 16     // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
+#define MAX_PIECES 1024        // ...unless that would make more pieces than this; then pieces grow
+#define MIN_RASTER_LANES 8     // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
+#define MAX_PIXELS_PER_LANE 8  // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
 #define BIN_REF_RECORD 0x80000000u  // bin ref bit: the rest indexes BUF_SETUP_TRIS, else an input triangle
 #define PIECE_COUNTED 0x80000000u   // piece first-tile bit: setup already counted the piece's tiles
 #define SUBPIXEL_BITS 8             // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D

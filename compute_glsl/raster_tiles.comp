@@ -1,17 +1,17 @@
 // raster_tiles.comp - stage `raster_tiles`: the groups walk the active screen tiles (TILE_SIZE x
-// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
-// costs nothing here but the launch. For each tile the group walks the bin in batches of LANES refs: each invocation sets one
-// triangle up into shared memory, then every invocation tests its pixels against the whole batch,
-// keeping the smallest visibility key of each in a register. The tile's pixels belong to this group
-// alone, so nothing is resolved with atomics: each key starts from what setup's small triangles left in
-// the visibility buffer and is stored once at the end. A triangle whose depth bound lies behind a
-// pixel's key is skipped there without a coverage test (early depth; off while counting hits, which
-// must see every triangle).
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks). For each tile the group
+// walks the bin in batches of LANES refs: each invocation sets one triangle up into shared memory, then
+// every invocation tests its pixels against the whole batch, keeping the smallest visibility key of each
+// in a register. The tile's pixels belong to this group alone, so nothing is resolved with atomics: each
+// key starts from what setup's small triangles left in the visibility buffer and is stored once at the
+// end. A triangle whose depth bound lies behind a pixel's key is skipped there without a coverage test
+// (early depth; off while counting hits, which must see every triangle).
 // LANES is specialization constant 0: TILE_SIZE^2 on a GPU (one pixel per invocation, as the CUDA
 // twin), the SIMD width on a CPU device, where every invocation of a group that synchronizes becomes a
 // coroutine and fewer, longer invocations cost far less.
-// groups = RasterParams.rasterGroups (about as many as are resident at once on a GPU; a few per thread
-// on a CPU device, where each group that synchronizes costs about a microsecond).
+// groups = RasterParams.rasterGroups: on a GPU one per tile active in the previous frame; on a CPU
+// device a few per thread (each group that synchronizes costs it about a microsecond). Group g takes
+// the active tiles g, g + rasterGroups, ...
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -35,7 +35,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         uint p = lane + j * LANES;  // this invocation's j-th pixel of the tile
         px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
         py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
-        bool mine = p < uint(TILE_SIZE * TILE_SIZE) && uint(px[j]) < params.width && uint(py[j]) < params.height;
+        bool mine =
+            p < uint(TILE_SIZE * TILE_SIZE) && uint(px[j]) < params.width && uint(py[j]) < params.height;
         key[j] = mine ? visibility[uint(py[j]) * params.width + uint(px[j])] : ~uint64_t(0);
         if (!mine) px[j] = -1;
         hits[j] = 0u;

@@ -1,4 +1,5 @@
-// reference.frag - fragment stage of the `vulkan-graphics` reference backend (host/vulkan/vulkan_graphics.cpp).
+// reference.frag - fragment stage of the `vulkan-graphics` reference backend
+// (host/vulkan/vulkan_graphics.cpp).
 // gl_PrimitiveID of the single indexed draw is the triangle id of the compute backends. Facing culling
 // happens here, per triangle flag, because one draw has one pipeline cull mode and glTF doubleSided
 // triangles must never be culled. The colour is computed as compute_glsl/shade.comp computes it, by

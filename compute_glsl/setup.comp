@@ -75,7 +75,8 @@ void main()
     TriSetup t;
     if (kind == PREPARE_DIRECT) {
         // The common case: vertices snapped once each by the vertex stage.
-        if (setupSnappedRecords(s0, s1, s2, tri, doubleSided, params.cullMode, params.width, params.height, t)) {
+        if (setupSnappedRecords(s0, s1, s2, tri, doubleSided, params.cullMode, params.width, params.height,
+                                t)) {
             emitTriangle(t, false);
             ++emitted;
         }
@@ -83,8 +84,8 @@ void main()
         atomicAdd(counters[COUNTER_CLIPPED], 1u);
         vec4 poly[MAX_CLIP_VERTS];
         uint planes = (uint(s0.w) | uint(s1.w) | uint(s2.w)) >> 16u & 0x3fu;
-        uint count = clipTriangle(clipPosition(i0), clipPosition(i1), clipPosition(i2), planes, params.guardBand,
-                                  poly);
+        vec4 c0 = clipPosition(i0), c1 = clipPosition(i1), c2 = clipPosition(i2);
+        uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
         for (uint k = 1u; k + 1u < count; ++k) {
             if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                               params.height, t)) {

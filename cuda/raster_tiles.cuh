@@ -1,14 +1,15 @@
 // raster_tiles.cuh - stage `raster_tiles`: the blocks walk the active screen tiles (TILE_SIZE x
-// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks), so a frame of small triangles
-// costs nothing here but the launch. For each tile the block walks the bin in batches of kLanes refs: each
-// thread sets one triangle up into shared memory, then every thread tests its pixels against the whole batch,
-// keeping the smallest visibility key of each in a register. The tile's pixels belong to this block alone, so
-// nothing is resolved with atomics: each key starts from what setup's small triangles left in the
-// visibility buffer and is stored once at the end. A triangle whose depth bound lies behind a pixel's
-// key is skipped there without a coverage test (early depth; off while counting hits, which must see
-// every triangle). CUDA runs TILE_SIZE^2 threads, one pixel each; the GLSL twin takes its lane count
-// from a specialization constant so that a CPU device runs fewer, longer invocations.
-// blocks = RasterParams.rasterGroups (as many as are resident at once on a GPU).
+// TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks). For each tile the block
+// walks the bin in batches of kLanes refs: each thread sets one triangle up into shared memory, then
+// every thread tests its pixels against the whole batch, keeping the smallest visibility key of each in
+// a register. The tile's pixels belong to this block alone, so nothing is resolved with atomics: each
+// key starts from what setup's small triangles left in the visibility buffer and is stored once at the
+// end. A triangle whose depth bound lies behind a pixel's key is skipped there without a coverage test
+// (early depth; off while counting hits, which must see every triangle). CUDA runs TILE_SIZE^2 threads,
+// one pixel each; the GLSL twin takes its lane count from a specialization constant so that a CPU
+// device runs fewer, longer invocations.
+// blocks = RasterParams.rasterGroups: one per tile active in the previous frame; block g takes the
+// active tiles g, g + rasterGroups, ...
 namespace sr {
 
 constexpr uint kLanes = TILE_SIZE * TILE_SIZE;

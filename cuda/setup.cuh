@@ -80,8 +80,9 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
         vec4 poly[MAX_CLIP_VERTS];
         uint planes = (uint(s0.w) | uint(s1.w) | uint(s2.w)) >> 16u & 0x3fu;
-        uint count = clipTriangle(clipPosition(params, b, i0), clipPosition(params, b, i1),
-                                  clipPosition(params, b, i2), planes, params.guardBand, poly);
+        vec4 c0 = clipPosition(params, b, i0), c1 = clipPosition(params, b, i1),
+             c2 = clipPosition(params, b, i2);
+        uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
         for (uint k = 1u; k + 1u < count; ++k) {
             if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                               params.height, t)) {
