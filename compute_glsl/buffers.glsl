@@ -42,16 +42,24 @@ bool loadTriangleIndices(uint tri, out uint i0, out uint i1, out uint i2)
     return max(i0, max(i1, i2)) < params.vertexCount;
 }
 
+// A vertex's record (snapVertexRecord): from the vertex stage's buffer, or, for a triangle soup
+// (RasterParams.transformInSetup: no vertex shared, no vertex stage), made here by the same functions.
+ivec4 loadSnapped(uint vertex)
+{
+    if (params.transformInSetup == 0u) return snapped[vertex];
+    return snapVertexRecord(mulPoint(params.clipFromWorld, positions[vertex]), params.guardBand, params.width,
+                            params.height);
+}
+
 // A vertex's clip position, for the clipper: the same product the vertex stage computed.
 vec4 clipPosition(uint vertex)
 {
     return mulPoint(params.clipFromWorld, positions[vertex]);
 }
 
-// The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again
-// exactly as setup did, from its vertex records (a soup's: its clip positions): the same function, the
-// same bits. Setup already culled it, so facing needs no second look. False for a ref setup would never
-// have written (a slot of an overflowed frame).
+// The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
+// its vertex records exactly as setup did (same function, same bits; setup already culled it, so facing
+// needs no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 bool loadBinTriangle(uint ref, out TriSetup t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
@@ -61,10 +69,7 @@ bool loadBinTriangle(uint ref, out TriSetup t)
     uint i0, i1, i2;
     t = setupTris[0];
     if (ref >= params.triangleCount || !loadTriangleIndices(ref, i0, i1, i2)) return false;
-    if (params.transformInSetup != 0u)
-        return setupTriangle(clipPosition(i0), clipPosition(i1), clipPosition(i2), ref, true, CULL_NONE,
-                             params.width, params.height, t);
-    return setupSnappedRecords(snapped[i0], snapped[i1], snapped[i2], ref, true, CULL_NONE,
+    return setupSnappedRecords(loadSnapped(i0), loadSnapped(i1), loadSnapped(i2), ref, true, CULL_NONE,
                                params.width, params.height, t);
 }
 

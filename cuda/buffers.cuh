@@ -47,16 +47,24 @@ __device__ inline bool loadTriangleIndices(const RasterParams& params, const Buf
     return max(i0, max(i1, i2)) < params.vertexCount;
 }
 
+// A vertex's record (snapVertexRecord): from the vertex stage's buffer, or, for a triangle soup
+// (RasterParams.transformInSetup: no vertex shared, no vertex stage), made here by the same functions.
+__device__ inline ivec4 loadSnapped(const RasterParams& params, const Buffers& b, uint vertex)
+{
+    if (params.transformInSetup == 0u) return b.snapped[vertex];
+    return snapVertexRecord(mulPoint(params.clipFromWorld, b.positions[vertex]), params.guardBand,
+                            params.width, params.height);
+}
+
 // A vertex's clip position, for the clipper: the same product the vertex stage computed.
 __device__ inline vec4 clipPosition(const RasterParams& params, const Buffers& b, uint vertex)
 {
     return mulPoint(params.clipFromWorld, b.positions[vertex]);
 }
 
-// The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again
-// exactly as setup did, from its vertex records (a soup's: its clip positions): the same function, the
-// same bits. Setup already culled it, so facing needs no second look. False for a ref setup would never
-// have written (a slot of an overflowed frame).
+// The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
+// its vertex records exactly as setup did (same function, same bits; setup already culled it, so facing
+// needs no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers& b, uint ref, TriSetup& t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
@@ -66,12 +74,9 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
     }
     uint i0, i1, i2;
     if (ref >= params.triangleCount || !loadTriangleIndices(params, b, ref, i0, i1, i2)) return false;
-    if (params.transformInSetup != 0u)
-        return setupTriangle(clipPosition(params, b, i0), clipPosition(params, b, i1),
-                             clipPosition(params, b, i2), ref, true, CULL_NONE, params.width, params.height,
-                             t);
-    return setupSnappedRecords(b.snapped[i0], b.snapped[i1], b.snapped[i2], ref, true, CULL_NONE,
-                               params.width, params.height, t);
+    return setupSnappedRecords(loadSnapped(params, b, i0), loadSnapped(params, b, i1),
+                               loadSnapped(params, b, i2), ref, true, CULL_NONE, params.width, params.height,
+                               t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

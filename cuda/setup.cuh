@@ -1,6 +1,5 @@
-// setup.cuh - stage `setup`: per input triangle, cull, clip and snap (for indexed meshes from the vertex
-// stage's records of vertices snapped once each; only a triangle that crosses a clip plane goes back to
-// clip positions).
+// setup.cuh - stage `setup`: per input triangle, cull, clip and snap (from the vertex stage's records of
+// vertices snapped once each; only a triangle that crosses a clip plane goes back to clip positions).
 // A small (sub-)triangle (bbox at most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by
 // its thread, the one-thread fast path that needs no memory; a big one is cut into pieces of
 // consecutive bbox tiles (pieceCount) for bin_count and bin_fill. Only a clipped big sub-triangle is
@@ -61,46 +60,33 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
-    vec4 poly[MAX_CLIP_VERTS];
-    uint count = 0u;
-    uint kind;
-    ivec4 s0, s1, s2;
-    bool soup = params.transformInSetup != 0u;
-    if (soup) {
-        // No vertex is shared (and there is no vertex stage): classify and clip the clip positions.
-        kind = prepareTriangle(clipPosition(params, b, i0), clipPosition(params, b, i1),
-                               clipPosition(params, b, i2), params.guardBand, poly, count);
-    } else {
-        // The vertex stage snapped each vertex once; only a triangle crossing a clip plane goes back to
-        // its clip positions.
-        s0 = b.snapped[i0];
-        s1 = b.snapped[i1];
-        s2 = b.snapped[i2];
-        kind = classifySnapped(s0, s1, s2);
-        if (kind == PREPARE_CLIPPED)
-            count = clipTriangle(
-                clipPosition(params, b, i0), clipPosition(params, b, i1), clipPosition(params, b, i2),
-                (uint(s0.w) | uint(s1.w) | uint(s2.w)) >> 16u & 0x3fu, params.guardBand, poly);
-    }
+    ivec4 s0 = loadSnapped(params, b, i0), s1 = loadSnapped(params, b, i1), s2 = loadSnapped(params, b, i2);
+    uint kind = classifySnapped(s0, s1, s2);
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
-    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
     bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     TriSetup t;
-    if (kind == PREPARE_DIRECT && !soup) {
+    if (kind == PREPARE_DIRECT) {
+        // The common case: vertices snapped once each by the vertex stage.
         if (setupSnappedRecords(s0, s1, s2, tri, doubleSided, params.cullMode, params.width, params.height,
                                 t)) {
             emitTriangle(params, b, t, false);
             ++emitted;
         }
-    } else {
+    } else if (kind == PREPARE_CLIPPED) {
+        atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+        vec4 poly[MAX_CLIP_VERTS];
+        uint planes = (uint(s0.w) | uint(s1.w) | uint(s2.w)) >> 16u & 0x3fu;
+        vec4 c0 = clipPosition(params, b, i0), c1 = clipPosition(params, b, i1),
+             c2 = clipPosition(params, b, i2);
+        uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
         for (uint k = 1u; k + 1u < count; ++k) {
             if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                               params.height, t)) {
-                emitTriangle(params, b, t, kind == PREPARE_CLIPPED);
+                emitTriangle(params, b, t, true);
                 ++emitted;
             }
         }
