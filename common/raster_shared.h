@@ -35,7 +35,7 @@ SR_NAMESPACE_BEGIN
 #define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
 #define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
 #define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
-#define BUF_SNAPPED 6        // ivec4 per vertex: snapVertexRecord of its clip position (vertex stage)
+#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
 #define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
 #define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
 #define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
@@ -66,7 +66,7 @@ SR_NAMESPACE_BEGIN
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
 #define STAGE_CLEAR 0        // visibility := empty, counters and tile bins := 0
-#define STAGE_VERTEX 1       // per vertex: clip position, snapped once (snapVertexRecord)
+#define STAGE_VERTEX 1       // per vertex: clip position
 #define STAGE_SETUP 2        // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
 #define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
 #define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list

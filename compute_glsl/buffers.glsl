@@ -12,7 +12,7 @@ layout(std430, set = 0, binding = BUF_NORMALS) readonly buffer NormalsBlock { ve
 layout(std430, set = 0, binding = BUF_COLORS) readonly buffer ColorsBlock { vec4 colors[]; };
 layout(std430, set = 0, binding = BUF_INDICES) readonly buffer IndicesBlock { uint indices[]; };
 layout(std430, set = 0, binding = BUF_TRI_FLAGS) readonly buffer TriFlagsBlock { uint triFlags[]; };
-layout(std430, set = 0, binding = BUF_SNAPPED) buffer SnappedBlock { ivec4 snapped[]; };
+layout(std430, set = 0, binding = BUF_CLIP_POS) buffer ClipPosBlock { vec4 clipPos[]; };
 layout(std430, set = 0, binding = BUF_SETUP_TRIS) buffer SetupTrisBlock { TriSetup setupTris[]; };
 layout(std430, set = 0, binding = BUF_PIECES) buffer PiecesBlock { uvec2 pieces[]; };
 layout(std430, set = 0, binding = BUF_TILE_BINS) buffer TileBinsBlock { uint tileBins[]; };
@@ -33,44 +33,41 @@ void mergeFragment(uint pixel, float depth, uint id)
     if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) atomicAdd(hitCount[pixel], 1u);
 }
 
-// The vertex indices of input triangle `tri`; false when one is out of range.
-bool loadTriangleIndices(uint tri, out uint i0, out uint i1, out uint i2)
+// Clip positions of input triangle `tri`'s vertices, as setup sees them (setupClipPosition). False when
+// an index is out of range.
+bool loadClipTriangle(uint tri, out vec4 c0, out vec4 c1, out vec4 c2)
 {
-    i0 = indices[3u * tri];
-    i1 = indices[3u * tri + 1u];
-    i2 = indices[3u * tri + 2u];
-    return max(i0, max(i1, i2)) < params.vertexCount;
-}
-
-// A vertex's record (snapVertexRecord): from the vertex stage's buffer, or, for a triangle soup
-// (RasterParams.transformInSetup: no vertex shared, no vertex stage), made here by the same functions.
-ivec4 loadSnapped(uint vertex)
-{
-    if (params.transformInSetup == 0u) return snapped[vertex];
-    return snapVertexRecord(mulPoint(params.clipFromWorld, positions[vertex]), params.guardBand, params.width,
-                            params.height);
-}
-
-// A vertex's clip position, for the clipper: the same product the vertex stage computed.
-vec4 clipPosition(uint vertex)
-{
-    return mulPoint(params.clipFromWorld, positions[vertex]);
+    c0 = c1 = c2 = vec4(0.0f);
+    uint i0 = indices[3u * tri];
+    uint i1 = indices[3u * tri + 1u];
+    uint i2 = indices[3u * tri + 2u];
+    if (max(i0, max(i1, i2)) >= params.vertexCount) return false;
+    bool stored = params.transformInSetup == 0u;
+    c0 = setupClipPosition(params, positions[i0], stored ? clipPos[i0] : vec4(0.0f));
+    c1 = setupClipPosition(params, positions[i1], stored ? clipPos[i1] : vec4(0.0f));
+    c2 = setupClipPosition(params, positions[i2], stored ? clipPos[i2] : vec4(0.0f));
+    return true;
 }
 
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
-// its vertex records exactly as setup did (same function, same bits; setup already culled it, so facing
-// needs no second look). False for a ref setup would never have written (a slot of an overflowed frame).
+// the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
+// no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 bool loadBinTriangle(uint ref, out TriSetup t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
         t = setupTris[min(ref & ~BIN_REF_RECORD, params.setupCapacity - 1u)];
         return (ref & ~BIN_REF_RECORD) < params.setupCapacity;
     }
-    uint i0, i1, i2;
-    t = setupTris[0];
-    if (ref >= params.triangleCount || !loadTriangleIndices(ref, i0, i1, i2)) return false;
-    return setupSnappedRecords(loadSnapped(i0), loadSnapped(i1), loadSnapped(i2), ref, true, CULL_NONE,
-                               params.width, params.height, t);
+    if (ref >= params.triangleCount) {
+        t = setupTris[0];
+        return false;
+    }
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(ref, c0, c1, c2)) {
+        t = setupTris[0];
+        return false;
+    }
+    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

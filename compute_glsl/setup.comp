@@ -1,10 +1,8 @@
-// setup.comp - stage `setup`: per input triangle, cull, clip and snap (from the vertex stage's records of
-// vertices snapped once each; only a triangle that crosses a clip plane goes back to clip positions).
-// A small (sub-)triangle (bbox at most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by
-// its thread, the one-thread fast path that needs no memory; a big one is cut into pieces of
-// consecutive bbox tiles (pieceCount) for bin_count and bin_fill. Only a clipped big sub-triangle is
-// stored (a TriSetup record); every other big triangle is named by its input index and set up again
-// where it is needed.
+// setup.comp - stage `setup`: per input triangle, cull, clip and snap; a small (sub-)triangle (bbox at
+// most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by its thread, the one-thread fast
+// path that needs no memory; a big one is cut into pieces of consecutive bbox tiles (pieceCount) for
+// bin_count and bin_fill. Only a clipped big sub-triangle is stored (a TriSetup record); every other big
+// triangle is named by its input index and set up again where it is needed.
 // One thread per triangle; groups = ceil(triangleCount / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -59,39 +57,27 @@ void main()
 {
     uint tri = gl_GlobalInvocationID.x;
     if (tri >= params.triangleCount) return;
-    uint i0, i1, i2;
-    if (!loadTriangleIndices(tri, i0, i1, i2)) {
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(tri, c0, c1, c2)) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
-    ivec4 s0 = loadSnapped(i0), s1 = loadSnapped(i1), s2 = loadSnapped(i2);
-    uint kind = classifySnapped(s0, s1, s2);
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
+    if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
     bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
-    TriSetup t;
-    if (kind == PREPARE_DIRECT) {
-        // The common case: vertices snapped once each by the vertex stage.
-        if (setupSnappedRecords(s0, s1, s2, tri, doubleSided, params.cullMode, params.width, params.height,
-                                t)) {
-            emitTriangle(t, false);
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                          params.height, t)) {
+            emitTriangle(t, kind == PREPARE_CLIPPED);
             ++emitted;
-        }
-    } else if (kind == PREPARE_CLIPPED) {
-        atomicAdd(counters[COUNTER_CLIPPED], 1u);
-        vec4 poly[MAX_CLIP_VERTS];
-        uint planes = (uint(s0.w) | uint(s1.w) | uint(s2.w)) >> 16u & 0x3fu;
-        vec4 c0 = clipPosition(i0), c1 = clipPosition(i1), c2 = clipPosition(i2);
-        uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
-        for (uint k = 1u; k + 1u < count; ++k) {
-            if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                              params.height, t)) {
-                emitTriangle(t, true);
-                ++emitted;
-            }
         }
     }
     if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);

@@ -10,7 +10,5 @@ layout(local_size_x = GROUP_SIZE) in;
 void main()
 {
     uint v = gl_GlobalInvocationID.x;
-    if (v < params.vertexCount)
-        snapped[v] = snapVertexRecord(mulPoint(params.clipFromWorld, positions[v]), params.guardBand,
-                                      params.width, params.height);
+    if (v < params.vertexCount) clipPos[v] = mulPoint(params.clipFromWorld, positions[v]);
 }

@@ -14,7 +14,7 @@ struct Buffers {
     const vec4* colors;              // BUF_COLORS
     const uint* indices;             // BUF_INDICES
     const uint* triFlags;            // BUF_TRI_FLAGS
-    ivec4* snapped;                  // BUF_SNAPPED
+    vec4* clipPos;                   // BUF_CLIP_POS
     TriSetup* setupTris;             // BUF_SETUP_TRIS
     uvec2* pieces;                   // BUF_PIECES
     uint* tileBins;                  // BUF_TILE_BINS
@@ -37,34 +37,25 @@ __device__ inline void mergeFragment(const RasterParams& params, const Buffers& 
     if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) atomicAdd(&b.hitCount[pixel], 1u);
 }
 
-// The vertex indices of input triangle `tri`; false when one is out of range.
-__device__ inline bool loadTriangleIndices(const RasterParams& params, const Buffers& b, uint tri, uint& i0,
-                                           uint& i1, uint& i2)
+// Clip positions of input triangle `tri`'s vertices, as setup sees them (setupClipPosition). False when
+// an index is out of range.
+__device__ inline bool loadClipTriangle(const RasterParams& params, const Buffers& b, uint tri, vec4& c0,
+                                        vec4& c1, vec4& c2)
 {
-    i0 = b.indices[3u * tri];
-    i1 = b.indices[3u * tri + 1u];
-    i2 = b.indices[3u * tri + 2u];
-    return max(i0, max(i1, i2)) < params.vertexCount;
-}
-
-// A vertex's record (snapVertexRecord): from the vertex stage's buffer, or, for a triangle soup
-// (RasterParams.transformInSetup: no vertex shared, no vertex stage), made here by the same functions.
-__device__ inline ivec4 loadSnapped(const RasterParams& params, const Buffers& b, uint vertex)
-{
-    if (params.transformInSetup == 0u) return b.snapped[vertex];
-    return snapVertexRecord(mulPoint(params.clipFromWorld, b.positions[vertex]), params.guardBand,
-                            params.width, params.height);
-}
-
-// A vertex's clip position, for the clipper: the same product the vertex stage computed.
-__device__ inline vec4 clipPosition(const RasterParams& params, const Buffers& b, uint vertex)
-{
-    return mulPoint(params.clipFromWorld, b.positions[vertex]);
+    uint i0 = b.indices[3u * tri];
+    uint i1 = b.indices[3u * tri + 1u];
+    uint i2 = b.indices[3u * tri + 2u];
+    if (max(i0, max(i1, i2)) >= params.vertexCount) return false;
+    bool stored = params.transformInSetup == 0u;
+    c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
+    c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
+    c2 = setupClipPosition(params, b.positions[i2], stored ? b.clipPos[i2] : vec4(0.0f));
+    return true;
 }
 
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
-// its vertex records exactly as setup did (same function, same bits; setup already culled it, so facing
-// needs no second look). False for a ref setup would never have written (a slot of an overflowed frame).
+// the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
+// no second look). False for a ref setup would never have written (a slot of an overflowed frame).
 __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers& b, uint ref, TriSetup& t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
@@ -72,11 +63,10 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
         t = b.setupTris[ref & ~BIN_REF_RECORD];
         return true;
     }
-    uint i0, i1, i2;
-    if (ref >= params.triangleCount || !loadTriangleIndices(params, b, ref, i0, i1, i2)) return false;
-    return setupSnappedRecords(loadSnapped(params, b, i0), loadSnapped(params, b, i1),
-                               loadSnapped(params, b, i2), ref, true, CULL_NONE, params.width, params.height,
-                               t);
+    if (ref >= params.triangleCount) return false;
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(params, b, ref, c0, c1, c2)) return false;
+    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

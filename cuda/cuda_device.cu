@@ -138,7 +138,7 @@ private:
         b.colors = as<vec4>(BUF_COLORS);
         b.indices = as<uint>(BUF_INDICES);
         b.triFlags = as<uint>(BUF_TRI_FLAGS);
-        b.snapped = as<ivec4>(BUF_SNAPPED);
+        b.clipPos = as<vec4>(BUF_CLIP_POS);
         b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
         b.pieces = as<uvec2>(BUF_PIECES);
         b.tileBins = as<uint>(BUF_TILE_BINS);

@@ -5,9 +5,7 @@ namespace sr {
 __device__ inline void vertexStage(const RasterParams& params, const Buffers& b)
 {
     uint v = globalThreadId();
-    if (v < params.vertexCount)
-        b.snapped[v] = snapVertexRecord(mulPoint(params.clipFromWorld, b.positions[v]), params.guardBand,
-                                        params.width, params.height);
+    if (v < params.vertexCount) b.clipPos[v] = mulPoint(params.clipFromWorld, b.positions[v]);
 }
 
 }  // namespace sr

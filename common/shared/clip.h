@@ -127,6 +127,14 @@ SR_FN uint clipTriangle(vec4 c0, vec4 c1, vec4 c2, uint planes, vec4 guardBand,
     return count >= 3u ? count : 0u;
 }
 
+// Clip position of a vertex as setup sees it: from the vertex stage's buffer, or, when no vertex is
+// shared (RasterParams.transformInSetup), computed here by the same function the vertex stage uses, so
+// the bits are the same either way.
+SR_FN vec4 setupClipPosition(RasterParams params, vec4 worldPosition, vec4 storedClip)
+{
+    return params.transformInSetup != 0u ? mulPoint(params.clipFromWorld, worldPosition) : storedClip;
+}
+
 // What setup does with one input triangle before snapping.
 #define PREPARE_INVALID 0u  // a NaN or Inf clip coordinate: dropped and counted
 #define PREPARE_CULLED 1u   // all vertices outside one viewport plane: no pixel can be covered

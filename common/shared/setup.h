@@ -84,12 +84,16 @@ SR_FN float recipArea(int64_t area)
     return r;
 }
 
-// Everything raster needs from one (sub-)triangle, from its snapped vertices (window xy in 1/256 px,
-// window depth). Returns false (and leaves `t` undefined) when the snapped triangle has zero area, faces
-// the culled way, or covers no pixel centre of the viewport.
-SR_FN bool setupSnapped(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1, float z2, uint triId,
-                        bool doubleSided, uint cullMode, uint width, uint height, SR_OUT(TriSetup) t)
+// Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
+// snapped triangle has zero area, faces the culled way, or covers no pixel centre of the viewport.
+SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
+                         uint height, SR_OUT(TriSetup) t)
 {
+    ivec2 v0, v1, v2;
+    float z0, z1, z2;
+    if (!snapVertex(c0, width, height, v0, z0)) return false;
+    if (!snapVertex(c1, width, height, v1, z1)) return false;
+    if (!snapVertex(c2, width, height, v2, z2)) return false;
     int64_t area = signedArea2(v0, v1, v2);
     if (area == int64_t(0)) return false;
     bool frontFacing = area < int64_t(0);  // counter-clockwise on screen, glTF's front face
@@ -113,57 +117,6 @@ SR_FN bool setupSnapped(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1, float 
     SR_PRECISE float dz20 = z2 - z0;
     t.depthPlane = vec4(z0, dz10, dz20, recipArea(area));
     return true;
-}
-
-// setupSnapped from clip positions: false also when a vertex cannot be snapped (w <= 0, or outside the
-// guard band).
-SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
-                         uint height, SR_OUT(TriSetup) t)
-{
-    ivec2 v0, v1, v2;
-    float z0, z1, z2;
-    if (!snapVertex(c0, width, height, v0, z0)) return false;
-    if (!snapVertex(c1, width, height, v1, z1)) return false;
-    if (!snapVertex(c2, width, height, v2, z2)) return false;
-    return setupSnapped(v0, v1, v2, z0, z1, z2, triId, doubleSided, cullMode, width, height, t);
-}
-
-// The vertex stage's record of one vertex, so that setup snaps each shared vertex once instead of once
-// per triangle: (x, y) snapped window position and the window depth's bits when SNAP_OK, and in .w the
-// flags below with the vertex's frustum outcode (bits 8-13) and clip-plane outcode (bits 16-21). From
-// these setup classifies a triangle exactly as prepareTriangle does from the clip positions.
-#define SNAP_FINITE 1u  // all four clip coordinates are finite
-#define SNAP_OK 2u      // snapVertex succeeded
-SR_FN ivec4 snapVertexRecord(vec4 c, vec4 guardBand, uint width, uint height)
-{
-    uint flags = 0u;
-    if (isFinite(c.x) && isFinite(c.y) && isFinite(c.z) && isFinite(c.w)) flags |= SNAP_FINITE;
-    flags |= (frustumOutcode(c) << 8u) | (clipOutcode(c, guardBand) << 16u);
-    ivec2 xy = ivec2(0, 0);
-    float z = 0.0f;
-    if ((flags & SNAP_FINITE) != 0u && snapVertex(c, width, height, xy, z)) flags |= SNAP_OK;
-    return ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
-}
-
-// prepareTriangle's classification from three vertex records: PREPARE_INVALID, PREPARE_CULLED,
-// PREPARE_DIRECT (no clip plane crossed: setupSnappedRecords sets it up), or PREPARE_CLIPPED (the
-// caller clips the clip positions).
-SR_FN uint classifySnapped(ivec4 s0, ivec4 s1, ivec4 s2)
-{
-    uint f0 = uint(s0.w), f1 = uint(s1.w), f2 = uint(s2.w);
-    if ((f0 & f1 & f2 & SNAP_FINITE) == 0u) return PREPARE_INVALID;
-    if (((f0 & f1 & f2) >> 8u & 0x3fu) != 0u) return PREPARE_CULLED;
-    return ((f0 | f1 | f2) >> 16u & 0x3fu) == 0u ? PREPARE_DIRECT : PREPARE_CLIPPED;
-}
-
-// setupTriangle for a PREPARE_DIRECT triangle from its vertex records: the same bits.
-SR_FN bool setupSnappedRecords(ivec4 s0, ivec4 s1, ivec4 s2, uint triId, bool doubleSided, uint cullMode,
-                               uint width, uint height, SR_OUT(TriSetup) t)
-{
-    if ((uint(s0.w) & uint(s1.w) & uint(s2.w) & SNAP_OK) == 0u) return false;
-    return setupSnapped(ivec2(s0.x, s0.y), ivec2(s1.x, s1.y), ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)),
-                        uintBitsToFloat(uint(s1.z)), uintBitsToFloat(uint(s2.z)), triId, doubleSided,
-                        cullMode, width, height, t);
 }
 
 SR_FN ivec2 setupV0(TriSetup t)

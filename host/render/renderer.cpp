@@ -168,7 +168,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
     SR_TRY(
-        device.resize(BUF_SNAPPED, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::ivec4)));
+        device.resize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
     SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
