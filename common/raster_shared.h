@@ -76,15 +76,16 @@ SR_NAMESPACE_BEGIN
 #define STAGE_SHADE 8         // per pixel: resolve the visibility key and shade
 #define STAGE_COUNT 9
 
-#define GROUP_SIZE 128         // threads per group of the 1D stages
-#define CLEAR_SPAN 8           // elements each clear thread resets, GROUP_SIZE apart
-#define SCAN_GROUP_SIZE 256    // elements per scan block (one per thread)
-#define TILE_SIZE 8            // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
-#define SMALL_TRI_SPAN 12      // triangles whose pixel bbox is at most this wide and high are small
-#define TILES_PER_PIECE 16     // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
-#define MAX_PIECES 1024        // ...unless that would make more pieces than this; then pieces grow
-#define MIN_RASTER_LANES 8     // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
-#define MAX_PIXELS_PER_LANE 8  // TILE_SIZE^2 / MIN_RASTER_LANES: pixels one raster_tiles invocation owns
+#define GROUP_SIZE 128       // threads per group of the 1D stages
+#define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
+#define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
+#define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads
+#define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
+#define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
+#define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
+#define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
+#define MAX_PIXELS_PER_LANE \
+    (TILE_SIZE * TILE_SIZE / MIN_RASTER_LANES)  // pixels a raster_tiles invocation owns
 #define BIN_REF_RECORD 0x80000000u  // bin ref bit: the rest indexes BUF_SETUP_TRIS, else an input triangle
 #define PIECE_COUNTED 0x80000000u   // piece first-tile bit: setup already counted the piece's tiles
 #define SUBPIXEL_BITS 8             // vertices snap to 1/256 pixel, as Vulkan on NVIDIA, lavapipe and D3D

@@ -31,6 +31,12 @@ Status allocateLists(ComputeDevice& device, const ListCapacities& c)
     return device.resize(BUF_BIN_ENTRIES, size_t(c.binEntries) * sizeof(uint32_t));
 }
 
+// Screen tiles per row and per column for a width x height framebuffer (RasterParams.tilesX, tilesY).
+glm::uvec2 tileGrid(uint32_t width, uint32_t height)
+{
+    return {(width + TILE_SIZE - 1) / TILE_SIZE, (height + TILE_SIZE - 1) / TILE_SIZE};
+}
+
 // Capacity for a list that needed `counted` entries: what was counted plus an eighth, so that a
 // camera that moves a little does not overflow again, and no more (memory is budgeted per triangle).
 uint64_t grownCapacity(uint64_t counted)
@@ -104,8 +110,9 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.setupCapacity = capacities.records;
     p.pieceCapacity = capacities.pieces;
     p.binCapacity = capacities.binEntries;
-    p.tilesX = (s.width + TILE_SIZE - 1) / TILE_SIZE;
-    p.tilesY = (s.height + TILE_SIZE - 1) / TILE_SIZE;
+    glm::uvec2 grid = tileGrid(s.width, s.height);
+    p.tilesX = grid.x;
+    p.tilesY = grid.y;
     p.rasterGroups = std::clamp(groups.raster, 1u, p.tilesX * p.tilesY);
     p.binGroups = std::clamp(groups.bin, 1u, std::max(groupsFor(capacities.pieces, GROUP_SIZE), 1u));
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
@@ -144,8 +151,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(checkRenderInputs(scene, settings));
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
-    const uint64_t tiles = uint64_t((settings.width + TILE_SIZE - 1) / TILE_SIZE) *
-                           ((settings.height + TILE_SIZE - 1) / TILE_SIZE);
+    const glm::uvec2 grid = tileGrid(settings.width, settings.height);
+    const uint64_t tiles = uint64_t(grid.x) * grid.y;
     const uint64_t tris = scene.triangleCount();
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
     // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
