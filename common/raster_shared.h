@@ -46,7 +46,13 @@ SR_NAMESPACE_BEGIN
 #define BUF_VISIBILITY 14    // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
 #define BUF_FRAMEBUFFER 15   // uint per pixel: RGBA8, sRGB-encoded colour
 #define BUF_HIT_COUNT 16     // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_COUNT 17
+#define BUF_MATERIALS 17     // GpuMaterial per scene material (RasterParams.materialCount of them)
+#define BUF_TRI_MATERIALS 18  // uint per triangle: its material's index (read only when materialCount > 0)
+#define BUF_TEXCOORDS 19     // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
+#define BUF_TEXTURES 20      // GpuTexture per texture
+#define BUF_TEXELS 21        // uint per texel, RGBA8 (R in the low byte): every level of every texture
+#define BUF_SRGB_TABLE 22    // float[256]: the linear value of each sRGB-encoded byte (decode table)
+#define BUF_COUNT 23
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -105,6 +111,28 @@ SR_NAMESPACE_BEGIN
 #define EMPTY_ID 0xFFFFFFFFu
 
 #define TRI_FLAG_DOUBLE_SIDED 1u  // never culled by facing (glTF doubleSided materials)
+#define TRI_FLAG_ALPHA_MASK 2u    // material is alphaMode MASK: the visibility stages test its alpha
+
+// Textures: wrap modes and filters (GpuTexture), the --texture-filter override (RasterParams), UV
+// interpolation, material alpha modes.
+#define WRAP_REPEAT 0u
+#define WRAP_CLAMP_TO_EDGE 1u
+#define WRAP_MIRRORED_REPEAT 2u
+#define FILTER_NEAREST 0u
+#define FILTER_LINEAR 1u
+#define MIPMAP_NONE 0u     // level 0 only (glTF minFilter NEAREST / LINEAR)
+#define MIPMAP_NEAREST 1u  // nearest level (..._MIPMAP_NEAREST)
+#define MIPMAP_LINEAR 2u   // blend of the two nearest levels (..._MIPMAP_LINEAR)
+#define TEXTURE_FILTER_AUTO 0u       // each texture's own sampler
+#define TEXTURE_FILTER_NEAREST 1u    // nearest texel of level 0
+#define TEXTURE_FILTER_BILINEAR 2u   // bilinear on level 0
+#define TEXTURE_FILTER_TRILINEAR 3u  // bilinear on the two nearest levels, blended
+#define UV_PERSPECTIVE 0u  // texture coordinates interpolated perspective-correctly
+#define UV_AFFINE 1u       // interpolated linearly in screen space (the classic mistake, for comparison)
+#define ALPHA_OPAQUE 0u
+#define ALPHA_MASK 1u  // covered only where alpha >= alphaCutoff
+#define NO_TEXTURE 0xFFFFFFFFu
+#define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u
 #define CULL_BACK 1u
@@ -118,6 +146,8 @@ SR_NAMESPACE_BEGIN
 #define SHADING_DEPTH 5u
 #define SHADING_PRIMITIVE_ID 6u
 #define SHADING_HIT_COUNT 7u  // debug: how many triangles covered each pixel (needs DEBUG_COUNT_HITS)
+#define SHADING_TEXCOORD 8u   // debug: the material's texture coordinates as red and green (fract)
+#define SHADING_MIP 9u        // debug: the texture LOD (lambda) of the base colour as a colour ramp
 
 // RasterParams.debugFlags bits.
 #define DEBUG_COUNT_HITS 1u  // raster stages also count every covered pixel in BUF_HIT_COUNT
@@ -149,6 +179,35 @@ struct RasterParams {
     uint transformInSetup;  // 1: no vertex is shared, setup transforms positions itself (no vertex stage)
     uint binGroups;         // groups bin_count and bin_fill run; thread i takes pieces i, i + binGroups *
                             // GROUP_SIZE, ...
+    uint materialCount;     // entries in BUF_MATERIALS; 0: every triangle is white, untextured, opaque
+    uint textureFilter;     // TEXTURE_FILTER_*: AUTO follows each texture's sampler
+    uint uvInterpolation;   // UV_PERSPECTIVE or UV_AFFINE
+    uint textureCount;      // entries in BUF_TEXTURES
+};
+
+// A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
+struct GpuMaterial {
+    vec4 baseColorFactor;   // linear RGBA, multiplies the texture and the vertex colour
+    vec4 uvTransformU;      // u' = x u + y v + z (KHR_texture_transform; identity when absent), w unused
+    vec4 uvTransformV;      // v' = x u + y v + z
+    uint baseColorTexture;  // index into BUF_TEXTURES, NO_TEXTURE when none
+    uint texCoord;          // 0: TEXCOORD_0, 1: TEXCOORD_1 (BUF_TEXCOORDS .xy or .zw)
+    uint alphaMode;         // ALPHA_OPAQUE or ALPHA_MASK (BLEND is drawn as OPAQUE)
+    float alphaCutoff;      // MASK: covered where alpha >= alphaCutoff
+};
+
+// One texture: its levels in BUF_TEXELS and its sampler. Level k is max(1, width >> k) x
+// max(1, height >> k) texels, row-major, top row first (glTF's v = 0), levels one after another from
+// texelOffset. 32 bytes.
+struct GpuTexture {
+    uint texelOffset;  // first texel of level 0 in BUF_TEXELS
+    uint width;        // level 0 size, 1..MAX_TEXTURE_DIM
+    uint height;
+    uint levels;       // 1 + floor(log2(max(width, height))): the full chain down to 1x1
+    uint wrapS;        // WRAP_* along u
+    uint wrapT;        // WRAP_* along v
+    uint filters;      // magFilter | minFilter << 8 | mipmapMode << 16 (FILTER_*, MIPMAP_*)
+    uint srgb;         // 1: texels are sRGB-encoded and decoded through BUF_SRGB_TABLE before filtering
 };
 
 // One rasterizable triangle after clipping and snapping, positively oriented (edge functions are
@@ -161,7 +220,9 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 16 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 20 * 4, "RasterParams must match std140");
+static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
+static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
 #endif
 

@@ -15,6 +15,7 @@
 #include <glm/glm.hpp>
 
 #include "base/result.h"
+#include "raster_shared.h"
 
 namespace sr {
 
@@ -30,12 +31,52 @@ struct SceneCamera {
     float xmag = 1.0f, ymag = 1.0f;  // orthographic half extents
 };
 
+// How a texture is sampled: glTF sampler values mapped to raster_shared.h's WRAP_*, FILTER_*, MIPMAP_*.
+// The defaults are glTF's for a texture without a sampler (repeat, trilinear).
+struct TextureSampler {
+    uint32_t wrapS = WRAP_REPEAT;
+    uint32_t wrapT = WRAP_REPEAT;
+    uint32_t magFilter = FILTER_LINEAR;
+    uint32_t minFilter = FILTER_LINEAR;
+    uint32_t mipmapMode = MIPMAP_LINEAR;
+};
+
+// A decoded image with its full mip chain, as GpuTexture describes it: level k is max(1, width >> k) x
+// max(1, height >> k) RGBA8 texels (R in the low byte), row-major from the top row, levels concatenated.
+// sRGB images keep their bytes at level 0; each further level is the 2x2 box average of the one above
+// computed in linear space and encoded back (odd sizes: the last row/column averages with itself).
+struct SceneTexture {
+    std::string name;  // image URI or name, for messages
+    uint32_t width = 0, height = 0, levels = 0;
+    bool srgb = true;  // glTF base colour textures are sRGB
+    std::vector<uint32_t> texels;
+    TextureSampler sampler;
+};
+
+// A material as the pipeline uses it (glTF metallic-roughness base colour, alpha mode; OBJ Kd/map_Kd).
+struct SceneMaterial {
+    std::string name;
+    glm::vec4 baseColorFactor{1.0f};  // linear RGBA
+    int32_t baseColorTexture = -1;    // index into Scene::textures, -1: none
+    uint32_t texCoord = 0;            // 0 or 1: which of Scene::texcoords' two sets
+    glm::mat3 uvTransform{1.0f};      // KHR_texture_transform T * R * S (column-major, last row 0 0 1)
+    uint32_t alphaMode = ALPHA_OPAQUE;
+    float alphaCutoff = 0.5f;
+};
+
 struct Scene {
     std::vector<glm::vec4> positions;  // world space, w = 1
     std::vector<glm::vec4> normals;    // world space, unit length, w = 0; same count as positions
     std::vector<glm::vec4> colors;     // linear RGBA per vertex; empty when every colour is white
     std::vector<uint32_t> indices;     // 3 per triangle, each < positions.size()
     std::vector<uint32_t> triFlags;    // one per triangle: TRI_FLAG_* from raster_shared.h
+    // Materials: empty when the file has none that changes anything (every triangle white, opaque,
+    // untextured); otherwise triMaterials has one index per triangle. texcoords is empty unless some
+    // material has a texture; then it has one (u0, v0, u1, v1) per vertex (zeros for a missing set).
+    std::vector<SceneMaterial> materials;
+    std::vector<uint32_t> triMaterials;
+    std::vector<glm::vec4> texcoords;
+    std::vector<SceneTexture> textures;
     std::vector<SceneCamera> cameras;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all referenced vertices
     uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
