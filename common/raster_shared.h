@@ -8,7 +8,8 @@
 //   clip.h         stage setup, first half: outcodes, frustum cull, near/far/guard-band clipping
 //   setup.h        stage setup, second half: snapping to n.8 fixed point, edge functions, top-left rule
 //   raster.h       raster stages: pixel coverage and depth, tile walk, the 64-bit visibility key
-//   shade.h        stage shade: perspective-correct barycentrics, lighting, sRGB
+//   texture.h      textures: level of detail, level and texel selection, wrap modes, filters
+//   shade.h        stage shade: perspective-correct barycentrics and derivatives, lighting, sRGB
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index
 // threads, load buffers, call these functions and do the atomics.
 //
@@ -29,29 +30,29 @@ SR_NAMESPACE_BEGIN
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0         // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1      // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2        // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
-#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
-#define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
-#define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
-#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned to its base offset
-#define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
-#define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
-#define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 14    // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 15   // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 16     // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_MATERIALS 17     // GpuMaterial per scene material (RasterParams.materialCount of them)
+#define BUF_PARAMS 0          // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1       // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2         // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3          // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4         // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5       // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6        // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7      // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
+#define BUF_PIECES 8          // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
+#define BUF_TILE_BINS 9       // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
+#define BUF_SCAN_SUMS 10      // uint per scan block of tiles: block total, scanned to its base offset
+#define BUF_BIN_ENTRIES 11    // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
+#define BUF_ACTIVE_TILES 12   // uint: the screen tiles whose bin is not empty, in no particular order
+#define BUF_COUNTERS 13       // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY 14     // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
+#define BUF_FRAMEBUFFER 15    // uint per pixel: RGBA8, sRGB-encoded colour
+#define BUF_HIT_COUNT 16      // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_MATERIALS 17      // GpuMaterial per scene material (RasterParams.materialCount of them)
 #define BUF_TRI_MATERIALS 18  // uint per triangle: its material's index (read only when materialCount > 0)
-#define BUF_TEXCOORDS 19     // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
-#define BUF_TEXTURES 20      // GpuTexture per texture
-#define BUF_TEXELS 21        // uint per texel, RGBA8 (R in the low byte): every level of every texture
-#define BUF_SRGB_TABLE 22    // float[256]: the linear value of each sRGB-encoded byte (decode table)
+#define BUF_TEXCOORDS 19      // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
+#define BUF_TEXTURES 20       // GpuTexture per texture
+#define BUF_TEXELS 21         // uint per texel, RGBA8 (R in the low byte): every level of every texture
+#define BUF_SRGB_TABLE 22     // float[256]: the linear value of each sRGB-encoded byte (decode table)
 #define BUF_COUNT 23
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
@@ -120,15 +121,15 @@ SR_NAMESPACE_BEGIN
 #define WRAP_MIRRORED_REPEAT 2u
 #define FILTER_NEAREST 0u
 #define FILTER_LINEAR 1u
-#define MIPMAP_NONE 0u     // level 0 only (glTF minFilter NEAREST / LINEAR)
-#define MIPMAP_NEAREST 1u  // nearest level (..._MIPMAP_NEAREST)
-#define MIPMAP_LINEAR 2u   // blend of the two nearest levels (..._MIPMAP_LINEAR)
+#define MIPMAP_NONE 0u               // level 0 only (glTF minFilter NEAREST / LINEAR)
+#define MIPMAP_NEAREST 1u            // nearest level (..._MIPMAP_NEAREST)
+#define MIPMAP_LINEAR 2u             // blend of the two nearest levels (..._MIPMAP_LINEAR)
 #define TEXTURE_FILTER_AUTO 0u       // each texture's own sampler
 #define TEXTURE_FILTER_NEAREST 1u    // nearest texel of level 0
 #define TEXTURE_FILTER_BILINEAR 2u   // bilinear on level 0
 #define TEXTURE_FILTER_TRILINEAR 3u  // bilinear on the two nearest levels, blended
-#define UV_PERSPECTIVE 0u  // texture coordinates interpolated perspective-correctly
-#define UV_AFFINE 1u       // interpolated linearly in screen space (the classic mistake, for comparison)
+#define UV_PERSPECTIVE 0u            // texture coordinates interpolated perspective-correctly
+#define UV_AFFINE 1u  // interpolated linearly in screen space (the classic mistake, for comparison)
 #define ALPHA_OPAQUE 0u
 #define ALPHA_MASK 1u  // covered only where alpha >= alphaCutoff
 #define NO_TEXTURE 0xFFFFFFFFu
@@ -203,11 +204,11 @@ struct GpuTexture {
     uint texelOffset;  // first texel of level 0 in BUF_TEXELS
     uint width;        // level 0 size, 1..MAX_TEXTURE_DIM
     uint height;
-    uint levels;       // 1 + floor(log2(max(width, height))): the full chain down to 1x1
-    uint wrapS;        // WRAP_* along u
-    uint wrapT;        // WRAP_* along v
-    uint filters;      // magFilter | minFilter << 8 | mipmapMode << 16 (FILTER_*, MIPMAP_*)
-    uint srgb;         // 1: texels are sRGB-encoded and decoded through BUF_SRGB_TABLE before filtering
+    uint levels;   // 1 + floor(log2(max(width, height))): the full chain down to 1x1
+    uint wrapS;    // WRAP_* along u
+    uint wrapT;    // WRAP_* along v
+    uint filters;  // magFilter | minFilter << 8 | mipmapMode << 16 (FILTER_*, MIPMAP_*)
+    uint srgb;     // 1: texels are sRGB-encoded and decoded through BUF_SRGB_TABLE before filtering
 };
 
 // One rasterizable triangle after clipping and snapping, positively oriented (edge functions are
@@ -234,6 +235,7 @@ SR_NAMESPACE_END
 #include "shared/clip.h"
 #include "shared/setup.h"
 #include "shared/raster.h"
+#include "shared/texture.h"
 #include "shared/shade.h"
 
 #endif  // RASTER_SHARED_H

@@ -23,6 +23,12 @@ layout(std430, set = 0, binding = BUF_COUNTERS) buffer CountersBlock { uint coun
 layout(std430, set = 0, binding = BUF_VISIBILITY) buffer VisibilityBlock { uint64_t visibility[]; };
 layout(std430, set = 0, binding = BUF_FRAMEBUFFER) buffer FramebufferBlock { uint framebuffer[]; };
 layout(std430, set = 0, binding = BUF_HIT_COUNT) buffer HitCountBlock { uint hitCount[]; };
+layout(std430, set = 0, binding = BUF_MATERIALS) readonly buffer MaterialsBlock { GpuMaterial materials[]; };
+layout(std430, set = 0, binding = BUF_TRI_MATERIALS) readonly buffer TriMaterialsBlock { uint triMaterials[]; };
+layout(std430, set = 0, binding = BUF_TEXCOORDS) readonly buffer TexcoordsBlock { vec4 texcoords[]; };
+layout(std430, set = 0, binding = BUF_TEXTURES) readonly buffer TexturesBlock { GpuTexture textures[]; };
+layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint texels[]; };
+layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock { float srgbTable[]; };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
 // plus the debug hit count. Used by setup for small triangles; raster_tiles owns its pixels and writes
@@ -76,6 +82,89 @@ bool loadBinTriangle(uint ref, out TriSetup t)
 uint binEnd(uint tile)
 {
     return scanSums[tile / uint(SCAN_GROUP_SIZE)] + tileBins[tile];
+}
+
+// One texel as linear RGBA: sRGB colour channels through the decode table, the rest as unorm.
+vec4 fetchTexel(GpuTexture t, uint index)
+{
+    uint texel = texels[index];
+    vec4 c = textureUnorm(texel);
+    if (t.srgb != 0u) {
+        c.x = srgbTable[texel & 255u];
+        c.y = srgbTable[(texel >> 8) & 255u];
+        c.z = srgbTable[(texel >> 16) & 255u];
+    }
+    return c;
+}
+
+// Filter `filterMode` on one level at texture coordinates st (texture.h's rules).
+vec4 sampleLevel(GpuTexture t, uint level, uint filterMode, vec2 st)
+{
+    ivec2 size = textureLevelSize(t, level);
+    uint offset = textureLevelOffset(t, level);
+    vec2 w;
+    ivec2 ij = textureTexelCoords(st, size, filterMode, w);
+    if (filterMode == FILTER_NEAREST) return fetchTexel(t, textureTexelIndex(t, offset, size, ij.x, ij.y));
+    vec4 t00 = fetchTexel(t, textureTexelIndex(t, offset, size, ij.x, ij.y));
+    vec4 t10 = fetchTexel(t, textureTexelIndex(t, offset, size, ij.x + 1, ij.y));
+    vec4 t01 = fetchTexel(t, textureTexelIndex(t, offset, size, ij.x, ij.y + 1));
+    vec4 t11 = fetchTexel(t, textureTexelIndex(t, offset, size, ij.x + 1, ij.y + 1));
+    return textureBilinear(t00, t10, t01, t11, w);
+}
+
+// The filtered texture value at st for level of detail lambda (textureLambda).
+vec4 sampleTexture(GpuTexture t, vec2 st, float lambda)
+{
+    TextureLookup look = textureSelect(t, lambda, params.textureFilter);
+    vec4 c = sampleLevel(t, look.level0, look.filterMode, st);
+    if (look.blend > 0.0f) {
+        vec4 c1 = sampleLevel(t, look.level1, look.filterMode, st);
+        precise vec4 mixed = c + (c1 - c) * look.blend;
+        c = mixed;
+    }
+    return c;
+}
+
+// Base colour (linear RGBA: vertex colour x material factor x texture) of triangle `id` at the surface
+// point s, with the texture coordinates and level of detail used (for the debug views; lambda -128
+// without a texture).
+vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out vec2 uv, out float lambda)
+{
+    vec4 white = vec4(1.0f);
+    bool hasColors = params.hasColors != 0u;
+    vec4 base = surfaceColor(s, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
+                             hasColors ? colors[i2] : white);
+    uv = vec2(0.0f);
+    lambda = -128.0f;
+    if (params.materialCount == 0u) return base;
+    GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
+    base = base * m.baseColorFactor;
+    if (m.baseColorTexture >= params.textureCount) return base;
+    bool second = m.texCoord != 0u;
+    vec4 t0 = texcoords[i0], t1 = texcoords[i1], t2 = texcoords[i2];
+    vec2 dx, dy;
+    uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y), second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y),
+                   second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y), dx, dy);
+    uv = materialTransformUv(m, uv);
+    GpuTexture t = textures[m.baseColorTexture];
+    lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
+                           t.height);
+    return base * sampleTexture(t, uv, lambda);
+}
+
+// The alpha test of an alphaMode MASK triangle at pixel (px, py), for the visibility stages: a pixel
+// whose base colour alpha is below the cutoff is not covered (so cut-outs show in ids and depth too).
+bool alphaMaskCovers(uint id, int px, int py)
+{
+    uint i0 = indices[3u * id];
+    uint i1 = indices[3u * id + 1u];
+    uint i2 = indices[3u * id + 2u];
+    SurfacePoint s = surfaceAt(params, px, py, positions[i0], positions[i1], positions[i2], normals[i0],
+                               normals[i1], normals[i2]);
+    vec2 uv;
+    float lambda;
+    vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
+    return base.w >= materials[min(triMaterials[id], params.materialCount - 1u)].alphaCutoff;
 }
 
 #endif  // RASTER_BUFFERS_GLSL

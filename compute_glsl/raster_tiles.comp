@@ -23,6 +23,7 @@ layout(local_size_x_id = 0) in;
 
 shared TriSetup tris[TILE_SIZE * TILE_SIZE];
 shared uint minDepth[TILE_SIZE * TILE_SIZE];
+shared uint masked[TILE_SIZE * TILE_SIZE];  // TRI_FLAG_ALPHA_MASK of each: coverage needs the alpha test
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the group.
 void rasterTile(uint tile, uint lane, uint begin, uint end)
@@ -48,6 +49,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             bool ok = loadBinTriangle(binEntries[base + lane], t);
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
+            bool maskable = ok && params.materialCount != 0u;
+            masked[lane] = maskable ? (triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
         }
         barrier();
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
@@ -55,7 +58,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             for (uint k = 0u; k < count; ++k) {
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
                 float depth;
-                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth)) {
+                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth) &&
+                    (masked[k] == 0u || alphaMaskCovers(setupTriId(tris[k]), px[j], py[j]))) {
                     key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
                     ++hits[j];
                 }

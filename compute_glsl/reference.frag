@@ -2,12 +2,22 @@
 // (host/vulkan/vulkan_graphics.cpp).
 // gl_PrimitiveID of the single indexed draw is the triangle id of the compute backends. Facing culling
 // happens here, per triangle flag, because one draw has one pipeline cull mode and glTF doubleSided
-// triangles must never be culled. The colour is computed as compute_glsl/shade.comp computes it, by
-// shadeTriangleAt at the pixel centre.
+// triangles must never be culled. The surface is derived as compute_glsl/shade.comp derives it
+// (surfaceAt at the pixel centre, the same shadeSurface), with one deliberate difference: the base
+// colour texture is sampled by the hardware, through a real image and sampler with the hardware's
+// implicit derivatives, so that the compute path's software sampling is checked against it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_nonuniform_qualifier : require
 #include "raster_shared.h"
 #include "buffers.glsl"
+
+// One combined image sampler per scene texture (at least one: a placeholder when the scene has none).
+layout(constant_id = 2) const uint kTextureSlots = 1u;
+layout(set = 1, binding = 0) uniform sampler2D baseTextures[kTextureSlots];
+
+layout(location = 0) smooth in vec4 vTexcoords;
+layout(location = 1) noperspective in vec4 vTexcoordsAffine;
 
 layout(location = 0) out uint outColor;
 layout(location = 1) out uint outId;
@@ -22,12 +32,29 @@ void main()
     uint i0 = indices[3u * id];
     uint i1 = indices[3u * id + 1u];
     uint i2 = indices[3u * id + 2u];
+    SurfacePoint s = surfaceAt(params, int(gl_FragCoord.x), int(gl_FragCoord.y), positions[i0], positions[i1],
+                               positions[i2], normals[i0], normals[i1], normals[i2]);
     vec4 white = vec4(1.0f);
     bool hasColors = params.hasColors != 0u;
-    vec3 color = shadeTriangleAt(params, id, int(gl_FragCoord.x), int(gl_FragCoord.y), positions[i0],
-                                 positions[i1], positions[i2], normals[i0], normals[i1], normals[i2],
-                                 hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
-                                 hasColors ? colors[i2] : white);
-    outColor = packRgba8(color);
+    vec4 base = surfaceColor(s, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
+                             hasColors ? colors[i2] : white);
+    vec2 uv = vec2(0.0f);
+    float lambda = -128.0f;  // materialBaseColor's value without a texture
+    if (params.materialCount > 0u) {
+        GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
+        base = base * m.baseColorFactor;
+        // The material is the triangle's and a quad never spans two triangles, so the lookup below runs
+        // in quad-uniform control flow and its implicit derivatives are defined.
+        if (m.baseColorTexture < params.textureCount) {
+            vec4 tc = params.uvInterpolation == UV_AFFINE ? vTexcoordsAffine : vTexcoords;
+            uv = materialTransformUv(m, m.texCoord != 0u ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y));
+            base = base * texture(baseTextures[nonuniformEXT(m.baseColorTexture)], uv);
+            lambda = textureQueryLod(baseTextures[nonuniformEXT(m.baseColorTexture)], uv).y;
+        }
+        // As the compute pipeline's visibility stages: a masked triangle covers no pixel whose alpha is
+        // below the cutoff, so the cut-out shows in the id and depth images too.
+        if ((triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u && base.w < m.alphaCutoff) discard;
+    }
+    outColor = packRgba8(shadeSurface(params, id, s, base, uv, lambda));
     outId = id;
 }

@@ -2,7 +2,7 @@
 // rasterizer's own cost with the cheapest possible fragment work, as `raster bench` measures it.
 // The colour is the background word (a specialization constant), the id is gl_PrimitiveID; early
 // fragment tests let the depth test run before the shader, and facing culling is done by the pipeline.
-// Used only when no triangle needs per-triangle facing (host/vulkan/vulkan_graphics.cpp).
+// Used only when no triangle needs per-triangle facing or an alpha test (host/vulkan/vulkan_graphics.cpp).
 #version 460
 
 layout(early_fragment_tests) in;

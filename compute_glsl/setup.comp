@@ -21,10 +21,12 @@ void emitTriangle(TriSetup t, bool clipped)
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
+        bool masked = params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
-                if (rasterPixel(t, x, y, depth)) mergeFragment(uint(y) * params.width + uint(x), depth, id);
+                if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
+                    mergeFragment(uint(y) * params.width + uint(x), depth, id);
             }
         }
         return;

@@ -1,5 +1,6 @@
 // shade.comp - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
-// triangle's vertex attributes perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
+// triangle's vertex attributes perspective-correctly at the pixel centre, apply its material (base
+// colour factor, texture with analytic derivatives), shade, and store RGBA8 (sRGB).
 // One thread per pixel; groups = ceil(width * height / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -20,12 +21,12 @@ void main()
         uint i0 = indices[3u * id];
         uint i1 = indices[3u * id + 1u];
         uint i2 = indices[3u * id + 2u];
-        vec4 white = vec4(1.0f);
-        bool hasColors = params.hasColors != 0u;
-        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), positions[i0],
-                                positions[i1], positions[i2], normals[i0], normals[i1], normals[i2],
-                                hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
-                                hasColors ? colors[i2] : white);
+        SurfacePoint s = surfaceAt(params, int(i % params.width), int(i / params.width), positions[i0],
+                                   positions[i1], positions[i2], normals[i0], normals[i1], normals[i2]);
+        vec2 uv;
+        float lambda;
+        vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
+        color = shadeSurface(params, id, s, base, uv, lambda);
     }
     framebuffer[i] = packRgba8(color);
 }

@@ -25,6 +25,12 @@ struct Buffers {
     unsigned long long* visibility;  // BUF_VISIBILITY (CUDA's 64-bit atomics take unsigned long long)
     uint* framebuffer;               // BUF_FRAMEBUFFER
     uint* hitCount;                  // BUF_HIT_COUNT
+    const GpuMaterial* materials;    // BUF_MATERIALS
+    const uint* triMaterials;        // BUF_TRI_MATERIALS
+    const vec4* texcoords;           // BUF_TEXCOORDS
+    const GpuTexture* textures;      // BUF_TEXTURES
+    const uint* texels;              // BUF_TEXELS
+    const float* srgbTable;          // BUF_SRGB_TABLE
 };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
@@ -75,6 +81,92 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
 __device__ inline uint binEnd(const Buffers& b, uint tile)
 {
     return b.scanSums[tile / uint(SCAN_GROUP_SIZE)] + b.tileBins[tile];
+}
+
+// One texel as linear RGBA: sRGB colour channels through the decode table, the rest as unorm.
+__device__ inline vec4 fetchTexel(const Buffers& b, const GpuTexture& t, uint index)
+{
+    uint texel = b.texels[index];
+    vec4 c = textureUnorm(texel);
+    if (t.srgb != 0u) {
+        c.x = b.srgbTable[texel & 255u];
+        c.y = b.srgbTable[(texel >> 8) & 255u];
+        c.z = b.srgbTable[(texel >> 16) & 255u];
+    }
+    return c;
+}
+
+// Filter `filterMode` on one level at texture coordinates st (texture.h's rules).
+__device__ inline vec4 sampleLevel(const Buffers& b, const GpuTexture& t, uint level, uint filterMode,
+                                   vec2 st)
+{
+    ivec2 size = textureLevelSize(t, level);
+    uint offset = textureLevelOffset(t, level);
+    vec2 w;
+    ivec2 ij = textureTexelCoords(st, size, filterMode, w);
+    if (filterMode == FILTER_NEAREST) return fetchTexel(b, t, textureTexelIndex(t, offset, size, ij.x, ij.y));
+    vec4 t00 = fetchTexel(b, t, textureTexelIndex(t, offset, size, ij.x, ij.y));
+    vec4 t10 = fetchTexel(b, t, textureTexelIndex(t, offset, size, ij.x + 1, ij.y));
+    vec4 t01 = fetchTexel(b, t, textureTexelIndex(t, offset, size, ij.x, ij.y + 1));
+    vec4 t11 = fetchTexel(b, t, textureTexelIndex(t, offset, size, ij.x + 1, ij.y + 1));
+    return textureBilinear(t00, t10, t01, t11, w);
+}
+
+// The filtered texture value at st for level of detail lambda (textureLambda).
+__device__ inline vec4 sampleTexture(const RasterParams& params, const Buffers& b, const GpuTexture& t,
+                                     vec2 st, float lambda)
+{
+    TextureLookup look = textureSelect(t, lambda, params.textureFilter);
+    vec4 c = sampleLevel(b, t, look.level0, look.filterMode, st);
+    if (look.blend > 0.0f) {
+        vec4 c1 = sampleLevel(b, t, look.level1, look.filterMode, st);
+        c = c + (c1 - c) * look.blend;
+    }
+    return c;
+}
+
+// Base colour (linear RGBA: vertex colour x material factor x texture) of triangle `id` at the surface
+// point s, with the texture coordinates and level of detail used (for the debug views; lambda -128
+// without a texture).
+__device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffers& b, uint id, uint i0,
+                                         uint i1, uint i2, const SurfacePoint& s, vec2& uv, float& lambda)
+{
+    vec4 white = vec4(1.0f);
+    bool hasColors = params.hasColors != 0u;
+    vec4 base = surfaceColor(s, hasColors ? b.colors[i0] : white, hasColors ? b.colors[i1] : white,
+                             hasColors ? b.colors[i2] : white);
+    uv = vec2(0.0f);
+    lambda = -128.0f;
+    if (params.materialCount == 0u) return base;
+    GpuMaterial m = b.materials[min(b.triMaterials[id], params.materialCount - 1u)];
+    base = base * m.baseColorFactor;
+    if (m.baseColorTexture >= params.textureCount) return base;
+    bool second = m.texCoord != 0u;
+    vec4 t0 = b.texcoords[i0], t1 = b.texcoords[i1], t2 = b.texcoords[i2];
+    vec2 dx, dy;
+    uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
+                   second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y), second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y),
+                   dx, dy);
+    uv = materialTransformUv(m, uv);
+    GpuTexture t = b.textures[m.baseColorTexture];
+    lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
+                           t.height);
+    return base * sampleTexture(params, b, t, uv, lambda);
+}
+
+// The alpha test of an alphaMode MASK triangle at pixel (px, py), for the visibility stages: a pixel
+// whose base colour alpha is below the cutoff is not covered (so cut-outs show in ids and depth too).
+__device__ inline bool alphaMaskCovers(const RasterParams& params, const Buffers& b, uint id, int px, int py)
+{
+    uint i0 = b.indices[3u * id];
+    uint i1 = b.indices[3u * id + 1u];
+    uint i2 = b.indices[3u * id + 2u];
+    SurfacePoint s = surfaceAt(params, px, py, b.positions[i0], b.positions[i1], b.positions[i2],
+                               b.normals[i0], b.normals[i1], b.normals[i2]);
+    vec2 uv;
+    float lambda;
+    vec4 base = materialBaseColor(params, b, id, i0, i1, i2, s, uv, lambda);
+    return base.w >= b.materials[min(b.triMaterials[id], params.materialCount - 1u)].alphaCutoff;
 }
 
 // Thread index in a 1D grid, as gl_GlobalInvocationID.x.

@@ -149,6 +149,12 @@ private:
         b.visibility = as<unsigned long long>(BUF_VISIBILITY);
         b.framebuffer = as<uint>(BUF_FRAMEBUFFER);
         b.hitCount = as<uint>(BUF_HIT_COUNT);
+        b.materials = as<GpuMaterial>(BUF_MATERIALS);
+        b.triMaterials = as<uint>(BUF_TRI_MATERIALS);
+        b.texcoords = as<vec4>(BUF_TEXCOORDS);
+        b.textures = as<GpuTexture>(BUF_TEXTURES);
+        b.texels = as<uint>(BUF_TEXELS);
+        b.srgbTable = as<float>(BUF_SRGB_TABLE);
         return b;
     }
 

@@ -21,6 +21,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
 {
     __shared__ TriSetup tris[kLanes];
     __shared__ uint minDepth[kLanes];
+    __shared__ uint masked[kLanes];  // TRI_FLAG_ALPHA_MASK of each: coverage also needs the alpha test
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
     int px[kPixelsPerLane], py[kPixelsPerLane];
     uint64_t key[kPixelsPerLane];
@@ -42,6 +43,8 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
             bool ok = loadBinTriangle(params, b, b.binEntries[base + lane], t);
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
+            masked[lane] =
+                ok && params.materialCount != 0u ? (b.triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
         }
         __syncthreads();
         for (uint j = 0u; j < kPixelsPerLane; ++j) {
@@ -49,7 +52,8 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
             for (uint k = 0u; k < count; ++k) {
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
                 float depth;
-                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth)) {
+                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth) &&
+                    (masked[k] == 0u || alphaMaskCovers(params, b, setupTriId(tris[k]), px[j], py[j]))) {
                     key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
                     ++hits[j];
                 }

@@ -16,10 +16,11 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
+        bool masked = params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
-                if (rasterPixel(t, x, y, depth))
+                if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(params, b, id, x, y)))
                     mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
             }
         }

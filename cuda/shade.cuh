@@ -1,5 +1,6 @@
 // shade.cuh - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
-// triangle's vertex attributes perspective-correctly at the pixel centre, shade, and store RGBA8 (sRGB).
+// triangle's vertex attributes perspective-correctly at the pixel centre, apply its material (base
+// colour factor, texture with analytic derivatives), shade, and store RGBA8 (sRGB).
 // One thread per pixel; blocks = ceil(width * height / GROUP_SIZE).
 namespace sr {
 
@@ -15,12 +16,13 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
         uint i0 = b.indices[3u * id];
         uint i1 = b.indices[3u * id + 1u];
         uint i2 = b.indices[3u * id + 2u];
-        vec4 white = vec4(1.0f);
-        bool hasColors = params.hasColors != 0u;
-        color = shadeTriangleAt(params, id, int(i % params.width), int(i / params.width), b.positions[i0],
-                                b.positions[i1], b.positions[i2], b.normals[i0], b.normals[i1], b.normals[i2],
-                                hasColors ? b.colors[i0] : white, hasColors ? b.colors[i1] : white,
-                                hasColors ? b.colors[i2] : white);
+        SurfacePoint s =
+            surfaceAt(params, int(i % params.width), int(i / params.width), b.positions[i0], b.positions[i1],
+                      b.positions[i2], b.normals[i0], b.normals[i1], b.normals[i2]);
+        vec2 uv;
+        float lambda;
+        vec4 base = materialBaseColor(params, b, id, i0, i1, i2, s, uv, lambda);
+        color = shadeSurface(params, id, s, base, uv, lambda);
     }
     b.framebuffer[i] = packRgba8(color);
 }

@@ -27,9 +27,12 @@
 #define SR_PRECISE
 namespace sr {
 using glm::abs;
+using glm::ceil;
 using glm::clamp;
 using glm::cross;
 using glm::dot;
+using glm::floor;
+using glm::fract;
 using glm::ivec2;
 using glm::ivec4;
 using glm::mat4;

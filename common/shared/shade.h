@@ -1,7 +1,7 @@
-// shared/shade.h - stage `shade`: perspective-correct barycentrics from clip space, the lighting
-// models and debug views, and sRGB encoding.
+// shared/shade.h - stage `shade`: barycentrics and their screen derivatives from clip space, the
+// surface at a pixel, the lighting models and debug views, and sRGB encoding.
 //
-// Shading re-derives each vertex from the scene buffers (see shadeTriangleAt), so it needs no per-vertex
+// Shading re-derives each vertex from the scene buffers (see surfaceAt), so it needs no per-vertex
 // output of the earlier stages. Part of raster_shared.h (included from there, not on its own); same
 // three-language rules.
 #ifndef RASTER_SHARED_SHADE_H
@@ -9,21 +9,40 @@
 
 SR_NAMESPACE_BEGIN
 
-// Perspective-correct barycentrics of NDC point `ndc` straight from clip space (no division per
-// vertex): p_i = xy_i - ndc * w_i, and the sub-areas of p_i are proportional to b_i / w_i.
-// Works for vertices with w <= 0 because the covered point itself always has w > 0.
-SR_FN vec3 perspectiveBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc)
+// Barycentrics at an NDC point with their derivatives, straight from clip space (no division per
+// vertex). With p_i = xy_i - ndc * w_i the sub-areas a_i = cross(p_j, p_k) are proportional to the
+// perspective-correct barycentrics (the surface point is the combination of the p_i that gives 0), and
+// they are affine in ndc: their XY terms cancel, so da_i / dndc is a constant. Screen-space (affine)
+// barycentrics are a_i w_i normalised the same way. `weights` (1, 1, 1) gives the perspective-correct
+// set, (w0, w1, w2) the affine one; derivatives are per NDC unit. Works for vertices with w <= 0
+// because the covered point itself always has w > 0.
+SR_FN vec3 clipBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc, vec3 weights, SR_OUT(vec3) dX,
+                            SR_OUT(vec3) dY)
 {
     vec2 p0 = vec2(c0.x - ndc.x * c0.w, c0.y - ndc.y * c0.w);
     vec2 p1 = vec2(c1.x - ndc.x * c1.w, c1.y - ndc.y * c1.w);
     vec2 p2 = vec2(c2.x - ndc.x * c2.w, c2.y - ndc.y * c2.w);
-    float a0 = p1.x * p2.y - p1.y * p2.x;
-    float a1 = p2.x * p0.y - p2.y * p0.x;
-    float a2 = p0.x * p1.y - p0.y * p1.x;
-    float sum = a0 + a1 + a2;
-    if (sum == 0.0f) return vec3(1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f);
-    vec3 b = vec3(a0, a1, a2) / sum;
+    vec3 a = vec3(p1.x * p2.y - p1.y * p2.x, p2.x * p0.y - p2.y * p0.x, p0.x * p1.y - p0.y * p1.x) * weights;
+    // d(cross(p_j, p_k)) / dX = w_k y_j - w_j y_k and / dY = w_j x_k - w_k x_j, with p for x, y.
+    vec3 ax = vec3(c2.w * p1.y - c1.w * p2.y, c0.w * p2.y - c2.w * p0.y, c1.w * p0.y - c0.w * p1.y) * weights;
+    vec3 ay = vec3(c1.w * p2.x - c2.w * p1.x, c2.w * p0.x - c0.w * p2.x, c0.w * p1.x - c1.w * p0.x) * weights;
+    float sum = a.x + a.y + a.z;
+    dX = vec3(0.0f);
+    dY = vec3(0.0f);
+    if (sum == 0.0f || !isFinite(sum)) return vec3(1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f);
+    float sx = ax.x + ax.y + ax.z;
+    float sy = ay.x + ay.y + ay.z;
+    vec3 b = a / sum;
+    // Quotient rule: d(a_i / S) = (da_i - b_i dS) / S.
+    dX = (ax - b * sx) / sum;
+    dY = (ay - b * sy) / sum;
     return clamp(b, vec3(0.0f), vec3(1.0f));  // clamped against rounding at grazing angles
+}
+
+SR_FN vec3 perspectiveBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc)
+{
+    vec3 dX, dY;
+    return clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), dX, dY);
 }
 
 // NDC of the centre of pixel (px, py).
@@ -114,25 +133,75 @@ SR_FN vec3 interpolate3(vec3 b, vec4 a0, vec4 a1, vec4 a2)
     return vec3(a0.x, a0.y, a0.z) * b.x + vec3(a1.x, a1.y, a1.z) * b.y + vec3(a2.x, a2.y, a2.z) * b.z;
 }
 
-// Colour of pixel (px, py) covered by triangle `triId`, from its world-space vertex positions, normals
-// and linear colours. Shading re-derives each vertex's clip position, view position and view normal
+// What the shade stage knows of the surface at one pixel centre, interpolated from the triangle's
+// three vertices.
+struct SurfacePoint {
+    vec3 bary;        // perspective-correct barycentrics
+    vec3 uvBary;      // the barycentrics texture coordinates use (perspective-correct, or affine)
+    vec3 uvBaryDx;    // their derivatives per pixel along x
+    vec3 uvBaryDy;    // and along y (down)
+    vec3 viewPos;     // view-space position
+    vec3 viewNormal;  // interpolated view-space vertex normal (not normalised)
+    vec3 faceNormal;  // geometric normal of the triangle in view space (not normalised)
+};
+
+// The surface of triangle (pos*, nrm*) at the centre of pixel (px, py), from its world-space vertex
+// positions and normals. Shading re-derives each vertex's clip position, view position and view normal
 // with transformVertex instead of reading them from per-vertex buffers: three small matrix products per
 // pixel cost less than storing and re-reading 48 bytes per vertex, and the clip positions come out
 // bit-identical to the vertex stage's, so the barycentrics match the rasterized triangle exactly.
-SR_FN vec3 shadeTriangleAt(RasterParams params, uint triId, int px, int py, vec4 pos0, vec4 pos1, vec4 pos2,
-                           vec4 nrm0, vec4 nrm1, vec4 nrm2, vec4 col0, vec4 col1, vec4 col2)
+SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec4 pos1, vec4 pos2, vec4 nrm0,
+                             vec4 nrm1, vec4 nrm2)
 {
     vec4 c0, c1, c2, p0, p1, p2, n0, n1, n2;
     transformVertex(params, pos0, nrm0, c0, p0, n0);
     transformVertex(params, pos1, nrm1, c1, p1, n1);
     transformVertex(params, pos2, nrm2, c2, p2, n2);
-    vec3 b = perspectiveBarycentrics(c0, c1, c2, pixelCenterNdc(px, py, params.width, params.height));
-    vec3 viewPos = interpolate3(b, p0, p1, p2);
-    vec3 viewNormal = interpolate3(b, n0, n1, n2);
-    vec3 albedo = interpolate3(b, col0, col1, col2);
+    vec2 ndc = pixelCenterNdc(px, py, params.width, params.height);
+    SurfacePoint s;
+    vec3 dX, dY;
+    s.bary = clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), dX, dY);
+    if (params.uvInterpolation == UV_AFFINE)
+        s.uvBary = clipBarycentrics(c0, c1, c2, ndc, vec3(c0.w, c1.w, c2.w), dX, dY);
+    else
+        s.uvBary = s.bary;
+    // One pixel is 2 / width NDC units along x and 2 / height along y.
+    s.uvBaryDx = dX * (2.0f / float(params.width));
+    s.uvBaryDy = dY * (2.0f / float(params.height));
+    s.viewPos = interpolate3(s.bary, p0, p1, p2);
+    s.viewNormal = interpolate3(s.bary, n0, n1, n2);
     vec3 e1 = vec3(p1.x - p0.x, p1.y - p0.y, p1.z - p0.z);
     vec3 e2 = vec3(p2.x - p0.x, p2.y - p0.y, p2.z - p0.z);
-    return shadePixel(params, triId, viewPos, viewNormal, cross(e1, e2), albedo);
+    s.faceNormal = cross(e1, e2);
+    return s;
+}
+
+// Texture coordinates of one set (tc*: the set's (u, v) at the three vertices) at the surface point,
+// with their derivatives per pixel.
+SR_FN vec2 surfaceUv(SurfacePoint s, vec2 tc0, vec2 tc1, vec2 tc2, SR_OUT(vec2) dUvDx, SR_OUT(vec2) dUvDy)
+{
+    dUvDx = tc0 * s.uvBaryDx.x + tc1 * s.uvBaryDx.y + tc2 * s.uvBaryDx.z;
+    dUvDy = tc0 * s.uvBaryDy.x + tc1 * s.uvBaryDy.y + tc2 * s.uvBaryDy.z;
+    return tc0 * s.uvBary.x + tc1 * s.uvBary.y + tc2 * s.uvBary.z;
+}
+
+// Interpolated vertex colour (linear RGBA) at the surface point.
+SR_FN vec4 surfaceColor(SurfacePoint s, vec4 col0, vec4 col1, vec4 col2)
+{
+    vec3 rgb = interpolate3(s.bary, col0, col1, col2);
+    float a = col0.w * s.bary.x + col1.w * s.bary.y + col2.w * s.bary.z;
+    return vec4(rgb.x, rgb.y, rgb.z, a);
+}
+
+// Colour of the surface point with base colour `baseColor` (linear: material factor x texture x vertex
+// colour). `uv` and `lambda` feed the SHADING_TEXCOORD and SHADING_MIP debug views.
+SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 baseColor, vec2 uv,
+                        float lambda)
+{
+    if (params.shadingMode == SHADING_TEXCOORD) return vec3(fract(uv.x), fract(uv.y), 0.0f);
+    if (params.shadingMode == SHADING_MIP) return mipColor(lambda);
+    return shadePixel(params, triId, s.viewPos, s.viewNormal, s.faceNormal,
+                      vec3(baseColor.x, baseColor.y, baseColor.z));
 }
 
 SR_NAMESPACE_END
