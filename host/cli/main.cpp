@@ -3,7 +3,8 @@
 //   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [--width W --height H]
 //                 [--camera auto|gltf:N|orbit:AZ,EL,DIST] [-o out.png] [--aov out.exr]
 //                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
-//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits]
+//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
+//                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
@@ -40,6 +41,8 @@ struct RenderCommand {
     std::string statsPath;
     std::string cull = "back";
     std::string shading = "blinn-phong";
+    std::string textureFilter = "auto";
+    std::string uvInterpolation = "perspective";
     std::string lightDir, lightColor, background;
     bool quiet = false;
     RenderSettings settings;
@@ -50,7 +53,14 @@ const std::map<std::string, uint32_t> kCullModes = {
 const std::map<std::string, uint32_t> kShadingModes = {
     {"lambert", SHADING_LAMBERT}, {"phong", SHADING_PHONG},     {"blinn-phong", SHADING_BLINN_PHONG},
     {"flat", SHADING_FLAT},       {"normals", SHADING_NORMALS}, {"depth", SHADING_DEPTH},
-    {"id", SHADING_PRIMITIVE_ID}, {"hits", SHADING_HIT_COUNT}};
+    {"id", SHADING_PRIMITIVE_ID}, {"hits", SHADING_HIT_COUNT},  {"texcoord", SHADING_TEXCOORD},
+    {"mip", SHADING_MIP}};
+const std::map<std::string, uint32_t> kTextureFilters = {{"auto", TEXTURE_FILTER_AUTO},
+                                                         {"nearest", TEXTURE_FILTER_NEAREST},
+                                                         {"bilinear", TEXTURE_FILTER_BILINEAR},
+                                                         {"trilinear", TEXTURE_FILTER_TRILINEAR}};
+const std::map<std::string, uint32_t> kUvInterpolations = {{"perspective", UV_PERSPECTIVE},
+                                                           {"affine", UV_AFFINE}};
 const std::map<std::string, BackendKind> kBackends = {
     {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
 
@@ -80,6 +90,8 @@ Status runRender(RenderCommand& cmd)
     RenderSettings& s = cmd.settings;
     s.cullMode = kCullModes.at(cmd.cull);
     s.shadingMode = kShadingModes.at(cmd.shading);
+    s.textureFilter = kTextureFilters.at(cmd.textureFilter);
+    s.uvInterpolation = kUvInterpolations.at(cmd.uvInterpolation);
     if (!cmd.lightDir.empty()) {
         auto v = parseVec3("--light-dir", cmd.lightDir);
         if (!v) return v.error();
@@ -218,9 +230,20 @@ int main(int argc, char** argv)
     render
         ->add_option(
             "--shading", cmd.shading,
-            "lambert, phong, blinn-phong, flat, normals, depth, id, or hits (debug: triangles covering "
-            "each pixel; green = 1, red = 2, white = more)")
-        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id", "hits"}));
+            "lambert, phong, blinn-phong, flat, normals, depth, id, hits (debug: triangles covering "
+            "each pixel; green = 1, red = 2, white = more), texcoord (debug: the base colour texture's "
+            "(u, v) as red, green) or mip (debug: its level of detail, blue = 0 or magnified, cyan, "
+            "green, yellow, red = 4+)")
+        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id", "hits",
+                               "texcoord", "mip"}));
+    render
+        ->add_option("--texture-filter", cmd.textureFilter,
+                     "auto (each texture's glTF sampler), nearest, bilinear (level 0) or trilinear")
+        ->check(CLI::IsMember({"auto", "nearest", "bilinear", "trilinear"}));
+    render
+        ->add_option("--uv-interpolation", cmd.uvInterpolation,
+                     "perspective (correct) or affine (screen-linear, to show the difference)")
+        ->check(CLI::IsMember({"perspective", "affine"}));
     render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
     render->add_option("--light-color", cmd.lightColor, "R,G,B linear light colour");
     render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));

@@ -7,6 +7,9 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "render/materials.h"
+#include "scene/texture.h"
+
 namespace sr {
 namespace {
 
@@ -24,6 +27,23 @@ Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>
 
 // (Re)allocates the lists. Work and memory grow with the scene: nothing here depends on a worst case
 // such as pixels x triangles.
+// Materials, texture coordinates, textures and the sRGB decode table; a scene without materials
+// allocates none of them (the stages do not read them when RasterParams.materialCount is 0).
+Status uploadMaterials(ComputeDevice& device, const Scene& scene)
+{
+    if (scene.materials.empty()) return okStatus();
+    SR_TRY(uploadVector(device, BUF_MATERIALS, gpuMaterials(scene)));
+    SR_TRY(uploadVector(device, BUF_TRI_MATERIALS, scene.triMaterials));
+    if (scene.textures.empty()) return okStatus();
+    std::vector<uint32_t> texels;
+    auto textures = gpuTextures(scene, texels);
+    if (!textures) return textures.error();
+    SR_TRY(uploadVector(device, BUF_TEXTURES, *textures));
+    SR_TRY(uploadVector(device, BUF_TEXELS, texels));
+    SR_TRY(uploadVector(device, BUF_TEXCOORDS, scene.texcoords));
+    return uploadVector(device, BUF_SRGB_TABLE, srgbDecodeTable());
+}
+
 Status allocateLists(ComputeDevice& device, const ListCapacities& c)
 {
     SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(c.records) * sizeof(TriSetup)));
@@ -117,6 +137,10 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.binGroups = std::clamp(groups.bin, 1u, std::max(groupsFor(capacities.pieces, GROUP_SIZE), 1u));
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
     p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
+    p.materialCount = uint32_t(scene.materials.size());
+    p.textureFilter = s.textureFilter;
+    p.uvInterpolation = s.uvInterpolation;
+    p.textureCount = uint32_t(scene.textures.size());
     return p;
 }
 
@@ -172,6 +196,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
+    SR_TRY(uploadMaterials(device, scene));
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
     SR_TRY(

@@ -37,6 +37,8 @@ struct RenderSettings {
     bool countHits = false;               // debug: count covering triangles per pixel
     bool visibilityOnly = false;          // vulkan-graphics: depth + id only (the bench's hardware baseline)
     bool firstFrameSkipsBinning = false;  // tests: start as if the last frame had no big triangle
+    uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_*: AUTO follows each texture's sampler
+    uint32_t uvInterpolation = UV_PERSPECTIVE;     // UV_PERSPECTIVE or UV_AFFINE
 };
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 namespace sr {
 namespace {
@@ -118,6 +119,84 @@ void addObjects(Scene& scene)
     addTorus(scene, {0.4f, 0.2f, 0.9f}, 0.55f, 0.2f);
 }
 
+Scene finalized(Scene scene, const char* what);
+
+// A quad (two triangles, counter-clockwise seen from +normal) with texture coordinates (0, 0) at
+// corner a to (uvMax, uvMax) at corner c, drawn with material `material`.
+void addTexturedQuad(Scene& scene, const glm::vec3 (&corner)[4], float uvMax, uint32_t material)
+{
+    auto base = uint32_t(scene.positions.size());
+    glm::vec3 n = glm::normalize(glm::cross(corner[1] - corner[0], corner[3] - corner[0]));
+    const glm::vec2 uv[4] = {{0.0f, 0.0f}, {uvMax, 0.0f}, {uvMax, uvMax}, {0.0f, uvMax}};
+    for (int k = 0; k < 4; ++k) {
+        scene.positions.emplace_back(corner[k], 1.0f);
+        scene.normals.emplace_back(n, 0.0f);
+        scene.texcoords.emplace_back(uv[k].x, uv[k].y, 0.0f, 0.0f);
+    }
+    scene.indices.insert(scene.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    scene.triMaterials.insert(scene.triMaterials.end(), {material, material});
+}
+
+// A size x size RGBA8 checkerboard of `cells` x `cells` squares, colours a and b.
+std::vector<uint8_t> checkerTexels(int size, int cells, glm::u8vec4 a, glm::u8vec4 b)
+{
+    std::vector<uint8_t> texels;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            glm::u8vec4 c = ((x * cells / size) + (y * cells / size)) % 2 ? b : a;
+            texels.insert(texels.end(), {c.x, c.y, c.z, c.w});
+        }
+    }
+    return texels;
+}
+
+// builtin:checker - a 20 x 20 ground plane carrying a 64 x 64 black-and-white checkerboard repeated 8
+// times (64 squares a side), glTF's default sampler (repeat, trilinear). Seen at a grazing angle
+// (e.g. --camera orbit:0,6,12) it shows minification, mip selection and affine vs perspective UVs.
+Scene checkerScene()
+{
+    Scene scene;
+    const glm::vec3 plane[4] = {{-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}};
+    addTexturedQuad(scene, plane, 8.0f, 0);
+    std::vector<uint8_t> texels = checkerTexels(64, 8, {255, 255, 255, 255}, {0, 0, 0, 255});
+    auto texture = makeTexture("checkerboard", 64, 64, texels.data(), true, TextureSampler{});
+    scene.textures.push_back(std::move(*texture));
+    SceneMaterial m;
+    m.name = "checker";
+    m.baseColorTexture = 0;
+    scene.materials.push_back(m);
+    return finalized(std::move(scene), "built-in checker scene");
+}
+
+// builtin:cutout - a quad whose texture is opaque orange in a checkerboard of 4 x 4 squares and
+// transparent (alpha 0) in the others, alphaMode MASK, 1 unit in front of a blue quad: through each
+// transparent square the blue quad must show, in the colour image and in the id and depth AOVs.
+Scene cutoutScene()
+{
+    Scene scene;
+    const glm::vec3 front[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    const glm::vec3 back[4] = {{-1.5f, -1.5f, -1}, {1.5f, -1.5f, -1}, {1.5f, 1.5f, -1}, {-1.5f, 1.5f, -1}};
+    addTexturedQuad(scene, front, 1.0f, 0);
+    addTexturedQuad(scene, back, 1.0f, 1);
+    std::vector<uint8_t> texels = checkerTexels(16, 4, {255, 140, 20, 255}, {255, 255, 255, 0});
+    TextureSampler nearest;
+    nearest.magFilter = nearest.minFilter = FILTER_NEAREST;
+    nearest.mipmapMode = MIPMAP_NONE;
+    auto texture = makeTexture("cutout", 16, 16, texels.data(), true, nearest);
+    scene.textures.push_back(std::move(*texture));
+    SceneMaterial cut;
+    cut.name = "cutout";
+    cut.baseColorTexture = 0;
+    cut.alphaMode = ALPHA_MASK;
+    SceneMaterial blue;
+    blue.name = "blue";
+    blue.baseColorFactor = glm::vec4(0.1f, 0.25f, 0.9f, 1.0f);
+    scene.materials.insert(scene.materials.end(), {cut, blue});
+    scene.triFlags.assign(scene.triangleCount(), 0u);
+    scene.triFlags[0] = scene.triFlags[1] = TRI_FLAG_ALPHA_MASK;
+    return finalized(std::move(scene), "built-in cutout scene");
+}
+
 // The geometry built here is finite and indexed consistently, so finalizing cannot fail; it still runs
 // to fill the flags and bounds the same way every loader does.
 Scene finalized(Scene scene, const char* what)
@@ -154,8 +233,12 @@ Result<Scene> builtinSceneNamed(const std::string& name)
         addObjects(scene);
         return finalized(std::move(scene), "built-in huge scene");
     }
+    if (name == "builtin:checker") return checkerScene();
+    if (name == "builtin:cutout") return cutoutScene();
     return makeError(ExitCode::Usage,
-                     "unknown built-in scene '{}': expected builtin, builtin:dense or builtin:huge", name);
+                     "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:huge, "
+                     "builtin:checker or builtin:cutout",
+                     name);
 }
 
 }  // namespace sr
