@@ -24,7 +24,9 @@ layout(std430, set = 0, binding = BUF_VISIBILITY) buffer VisibilityBlock { uint6
 layout(std430, set = 0, binding = BUF_FRAMEBUFFER) buffer FramebufferBlock { uint framebuffer[]; };
 layout(std430, set = 0, binding = BUF_HIT_COUNT) buffer HitCountBlock { uint hitCount[]; };
 layout(std430, set = 0, binding = BUF_MATERIALS) readonly buffer MaterialsBlock { GpuMaterial materials[]; };
-layout(std430, set = 0, binding = BUF_TRI_MATERIALS) readonly buffer TriMaterialsBlock { uint triMaterials[]; };
+layout(std430, set = 0, binding = BUF_TRI_MATERIALS) readonly buffer TriMaterialsBlock {
+    uint triMaterials[];
+};
 layout(std430, set = 0, binding = BUF_TEXCOORDS) readonly buffer TexcoordsBlock { vec4 texcoords[]; };
 layout(std430, set = 0, binding = BUF_TEXTURES) readonly buffer TexturesBlock { GpuTexture textures[]; };
 layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint texels[]; };
@@ -143,8 +145,10 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
     bool second = m.texCoord != 0u;
     vec4 t0 = texcoords[i0], t1 = texcoords[i1], t2 = texcoords[i2];
     vec2 dx, dy;
-    uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y), second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y),
-                   second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y), dx, dy);
+    vec2 uv0 = second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y);
+    vec2 uv1 = second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y);
+    vec2 uv2 = second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y);
+    uv = surfaceUv(s, uv0, uv1, uv2, dx, dy);
     uv = materialTransformUv(m, uv);
     GpuTexture t = textures[m.baseColorTexture];
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,

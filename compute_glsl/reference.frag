@@ -8,7 +8,6 @@
 // implicit derivatives, so that the compute path's software sampling is checked against it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_nonuniform_qualifier : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 
@@ -38,18 +37,39 @@ void main()
     bool hasColors = params.hasColors != 0u;
     vec4 base = surfaceColor(s, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
                              hasColors ? colors[i2] : white);
+    // Hardware derivatives of the interpolated texture coordinates, taken here in uniform control flow.
+    // The lookup below passes them explicitly, transformed like the coordinates, rather than letting
+    // texture() differentiate the transformed coordinates: those depend on the material loaded from a
+    // storage buffer, and llvmpipe's helper invocations read storage buffers as zeros, which breaks
+    // implicit derivatives in every quad that a triangle edge crosses. (Implicit derivatives are by
+    // definition these dFdx/dFdy, so on other devices this changes nothing.)
+    vec4 tc = mix(vTexcoords, vTexcoordsAffine, bvec4(params.uvInterpolation == UV_AFFINE));
+    vec4 tcDx = dFdx(tc), tcDy = dFdy(tc);
     vec2 uv = vec2(0.0f);
     float lambda = -128.0f;  // materialBaseColor's value without a texture
     if (params.materialCount > 0u) {
         GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
         base = base * m.baseColorFactor;
-        // The material is the triangle's and a quad never spans two triangles, so the lookup below runs
-        // in quad-uniform control flow and its implicit derivatives are defined.
         if (m.baseColorTexture < params.textureCount) {
-            vec4 tc = params.uvInterpolation == UV_AFFINE ? vTexcoordsAffine : vTexcoords;
-            uv = materialTransformUv(m, m.texCoord != 0u ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y));
-            base = base * texture(baseTextures[nonuniformEXT(m.baseColorTexture)], uv);
-            lambda = textureQueryLod(baseTextures[nonuniformEXT(m.baseColorTexture)], uv).y;
+            bool second = m.texCoord != 0u;
+            uv = materialTransformUv(m, second ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y));
+            vec2 dx = materialTransformDerivative(m, second ? vec2(tcDx.z, tcDx.w) : vec2(tcDx.x, tcDx.y));
+            vec2 dy = materialTransformDerivative(m, second ? vec2(tcDy.z, tcDy.w) : vec2(tcDy.x, tcDy.y));
+            // Triangles of one draw use different textures, and indexing a sampler array with a value
+            // that varies within a draw needs a device feature (shaderSampledImageArrayNonUniformIndexing)
+            // that not every device has (llvmpipe of LLVM 15 lacks it). The loop index is uniform, so
+            // each lookup is legal everywhere.
+            vec4 texel = vec4(1.0f);
+            for (uint k = 0u; k < kTextureSlots; ++k) {
+                if (k == m.baseColorTexture) {
+                    texel = textureGrad(baseTextures[k], uv, dx, dy);
+                    // textureQueryLod has no explicit-gradient form: the debug view's level of detail
+                    // is texture.h's formula on the same hardware derivatives.
+                    ivec2 size = textureSize(baseTextures[k], 0);
+                    lambda = textureLambda(dx, dy, uint(size.x), uint(size.y));
+                }
+            }
+            base = base * texel;
         }
         // As the compute pipeline's visibility stages: a masked triangle covers no pixel whose alpha is
         // below the cutoff, so the cut-out shows in the id and depth images too.

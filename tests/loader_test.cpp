@@ -20,8 +20,10 @@
 #include "test_util.h"
 #include <nlohmann/json.hpp>
 
+#include "io/image_io.h"
 #include "raster_shared.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 namespace sr {
 namespace {
@@ -479,7 +481,9 @@ TEST(GltfLoader, CamerasArePlacedByTheirNodes)
     EXPECT_TRUE(near(o.worldFromView[3], glm::vec4(1, 0, 10, 1)));
 }
 
-TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
+// The base colour factor is the material's (the shading stage multiplies it in); the vertex colours
+// are COLOR_0 alone.
+TEST(GltfLoader, VertexColoursAndBaseColorFactorMaterials)
 {
     GltfDoc doc;
     int pos = doc.floats(kTriangle, "VEC3");
@@ -500,14 +504,26 @@ TEST(GltfLoader, VertexColoursTimesBaseColorFactor)
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     ASSERT_EQ(scene->triangleCount(), 4u);
     ASSERT_EQ(scene->colors.size(), scene->positions.size());
-    EXPECT_TRUE(near(cornerColor(*scene, 0, 0), glm::vec4(0.5f, 0, 0, 1)));
+    EXPECT_TRUE(near(cornerColor(*scene, 0, 0), glm::vec4(1, 0, 0, 1)));
     EXPECT_TRUE(near(cornerColor(*scene, 0, 1), glm::vec4(0, 1, 0, 0.2f)));
     EXPECT_TRUE(near(cornerColor(*scene, 0, 2), glm::vec4(0, 0, 1, 1)));
     EXPECT_TRUE(near(cornerColor(*scene, 1, 1), glm::vec4(0, 1, 0, 1)));
     EXPECT_TRUE(near(cornerColor(*scene, 2, 0), glm::vec4(0.25f, 0.5f, 0.75f, 1)));
     EXPECT_TRUE(near(cornerColor(*scene, 2, 1), glm::vec4(1, 1, 1, 1)));
-    // No COLOR_0: the factor is the vertex colour.
-    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(cornerColor(*scene, 3, k), glm::vec4(0.2f, 0.4f, 0.6f, 1)));
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(cornerColor(*scene, 3, k), glm::vec4(1, 1, 1, 1)));
+    // Materials in order of first use: halfRed, the default (primitives 1 and 2), tint.
+    ASSERT_EQ(scene->materials.size(), 3u);
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0, 1, 1, 2}));
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(0.5f, 1, 1, 1)));
+    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(1, 1, 1, 1)));
+    EXPECT_TRUE(near(scene->materials[2].baseColorFactor, glm::vec4(0.2f, 0.4f, 0.6f, 1)));
+    for (const SceneMaterial& m : scene->materials) {
+        EXPECT_EQ(m.baseColorTexture, -1);
+        EXPECT_EQ(m.alphaMode, ALPHA_OPAQUE);
+    }
+    // Untextured: no texture coordinates.
+    EXPECT_TRUE(scene->texcoords.empty());
+    EXPECT_TRUE(scene->textures.empty());
 }
 
 TEST(GltfLoader, AllWhiteColoursLeaveColorsEmpty)
@@ -522,6 +538,10 @@ TEST(GltfLoader, AllWhiteColoursLeaveColorsEmpty)
     Result<Scene> scene = loadText(dir, "white.gltf", doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_TRUE(scene->colors.empty());
+    // A white, untextured, opaque material changes nothing: no materials at all.
+    EXPECT_TRUE(scene->materials.empty());
+    EXPECT_TRUE(scene->triMaterials.empty());
+    EXPECT_TRUE(scene->texcoords.empty());
 }
 
 TEST(GltfLoader, BinaryGlbAndExternalBuffer)
@@ -728,6 +748,569 @@ TEST(GltfLoader, MalformedInputsAreOneLineErrors)
     }
 }
 
+// ---- textures ------------------------------------------------------------------------------
+
+uint32_t rgba(uint32_t r, uint32_t g, uint32_t b, uint32_t a)
+{
+    return r | g << 8 | b << 16 | a << 24;
+}
+
+// width x height RGBA8 bytes from packed texels.
+std::vector<uint8_t> bytesOf(const std::vector<uint32_t>& texels)
+{
+    std::vector<uint8_t> out;
+    for (uint32_t t : texels)
+        for (int c = 0; c < 4; ++c) out.push_back(uint8_t(t >> (8 * c)));
+    return out;
+}
+
+// Level `level` of a texture, as packed texels.
+std::vector<uint32_t> level(const SceneTexture& t, uint32_t k)
+{
+    size_t offset = 0;
+    for (uint32_t i = 0; i < k; ++i)
+        offset += size_t(std::max(1u, t.width >> i)) * std::max(1u, t.height >> i);
+    size_t count = size_t(std::max(1u, t.width >> k)) * std::max(1u, t.height >> k);
+    return std::vector<uint32_t>(t.texels.begin() + ptrdiff_t(offset),
+                                 t.texels.begin() + ptrdiff_t(offset + count));
+}
+
+std::string readBytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Writes a PNG of the given texels (through io/image_io) and returns its bytes.
+std::string writeTestPng(const std::string& path, uint32_t width, uint32_t height,
+                         const std::vector<uint32_t>& texels)
+{
+    RgbaImage image;
+    image.width = width;
+    image.height = height;
+    image.pixels = texels;
+    Status written = writePng(path, image);
+    EXPECT_TRUE(written.ok()) << written.error().message;
+    return readBytes(path);
+}
+
+uint32_t crc32(const std::string& bytes)
+{
+    uint32_t crc = 0xffffffffu;
+    for (unsigned char c : bytes) {
+        crc ^= c;
+        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
+// A PNG that is only a signature, an IHDR claiming width x height RGBA8 and an IEND: enough for any
+// decoder to read the size, nothing to decode.
+std::string pngHeaderOnly(uint32_t width, uint32_t height)
+{
+    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
+    auto chunk = [&](const std::string& type, const std::string& data) {
+        return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data));
+    };
+    std::string ihdr = be32(width) + be32(height) + std::string{8, 6, 0, 0, 0};
+    return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IEND", "");
+}
+
+std::string base64(const std::string& bytes)
+{
+    return base64(std::vector<uint8_t>(bytes.begin(), bytes.end()));
+}
+
+// Number of times `needle` occurs in `text`.
+size_t occurrences(const std::string& text, const std::string& needle)
+{
+    size_t count = 0;
+    for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + needle.size()))
+        ++count;
+    return count;
+}
+
+// A document with the unit triangle, TEXCOORD_0 (0,0), (1,0), (0,1) and TEXCOORD_1 (when `secondSet`)
+// (0.5,0.5), (1,0.5), (0.5,1), drawn with material 0 whose base colour texture is `textureInfo`, over
+// texture 0 of `image`.
+GltfDoc texturedTriangleDoc(const Json& image, const Json& textureInfo, bool secondSet = false)
+{
+    GltfDoc doc;
+    Json p = primitive(doc.floats(kTriangle, "VEC3"), -1, -1, -1, 0);
+    p["attributes"]["TEXCOORD_0"] = doc.floats({0, 0, 1, 0, 0, 1}, "VEC2");
+    if (secondSet) p["attributes"]["TEXCOORD_1"] = doc.floats({0.5f, 0.5f, 1, 0.5f, 0.5f, 1}, "VEC2");
+    doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", textureInfo}}}});
+    doc.json()["images"] = Json::array({image});
+    doc.json()["textures"] = Json::array({{{"source", 0}}});
+    doc.setRoots({doc.addNode({{"mesh", doc.addMesh({p})}})});
+    return doc;
+}
+
+const std::vector<uint32_t> k2x2 = {rgba(255, 0, 0, 255), rgba(0, 255, 0, 255), rgba(0, 0, 255, 255),
+                                    rgba(255, 255, 255, 128)};
+
+TEST(Texture, LinearMipChainRoundsHalfUp)
+{
+    // 2x2 -> 1x1, per channel (sum + 2) / 4: R 0+1+2+3 = 6 -> 2 (1.5, tie up), G 10+20+30+41 = 101 -> 25,
+    // B 255 * 4 -> 255, A 0+0+0+2 = 2 -> 1 (0.5, tie up).
+    std::vector<uint32_t> texels = {rgba(0, 10, 255, 0), rgba(1, 20, 255, 0), rgba(2, 30, 255, 0),
+                                    rgba(3, 41, 255, 2)};
+    Result<SceneTexture> t = makeTexture("linear", 2, 2, bytesOf(texels).data(), false, TextureSampler{});
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->levels, 2u);
+    EXPECT_FALSE(t->srgb);
+    EXPECT_EQ(level(*t, 0), texels);
+    EXPECT_EQ(level(*t, 1), (std::vector<uint32_t>{rgba(2, 25, 255, 1)}));
+
+    // 3x5: levels 3x5, 1x2, 1x1. Level 1 texel (0, y) averages columns 0-1 of rows 2y, 2y+1: column 2
+    // and row 4 of the odd-sized level 0 are not used (min(2x + 1, w - 1) = 1). Level 2 averages the
+    // 1x2 level's two texels (1x2 -> 1x1). R = 10x + 50y, G = x + 3y, A = 255 but 253 at (1, 1).
+    std::vector<uint32_t> odd;
+    for (uint32_t y = 0; y < 5; ++y)
+        for (uint32_t x = 0; x < 3; ++x)
+            odd.push_back(rgba(10 * x + 50 * y, x + 3 * y, 7, x == 1 && y == 1 ? 253 : 255));
+    Result<SceneTexture> o = makeTexture("odd", 3, 5, bytesOf(odd).data(), false, TextureSampler{});
+    ASSERT_TRUE(o.ok()) << o.error().message;
+    ASSERT_EQ(o->levels, 3u);
+    ASSERT_EQ(o->texels.size(), 15u + 2u + 1u);
+    // (0,0): R 0+10+50+60 = 120 -> 30, G 0+1+3+4 = 8 -> 2, A 3*255+253 = 1018 -> 255 (254.5, tie up).
+    // (0,1): R 100+110+150+160 = 520 -> 130, G 6+7+9+10 = 32 -> 8, A 255.
+    EXPECT_EQ(level(*o, 1), (std::vector<uint32_t>{rgba(30, 2, 7, 255), rgba(130, 8, 7, 255)}));
+    // R (30+130+1)/2 = 80, G (2+8+1)/2 = 5.
+    EXPECT_EQ(level(*o, 2), (std::vector<uint32_t>{rgba(80, 5, 7, 255)}));
+
+    // A single row: 4x1 -> 2x1 -> 1x1 (levels follow the larger side).
+    std::vector<uint32_t> row = {rgba(0, 0, 0, 0), rgba(2, 0, 0, 0), rgba(4, 0, 0, 0), rgba(7, 0, 0, 0)};
+    Result<SceneTexture> r = makeTexture("row", 4, 1, bytesOf(row).data(), false, TextureSampler{});
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->levels, 3u);
+    EXPECT_EQ(level(*r, 1), (std::vector<uint32_t>{rgba(1, 0, 0, 0), rgba(6, 0, 0, 0)}));  // 5.5 -> 6
+    EXPECT_EQ(level(*r, 2), (std::vector<uint32_t>{rgba(4, 0, 0, 0)}));                    // 3.5 -> 4
+}
+
+TEST(Texture, SrgbMipChainAveragesInLinear)
+{
+    // R 0, 255, 0, 255: linear mean 0.5 -> 1.055 * 0.5^(1/2.4) - 0.055 = 0.735357 -> 187.52 -> 188.
+    // G 128 everywhere: decoding and re-encoding gives 128 back.
+    // B 0, 0, 0, 255: linear mean 0.25 -> 0.537099 -> 136.96 -> 137.
+    // A 0, 255, 255, 255: plain mean 191.25 -> 191.
+    std::vector<uint32_t> texels = {rgba(0, 128, 0, 0), rgba(255, 128, 0, 255), rgba(0, 128, 0, 255),
+                                    rgba(255, 128, 255, 255)};
+    Result<SceneTexture> t = makeTexture("srgb", 2, 2, bytesOf(texels).data(), true, TextureSampler{});
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_TRUE(t->srgb);
+    EXPECT_EQ(level(*t, 0), texels);  // level 0 keeps its bytes
+    EXPECT_EQ(level(*t, 1), (std::vector<uint32_t>{rgba(188, 128, 137, 191)}));
+
+    // 1x2 -> 1x1 from bytes 10 and 200: linear (0.0030353 + 0.5775804) / 2 = 0.2903079 -> 146.99 -> 147.
+    std::vector<uint32_t> column = {rgba(10, 10, 10, 10), rgba(200, 200, 200, 200)};
+    Result<SceneTexture> c = makeTexture("column", 1, 2, bytesOf(column).data(), true, TextureSampler{});
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_EQ(c->levels, 2u);
+    EXPECT_EQ(level(*c, 1), (std::vector<uint32_t>{rgba(147, 147, 147, 105)}));
+}
+
+// The mip chain against a direct transcription of the rules (sRGB formula with pow in double, box
+// average with the border clamp), on pseudo-random images of even, odd and thin sizes.
+TEST(Texture, MipChainMatchesReferenceFormula)
+{
+    auto decode = [](uint32_t b) {
+        double c = b / 255.0;
+        return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    };
+    auto encode = [](double l) {
+        double s = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+        return uint32_t(std::clamp(std::floor(s * 255.0 + 0.5), 0.0, 255.0));
+    };
+    uint32_t seed = 12345;
+    auto next = [&] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+    for (glm::uvec2 size : {glm::uvec2(64, 64), glm::uvec2(37, 19), glm::uvec2(1, 9), glm::uvec2(130, 3)}) {
+        std::vector<uint32_t> texels(size_t(size.x) * size.y);
+        for (uint32_t& t : texels) t = next();
+        for (bool srgb : {true, false}) {
+            Result<SceneTexture> t =
+                makeTexture("r", size.x, size.y, bytesOf(texels).data(), srgb, TextureSampler{});
+            ASSERT_TRUE(t.ok()) << t.error().message;
+            std::vector<uint32_t> src = texels;
+            uint32_t w = size.x, h = size.y;
+            for (uint32_t k = 1; k < t->levels; ++k) {
+                uint32_t dw = std::max(1u, w / 2), dh = std::max(1u, h / 2);
+                std::vector<uint32_t> dst(size_t(dw) * dh);
+                for (uint32_t y = 0; y < dh; ++y) {
+                    for (uint32_t x = 0; x < dw; ++x) {
+                        std::vector<uint32_t> taps;
+                        for (uint32_t yy = 2 * y; yy <= std::min(2 * y + 1, h - 1); ++yy)
+                            for (uint32_t xx = 2 * x; xx <= std::min(2 * x + 1, w - 1); ++xx)
+                                taps.push_back(src[size_t(yy) * w + xx]);
+                        uint32_t n = uint32_t(taps.size()), out = 0;
+                        for (int c = 0; c < 4; ++c) {
+                            double linear = 0.0;
+                            uint32_t sum = 0;
+                            for (uint32_t tap : taps) {
+                                linear += decode((tap >> (8 * c)) & 255u);
+                                sum += (tap >> (8 * c)) & 255u;
+                            }
+                            out |= (srgb && c < 3 ? encode(linear / n) : (sum + n / 2) / n) << (8 * c);
+                        }
+                        dst[size_t(y) * dw + x] = out;
+                    }
+                }
+                ASSERT_EQ(level(*t, k), dst) << size.x << "x" << size.y << " level " << k << " srgb " << srgb;
+                src = dst;
+                w = dw;
+                h = dh;
+            }
+            EXPECT_EQ(w, 1u);
+            EXPECT_EQ(h, 1u);
+        }
+    }
+}
+
+TEST(Texture, SizeLimits)
+{
+    std::vector<uint8_t> pixel(4, 255);
+    Result<SceneTexture> empty = makeTexture("empty", 0, 1, pixel.data(), true, TextureSampler{});
+    ASSERT_FALSE(empty.ok());
+    EXPECT_EQ(empty.error().message.find('\n'), std::string::npos);
+    EXPECT_FALSE(isTextureSizeError(empty.error()));
+
+    // Refused before the texels are touched (the pointer covers one texel only).
+    Result<SceneTexture> wide =
+        makeTexture("wide", MAX_TEXTURE_DIM + 1, 1, pixel.data(), true, TextureSampler{});
+    ASSERT_FALSE(wide.ok());
+    EXPECT_TRUE(isTextureSizeError(wide.error())) << wide.error().message;
+    EXPECT_NE(wide.error().message.find("wide"), std::string::npos) << wide.error().message;
+
+    Result<SceneTexture> one = makeTexture("one", 1, 1, pixel.data(), true, TextureSampler{});
+    ASSERT_TRUE(one.ok()) << one.error().message;
+    EXPECT_EQ(one->levels, 1u);
+    EXPECT_EQ(one->texels, (std::vector<uint32_t>{0xffffffffu}));
+}
+
+TEST(Texture, SrgbDecodeTable)
+{
+    std::vector<float> table = srgbDecodeTable();
+    ASSERT_EQ(table.size(), 256u);
+    EXPECT_EQ(table[0], 0.0f);
+    EXPECT_EQ(table[255], 1.0f);
+    EXPECT_NEAR(table[128], 0.2158605f, 1e-7f);
+    EXPECT_NEAR(table[10], 10.0f / 255.0f / 12.92f, 1e-9f);  // the linear segment
+    for (size_t i = 1; i < table.size(); ++i) EXPECT_LT(table[i - 1], table[i]) << i;
+}
+
+TEST(Texture, DecodesFilesAndRejectsCorruptOrHugeImages)
+{
+    test::ScratchDir dir("sr_texture");
+    std::string png = writeTestPng(dir.file("t.png"), 2, 2, k2x2);
+    TextureSampler sampler;
+    sampler.wrapS = WRAP_CLAMP_TO_EDGE;
+    Result<SceneTexture> file = loadTextureFile(dir.file("t.png"), true, sampler);
+    ASSERT_TRUE(file.ok()) << file.error().message;
+    EXPECT_EQ(file->width, 2u);
+    EXPECT_EQ(file->height, 2u);
+    EXPECT_EQ(file->levels, 2u);
+    EXPECT_EQ(level(*file, 0), k2x2);
+    EXPECT_EQ(file->sampler.wrapS, WRAP_CLAMP_TO_EDGE);
+    EXPECT_EQ(file->name, dir.file("t.png"));
+
+    Result<SceneTexture> memory =
+        loadTextureMemory("mem", reinterpret_cast<const uint8_t*>(png.data()), png.size(), false, sampler);
+    ASSERT_TRUE(memory.ok()) << memory.error().message;
+    EXPECT_EQ(level(*memory, 0), k2x2);
+
+    Result<SceneTexture> missing = loadTextureFile(dir.file("nope.png"), true, sampler);
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().message.find("nope.png"), std::string::npos);
+    EXPECT_FALSE(isTextureSizeError(missing.error()));
+
+    std::string corrupt = png.substr(0, 40) + std::string(64, '\x55');
+    Result<SceneTexture> bad = loadTextureMemory("bad.png", reinterpret_cast<const uint8_t*>(corrupt.data()),
+                                                 corrupt.size(), true, sampler);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("bad.png"), std::string::npos);
+    EXPECT_EQ(bad.error().message.find('\n'), std::string::npos);
+    EXPECT_FALSE(isTextureSizeError(bad.error()));
+
+    for (uint32_t side : {70000u, uint32_t(MAX_TEXTURE_DIM + 1)}) {
+        std::string huge = pngHeaderOnly(side, 16);
+        Result<SceneTexture> r = loadTextureMemory("huge.png", reinterpret_cast<const uint8_t*>(huge.data()),
+                                                   huge.size(), true, sampler);
+        ASSERT_FALSE(r.ok()) << side;
+        EXPECT_TRUE(isTextureSizeError(r.error())) << r.error().message;
+        EXPECT_NE(r.error().message.find(std::to_string(side)), std::string::npos) << r.error().message;
+    }
+    std::string square = pngHeaderOnly(70000, 70000);
+    Result<SceneTexture> r = loadTextureMemory("square.png", reinterpret_cast<const uint8_t*>(square.data()),
+                                               square.size(), true, sampler);
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(isTextureSizeError(r.error())) << r.error().message;
+    EXPECT_NE(r.error().message.find("70000x70000"), std::string::npos) << r.error().message;
+}
+
+// ---- glTF materials and textures ------------------------------------------------------------
+
+TEST(GltfTextures, TexturedTriangleWithSamplerTransformAndMask)
+{
+    test::ScratchDir dir("sr_loader");
+    std::vector<uint32_t> texels(8);
+    for (uint32_t i = 0; i < 8; ++i) texels[i] = rgba(30 * i, 255 - 30 * i, 7, 255);
+    writeTestPng(dir.file("tex.png"), 4, 2, texels);
+    const double kHalfPi = 1.5707963267948966;
+    Json info = {{"index", 0},
+                 {"extensions",
+                  {{"KHR_texture_transform",
+                    {{"offset", {0.5, 0.25}}, {"rotation", kHalfPi}, {"scale", {2, 3}}, {"texCoord", 1}}}}}};
+    GltfDoc doc = texturedTriangleDoc({{"uri", "tex.png"}}, info, true);
+    Json& material = doc.json()["materials"][0];
+    material["alphaMode"] = "MASK";
+    material["alphaCutoff"] = 0.25;
+    material["doubleSided"] = true;
+    material["pbrMetallicRoughness"]["baseColorFactor"] = {1, 0.5, 1, 1};
+    doc.json()["samplers"] =
+        Json::array({{{"wrapS", 33648}, {"wrapT", 33071}, {"magFilter", 9728}, {"minFilter", 9985}}});
+    doc.json()["textures"][0]["sampler"] = 0;
+    doc.json()["extensionsUsed"] = {"KHR_texture_transform"};
+    Result<Scene> scene = loadText(dir, "textured.gltf", doc.text());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+
+    ASSERT_EQ(scene->textures.size(), 1u);
+    const SceneTexture& t = scene->textures[0];
+    EXPECT_EQ(t.width, 4u);
+    EXPECT_EQ(t.height, 2u);
+    EXPECT_EQ(t.levels, 3u);
+    EXPECT_TRUE(t.srgb);
+    EXPECT_EQ(level(t, 0), texels);
+    EXPECT_EQ(t.sampler.wrapS, WRAP_MIRRORED_REPEAT);
+    EXPECT_EQ(t.sampler.wrapT, WRAP_CLAMP_TO_EDGE);
+    EXPECT_EQ(t.sampler.magFilter, FILTER_NEAREST);
+    EXPECT_EQ(t.sampler.minFilter, FILTER_LINEAR);
+    EXPECT_EQ(t.sampler.mipmapMode, MIPMAP_NEAREST);
+
+    ASSERT_EQ(scene->materials.size(), 1u);
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0}));
+    const SceneMaterial& m = scene->materials[0];
+    EXPECT_EQ(m.baseColorTexture, 0);
+    EXPECT_EQ(m.texCoord, 1u);  // the extension's texCoord overrides the textureInfo's 0
+    EXPECT_EQ(m.alphaMode, ALPHA_MASK);
+    EXPECT_FLOAT_EQ(m.alphaCutoff, 0.25f);
+    EXPECT_TRUE(near(m.baseColorFactor, glm::vec4(1, 0.5f, 1, 1)));
+    EXPECT_EQ(scene->triFlags, (std::vector<uint32_t>{TRI_FLAG_DOUBLE_SIDED | TRI_FLAG_ALPHA_MASK}));
+    // T * R * S: scale (2, 3), then u' = cos u + sin v, v' = -sin u + cos v with rotation pi/2, then
+    // the offset: (u, v) -> (3v + 0.5, -2u + 0.25).
+    EXPECT_TRUE(near(m.uvTransform * glm::vec3(1, 0, 1), glm::vec3(0.5f, -1.75f, 1)));
+    EXPECT_TRUE(near(m.uvTransform * glm::vec3(0, 1, 1), glm::vec3(3.5f, 0.25f, 1)));
+    EXPECT_TRUE(near(m.uvTransform[2], glm::vec3(0.5f, 0.25f, 1)));
+
+    ASSERT_EQ(scene->texcoords.size(), scene->positions.size());
+    auto uvAt = [&](int k) { return scene->texcoords[scene->indices[size_t(k)]]; };
+    EXPECT_TRUE(near(uvAt(0), glm::vec4(0, 0, 0.5f, 0.5f)));
+    EXPECT_TRUE(near(uvAt(1), glm::vec4(1, 0, 1, 0.5f)));
+    EXPECT_TRUE(near(uvAt(2), glm::vec4(0, 1, 0.5f, 1)));
+}
+
+TEST(GltfTextures, TransformFollowsTheExtensionExample)
+{
+    // KHR_texture_transform's README: offset (0, 1), rotation pi/2, scale 0.5 "utilizes only the lower
+    // left quadrant of the source image, rotated clockwise 90 degrees" - the UV square lands on
+    // [0, 0.5] x [0.5, 1] (v down).
+    test::ScratchDir dir("sr_loader");
+    writeTestPng(dir.file("tex.png"), 2, 2, k2x2);
+    Json info = {{"index", 0},
+                 {"extensions",
+                  {{"KHR_texture_transform",
+                    {{"offset", {0, 1}}, {"rotation", 1.57079632679}, {"scale", {0.5, 0.5}}}}}}};
+    Result<Scene> scene =
+        loadText(dir, "example.gltf", texturedTriangleDoc({{"uri", "tex.png"}}, info).text());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->materials.size(), 1u);
+    const glm::mat3& m = scene->materials[0].uvTransform;
+    EXPECT_TRUE(near(m * glm::vec3(0, 0, 1), glm::vec3(0, 1, 1)));
+    EXPECT_TRUE(near(m * glm::vec3(1, 0, 1), glm::vec3(0, 0.5f, 1)));
+    EXPECT_TRUE(near(m * glm::vec3(0, 1, 1), glm::vec3(0.5f, 1, 1)));
+    EXPECT_TRUE(near(m * glm::vec3(1, 1, 1), glm::vec3(0.5f, 0.5f, 1)));
+    EXPECT_EQ(scene->materials[0].texCoord, 0u);
+}
+
+TEST(GltfTextures, SamplerFiltersAndSharedTextures)
+{
+    // One texture per minFilter value (and one without sampler), all of one image; two materials
+    // share texture 0, which is loaded once.
+    test::ScratchDir dir("sr_loader");
+    writeTestPng(dir.file("tex.png"), 2, 2, k2x2);
+    const int filters[] = {9728, 9729, 9984, 9985, 9986, 9987, -1};
+    const uint32_t minFilter[] = {FILTER_NEAREST, FILTER_LINEAR, FILTER_NEAREST, FILTER_LINEAR,
+                                  FILTER_NEAREST, FILTER_LINEAR, FILTER_LINEAR};
+    const uint32_t mipmap[] = {MIPMAP_NONE,   MIPMAP_NONE,   MIPMAP_NEAREST, MIPMAP_NEAREST,
+                               MIPMAP_LINEAR, MIPMAP_LINEAR, MIPMAP_LINEAR};
+    GltfDoc doc;
+    int pos = doc.floats(kTriangle, "VEC3");
+    int uv = doc.floats({0, 0, 1, 0, 0, 1}, "VEC2");
+    std::vector<Json> prims;
+    for (int i = 0; i <= 7; ++i) {
+        int texture = i == 7 ? 0 : i;
+        doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}}}}}});
+        Json p = primitive(pos, -1, -1, -1, i);
+        p["attributes"]["TEXCOORD_0"] = uv;
+        prims.push_back(p);
+        if (i == 7) break;
+        Json sampler = {{"wrapS", 10497}};
+        if (filters[i] >= 0) sampler["minFilter"] = filters[i];
+        doc.json()["samplers"].push_back(sampler);
+        doc.json()["textures"].push_back({{"source", 0}, {"sampler", i}});
+    }
+    doc.json()["textures"].push_back({{"source", 0}});  // texture 7: no sampler, unused
+    doc.json()["images"] = Json::array({{{"uri", "tex.png"}}});
+    doc.setRoots({doc.addNode({{"mesh", doc.addMesh(prims)}})});
+    Result<Scene> scene = loadText(dir, "filters.gltf", doc.text());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->textures.size(), 7u);
+    ASSERT_EQ(scene->materials.size(), 8u);
+    for (int i = 0; i < 7; ++i) {
+        const TextureSampler& s = scene->textures[size_t(i)].sampler;
+        EXPECT_EQ(s.minFilter, minFilter[i]) << i;
+        EXPECT_EQ(s.mipmapMode, mipmap[i]) << i;
+        EXPECT_EQ(s.magFilter, FILTER_LINEAR) << i;  // undefined: linear
+        EXPECT_EQ(s.wrapT, WRAP_REPEAT) << i;
+        EXPECT_EQ(scene->materials[size_t(i)].baseColorTexture, i);
+    }
+    EXPECT_EQ(scene->materials[7].baseColorTexture, 0);
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(GltfTextures, DataUriAndGlbBufferViewImages)
+{
+    test::ScratchDir dir("sr_loader");
+    std::string png = writeTestPng(dir.file("src.png"), 2, 2, k2x2);
+    GltfDoc embedded = texturedTriangleDoc({{"uri", "data:image/png;base64," + base64(png)}}, {{"index", 0}});
+    Result<Scene> a = loadText(dir, "embedded.gltf", embedded.text());
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    ASSERT_EQ(a->textures.size(), 1u);
+    EXPECT_EQ(level(a->textures[0], 0), k2x2);
+
+    GltfDoc binary = texturedTriangleDoc({{"uri", "unused"}}, {{"index", 0}});
+    int view = binary.addView(png.data(), png.size());
+    binary.json()["images"] = Json::array({{{"bufferView", view}, {"mimeType", "image/png"}}});
+    Result<Scene> b = loadText(dir, "binary.glb", binary.glb());
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    ASSERT_EQ(b->textures.size(), 1u);
+    EXPECT_EQ(level(b->textures[0], 0), k2x2);
+    ASSERT_EQ(b->texcoords.size(), b->positions.size());
+}
+
+TEST(GltfTextures, BlendAndUnsupportedTexturesWarnOncePerFile)
+{
+    test::ScratchDir dir("sr_loader");
+    GltfDoc doc;
+    int pos = doc.floats(kTriangle, "VEC3");
+    std::vector<Json> prims;
+    for (int i = 0; i < 2; ++i) {
+        doc.addMaterial(
+            {{"alphaMode", "BLEND"},
+             {"normalTexture", {{"index", 0}}},
+             {"occlusionTexture", {{"index", 0}}},
+             {"emissiveTexture", {{"index", 0}}},
+             {"pbrMetallicRoughness",
+              {{"baseColorFactor", {1, 1, 1, 0.5}}, {"metallicRoughnessTexture", {{"index", 0}}}}}});
+        prims.push_back(primitive(pos, -1, -1, -1, i));
+    }
+    doc.json()["images"] = Json::array({{{"uri", "never_loaded.png"}}});
+    doc.json()["textures"] = Json::array({{{"source", 0}}});
+    doc.setRoots({doc.addNode({{"mesh", doc.addMesh(prims)}})});
+    std::string path = dir.file("blend.gltf");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadText(dir, "blend.gltf", doc.text());
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(occurrences(warnings, "warning: " + path + ": alphaMode BLEND drawn as opaque\n"), 1u)
+        << warnings;
+    for (const char* name :
+         {"normalTexture", "occlusionTexture", "emissiveTexture", "metallicRoughnessTexture"})
+        EXPECT_EQ(occurrences(warnings, std::string(name) + " ignored (only base colour is supported)"), 1u)
+            << name << ": " << warnings;
+    // Images are decoded only for base colour textures: the missing file is never mentioned.
+    EXPECT_EQ(warnings.find("never_loaded"), std::string::npos) << warnings;
+    ASSERT_EQ(scene->materials.size(), 2u);  // alpha 0.5 in the factor: not the default material
+    EXPECT_EQ(scene->materials[0].alphaMode, ALPHA_OPAQUE);
+    EXPECT_EQ(scene->triFlags, (std::vector<uint32_t>{0, 0}));
+    EXPECT_TRUE(scene->texcoords.empty());
+}
+
+TEST(GltfTextures, BadTexturesAreWarningsAndTheLoadContinues)
+{
+    test::ScratchDir dir("sr_loader");
+    writeFile(dir.file("corrupt.png"), "\x89PNG\r\n\x1a\n this is not really a png at all");
+    struct Case {
+        const char* name;
+        Json image;
+        Json info;
+        bool secondSet;
+        const char* warning;  // expected in the single warning line
+    };
+    const Case cases[] = {
+        {"missing", {{"uri", "missing.png"}}, {{"index", 0}}, false, "missing.png"},
+        {"corrupt", {{"uri", "corrupt.png"}}, {{"index", 0}}, false, "corrupt.png"},
+        {"badDataUri", {{"uri", "data:image/png;base64,AAAA"}}, {{"index", 0}}, false, "cannot load image"},
+        {"noSet1", {{"uri", "corrupt.png"}}, {{"index", 0}, {"texCoord", 1}}, false, "TEXCOORD_1"},
+        {"set2", {{"uri", "corrupt.png"}}, {{"index", 0}, {"texCoord", 2}}, true, "TEXCOORD_2"},
+        {"badIndex", {{"uri", "corrupt.png"}}, {{"index", 5}}, false, "texture 5"},
+    };
+    for (const Case& c : cases) {
+        GltfDoc doc = texturedTriangleDoc(c.image, c.info, c.secondSet);
+        // A valid image for the cases about texture coordinates, so that only they can fail.
+        if (std::string(c.warning).rfind("TEXCOORD", 0) == 0) {
+            writeTestPng(dir.file("ok.png"), 2, 2, k2x2);
+            doc.json()["images"][0]["uri"] = "ok.png";
+        }
+        std::string file = std::string(c.name) + ".gltf";
+        ::testing::internal::CaptureStderr();
+        Result<Scene> scene = loadText(dir, file, doc.text());
+        std::string warnings = ::testing::internal::GetCapturedStderr();
+        ASSERT_TRUE(scene.ok()) << c.name << ": " << scene.error().message;
+        EXPECT_EQ(occurrences(warnings, "warning: "), 1u) << c.name << ": " << warnings;
+        EXPECT_EQ(warnings.rfind("warning: " + dir.file(file) + ": ", 0), 0u) << c.name << ": " << warnings;
+        EXPECT_NE(warnings.find(c.warning), std::string::npos) << c.name << ": " << warnings;
+        // The material is white and untextured now: nothing left to draw but geometry.
+        EXPECT_EQ(scene->triangleCount(), 1u) << c.name;
+        EXPECT_TRUE(scene->materials.empty()) << c.name;
+        EXPECT_TRUE(scene->texcoords.empty()) << c.name;
+    }
+}
+
+TEST(GltfTextures, MaterialKeepsItsFactorWhenItsImageIsMissing)
+{
+    test::ScratchDir dir("sr_loader");
+    GltfDoc doc = texturedTriangleDoc({{"uri", "missing.png"}}, {{"index", 0}});
+    doc.json()["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.5, 0.25, 1, 1};
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadText(dir, "factor.gltf", doc.text());
+    ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->materials.size(), 1u);
+    EXPECT_EQ(scene->materials[0].baseColorTexture, -1);
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(0.5f, 0.25f, 1, 1)));
+    EXPECT_TRUE(scene->textures.empty());
+}
+
+TEST(GltfTextures, OversizedImageIsAnError)
+{
+    test::ScratchDir dir("sr_loader");
+    writeFile(dir.file("huge.png"), pngHeaderOnly(70000, 70000));
+    std::string path = dir.file("huge.gltf");
+    Result<Scene> scene =
+        loadText(dir, "huge.gltf", texturedTriangleDoc({{"uri", "huge.png"}}, {{"index", 0}}).text());
+    expectLoadError(scene, path);
+    EXPECT_NE(scene.error().message.find("huge.png"), std::string::npos) << scene.error().message;
+    EXPECT_NE(scene.error().message.find("70000x70000"), std::string::npos) << scene.error().message;
+
+    // The same inside a GLB buffer view.
+    std::string header = pngHeaderOnly(70000, 70000);
+    GltfDoc binary = texturedTriangleDoc({{"uri", "unused"}}, {{"index", 0}});
+    int view = binary.addView(header.data(), header.size());
+    binary.json()["images"] = Json::array({{{"bufferView", view}, {"mimeType", "image/png"}}});
+    Result<Scene> glb = loadText(dir, "huge.glb", binary.glb());
+    expectLoadError(glb, dir.file("huge.glb"));
+}
+
 TEST(SceneLoader, DispatchesOnExtensionCaseInsensitively)
 {
     test::ScratchDir dir("sr_loader");
@@ -811,6 +1394,74 @@ TEST(FinalizeScene, Errors)
     Scene missingNormals = twoTriangleScene();
     missingNormals.normals.pop_back();
     EXPECT_FALSE(finalizeScene(missingNormals, "normals").ok());
+}
+
+TEST(FinalizeScene, KeepsTriangleMaterialsAligned)
+{
+    Scene scene = twoTriangleScene();
+    scene.indices = {0, 1, 2, 0, 1, 99, 2, 1, 3};
+    scene.triFlags = {0, 1, 2};
+    scene.materials.resize(3);
+    scene.materials[1].baseColorFactor = glm::vec4(0.5f);
+    scene.triMaterials = {2, 1, 0};
+    ::testing::internal::CaptureStderr();
+    ASSERT_TRUE(finalizeScene(scene, "unit").ok());
+    ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(scene.triFlags, (std::vector<uint32_t>{0, 2}));
+    EXPECT_EQ(scene.triMaterials, (std::vector<uint32_t>{2, 0}));
+}
+
+TEST(FinalizeScene, MaterialConsistencyErrors)
+{
+    auto base = [] {
+        Scene scene = twoTriangleScene();
+        scene.materials.resize(2);
+        scene.triMaterials = {0, 1};
+        return scene;
+    };
+    auto expectError = [](Scene scene, const std::string& what) {
+        Status status = finalizeScene(scene, "scene");
+        ASSERT_FALSE(status.ok()) << what;
+        EXPECT_EQ(status.error().message.rfind("scene: ", 0), 0u) << status.error().message;
+        EXPECT_EQ(status.error().message.find('\n'), std::string::npos) << status.error().message;
+    };
+    Scene ok = base();
+    EXPECT_TRUE(finalizeScene(ok, "scene").ok());
+
+    Scene badIndex = base();
+    badIndex.triMaterials[1] = 2;
+    expectError(badIndex, "material index out of range");
+
+    Scene shortList = base();
+    shortList.triMaterials.pop_back();
+    expectError(shortList, "one material index per triangle");
+
+    Scene noTriMaterials = base();
+    noTriMaterials.triMaterials.clear();
+    expectError(noTriMaterials, "materials without triangle materials");
+
+    Scene badTexture = base();
+    badTexture.materials[0].baseColorTexture = 0;  // no textures
+    badTexture.texcoords.assign(badTexture.positions.size(), glm::vec4(0.0f));
+    expectError(badTexture, "texture index out of range");
+
+    Scene badTexcoords = base();
+    badTexcoords.texcoords.assign(badTexcoords.positions.size() - 1, glm::vec4(0.0f));
+    expectError(badTexcoords, "texcoords count");
+
+    Scene textured = base();
+    std::vector<uint8_t> pixel(4, 255);
+    Result<SceneTexture> texture = makeTexture("t", 1, 1, pixel.data(), true, TextureSampler{});
+    ASSERT_TRUE(texture.ok());
+    textured.textures.push_back(*texture);
+    textured.materials[0].baseColorTexture = 0;
+    expectError(textured, "textured material without texcoords");
+    textured.texcoords.assign(textured.positions.size(), glm::vec4(0.0f));
+    EXPECT_TRUE(finalizeScene(textured, "scene").ok());
+
+    Scene malformed = textured;
+    malformed.textures[0].texels.clear();
+    expectError(malformed, "texture without texels");
 }
 
 // ---- OBJ ------------------------------------------------------------------------------------
@@ -914,6 +1565,95 @@ TEST(ObjLoader, MissingAndGarbageFilesAreErrors)
     expectLoadError(r, garbage);
 }
 
+TEST(ObjLoader, MaterialsTexturesAndFlippedV)
+{
+    // mtllib in a subfolder; map_Kd with a Windows separator, relative to the .mtl's folder.
+    test::ScratchDir dir("sr_loader");
+    std::filesystem::create_directories(dir.file("mat/tex"));
+    writeTestPng(dir.file("mat/tex/wood.png"), 2, 2, k2x2);
+    writeFile(dir.file("mat/m.mtl"),
+              "newmtl red\nKd 1 0 0\n"
+              "newmtl wood\nKd 0.5 0.5 0.5\nmap_Kd .\\tex\\wood.png\n"
+              "newmtl woodAgain\nKd 1 1 1\nmap_Kd tex/wood.png\n"
+              "newmtl lost\nKd 1 1 1\nmap_Kd nowhere.png\n");
+    std::string path = dir.file("materials.obj");
+    writeFile(path,
+              "mtllib mat/m.mtl\n"
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+              "vt 0 0\nvt 1 0\nvt 1 1\nvt 0.25 0.75\n"
+              "f 1 2 3\n"
+              "usemtl wood\nf 1/1 2/2 3/3 4/4\n"
+              "usemtl red\nf 1 2 3\n"
+              "usemtl woodAgain\nf 1/1 2/2 3/3\n"
+              "usemtl lost\nf 1/1 2/2 3/3\n");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->triangleCount(), 6u);
+    EXPECT_EQ(occurrences(warnings, "warning: "), 1u) << warnings;
+    EXPECT_NE(warnings.find("nowhere.png"), std::string::npos) << warnings;
+
+    // In order of first use: the default (no usemtl), wood, red, woodAgain, lost.
+    ASSERT_EQ(scene->materials.size(), 5u);
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0, 1, 1, 2, 3, 4}));
+    EXPECT_EQ(scene->materials[0].baseColorTexture, -1);
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(1, 1, 1, 1)));
+    EXPECT_EQ(scene->materials[1].name, "wood");
+    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(0.5f, 0.5f, 0.5f, 1)));
+    EXPECT_TRUE(near(scene->materials[2].baseColorFactor, glm::vec4(1, 0, 0, 1)));
+    EXPECT_EQ(scene->materials[1].baseColorTexture, 0);
+    EXPECT_EQ(scene->materials[3].baseColorTexture, 0);  // the same file, loaded once
+    EXPECT_EQ(scene->materials[4].baseColorTexture, -1);
+    ASSERT_EQ(scene->textures.size(), 1u);
+    const SceneTexture& t = scene->textures[0];
+    EXPECT_TRUE(t.srgb);
+    EXPECT_EQ(level(t, 0), k2x2);
+    EXPECT_EQ(t.sampler.wrapS, WRAP_REPEAT);
+    EXPECT_EQ(t.sampler.wrapT, WRAP_REPEAT);
+    EXPECT_EQ(t.sampler.minFilter, FILTER_LINEAR);
+    EXPECT_EQ(t.sampler.mipmapMode, MIPMAP_LINEAR);
+
+    // v flipped to glTF's convention; corners without vt get zeros.
+    ASSERT_EQ(scene->texcoords.size(), scene->positions.size());
+    auto uv = [&](size_t tri, int k) { return scene->texcoords[scene->indices[3 * tri + size_t(k)]]; };
+    EXPECT_TRUE(near(uv(0, 0), glm::vec4(0, 0, 0, 0)));
+    EXPECT_TRUE(near(uv(1, 0), glm::vec4(0, 1, 0, 0)));
+    EXPECT_TRUE(near(uv(1, 1), glm::vec4(1, 1, 0, 0)));
+    EXPECT_TRUE(near(uv(1, 2), glm::vec4(1, 0, 0, 0)));
+    EXPECT_TRUE(near(uv(2, 2), glm::vec4(0.25f, 0.25f, 0, 0)));
+}
+
+TEST(ObjLoader, MissingMtlWarnsOnceAndLeavesNoMaterials)
+{
+    test::ScratchDir dir("sr_loader");
+    std::string path = dir.file("nomtl.obj");
+    writeFile(
+        path,
+        "mtllib absent.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl x\nf 1/1 2/2 3/3\n");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(occurrences(warnings, "warning: "), 1u) << warnings;
+    EXPECT_NE(warnings.find("absent.mtl"), std::string::npos) << warnings;
+    EXPECT_TRUE(scene->materials.empty());
+    EXPECT_TRUE(scene->triMaterials.empty());
+    EXPECT_TRUE(scene->texcoords.empty());
+}
+
+TEST(ObjLoader, OversizedTextureIsAnError)
+{
+    test::ScratchDir dir("sr_loader");
+    writeFile(dir.file("huge.png"), pngHeaderOnly(70000, 70000));
+    writeFile(dir.file("m.mtl"), "newmtl big\nKd 1 1 1\nmap_Kd huge.png\n");
+    std::string path = dir.file("huge.obj");
+    writeFile(path, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl big\nf 1 2 3\n");
+    Result<Scene> scene = loadScene(path);
+    expectLoadError(scene, path);
+    EXPECT_NE(scene.error().message.find("huge.png"), std::string::npos) << scene.error().message;
+}
+
 // ---- built-in scene -------------------------------------------------------------------------
 
 TEST(BuiltinScene, SaneGeometry)
@@ -964,6 +1704,133 @@ TEST(BuiltinScene, Deterministic)
     EXPECT_EQ(a.normals, b.normals);
     EXPECT_EQ(a.colors, b.colors);
     EXPECT_EQ(a.indices, b.indices);
+}
+
+// ---- Debian's assimp-testmodels (ci/setup installs them) ------------------------------------
+
+// A model of the assimp-testmodels package. The tests FAIL (not skip) without it: ci/setup installs it.
+std::string assimpModel(const std::string& relative)
+{
+    std::string path = "/usr/share/assimp/models/" + relative;
+    EXPECT_TRUE(std::filesystem::exists(path))
+        << path << " is missing: install the Debian package assimp-testmodels (ci/setup lists it)";
+    return path;
+}
+
+TEST(AssimpModels, BoxTexturedGltfGlbAndEmbedded)
+{
+    // Debian's copies of the Khronos sample: CesiumLogoFlat.png is 211x211 there (8 levels: 211, 105,
+    // 52, 26, 13, 6, 3, 1); the .gltf's sampler mirrors/clamps, the .glb's and embedded ones repeat.
+    struct Case {
+        const char* file;
+        uint32_t wrapS, wrapT;
+    };
+    const Case cases[] = {
+        {"glTF2/BoxTextured-glTF/BoxTextured.gltf", WRAP_MIRRORED_REPEAT, WRAP_CLAMP_TO_EDGE},
+        {"glTF2/BoxTextured-glTF-Binary/BoxTextured.glb", WRAP_REPEAT, WRAP_REPEAT},
+        {"glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf", WRAP_REPEAT, WRAP_REPEAT},
+    };
+    std::vector<uint32_t> firstTexels;
+    for (const Case& c : cases) {
+        std::string path = assimpModel(c.file);
+        ::testing::internal::CaptureStderr();
+        Result<Scene> scene = loadScene(path);
+        std::string warnings = ::testing::internal::GetCapturedStderr();
+        ASSERT_TRUE(scene.ok()) << scene.error().message;
+        EXPECT_EQ(warnings, "") << c.file;
+        EXPECT_EQ(scene->triangleCount(), 12u) << c.file;
+        ASSERT_EQ(scene->textures.size(), 1u) << c.file;
+        const SceneTexture& t = scene->textures[0];
+        EXPECT_EQ(t.width, 211u) << c.file;
+        EXPECT_EQ(t.height, 211u) << c.file;
+        EXPECT_EQ(t.levels, 8u) << c.file;
+        EXPECT_TRUE(t.srgb);
+        EXPECT_EQ(t.sampler.magFilter, FILTER_LINEAR);   // 9729
+        EXPECT_EQ(t.sampler.minFilter, FILTER_NEAREST);  // 9986 NEAREST_MIPMAP_LINEAR
+        EXPECT_EQ(t.sampler.mipmapMode, MIPMAP_LINEAR);
+        EXPECT_EQ(t.sampler.wrapS, c.wrapS) << c.file;
+        EXPECT_EQ(t.sampler.wrapT, c.wrapT) << c.file;
+        // The same image in all three files (external, GLB buffer view, data URI).
+        if (firstTexels.empty()) firstTexels = t.texels;
+        EXPECT_TRUE(t.texels == firstTexels) << c.file;
+        ASSERT_EQ(scene->materials.size(), 1u) << c.file;
+        EXPECT_EQ(scene->materials[0].baseColorTexture, 0);
+        EXPECT_EQ(scene->triMaterials, std::vector<uint32_t>(12, 0u));
+        ASSERT_EQ(scene->texcoords.size(), scene->positions.size()) << c.file;
+        // TEXCOORD_0 spans [0, 6] x [0, 1] (accessor min/max); there is no TEXCOORD_1.
+        glm::vec4 lo(INFINITY), hi(-INFINITY);
+        for (const glm::vec4& uv : scene->texcoords) lo = glm::min(lo, uv), hi = glm::max(hi, uv);
+        EXPECT_TRUE(near(lo, glm::vec4(0, 0, 0, 0))) << c.file;
+        EXPECT_TRUE(near(hi, glm::vec4(6, 1, 0, 0))) << c.file;
+    }
+}
+
+TEST(AssimpModels, TextureTransformTest)
+{
+    std::string path = assimpModel("glTF2/textureTransform/TextureTransformTest.gltf");
+    Result<Scene> scene = loadScene(path);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->materials.size(), 9u);
+    EXPECT_EQ(scene->textures.size(), 5u);
+    auto find = [&](const std::string& name) -> const SceneMaterial* {
+        for (const SceneMaterial& m : scene->materials)
+            if (m.name == name) return &m;
+        ADD_FAILURE() << "no material " << name;
+        return nullptr;
+    };
+    size_t nonIdentity = 0;
+    for (const SceneMaterial& m : scene->materials) {
+        EXPECT_GE(m.baseColorTexture, 0) << m.name;
+        if (m.uvTransform != glm::mat3(1.0f)) ++nonIdentity;
+    }
+    EXPECT_EQ(nonIdentity, 6u);
+    // "All": offset (-0.2, -0.1), rotation 0.3, scale (1.5, 1.5): columns (1.5 cos, -1.5 sin, 0),
+    // (1.5 sin, 1.5 cos, 0), (-0.2, -0.1, 1) with cos 0.3 = 0.9553365, sin 0.3 = 0.2955202.
+    const SceneMaterial* all = find("All");
+    ASSERT_NE(all, nullptr);
+    EXPECT_TRUE(near(all->uvTransform[0], glm::vec3(1.4330047f, -0.4432803f, 0)));
+    EXPECT_TRUE(near(all->uvTransform[1], glm::vec3(0.4432803f, 1.4330047f, 0)));
+    EXPECT_TRUE(near(all->uvTransform[2], glm::vec3(-0.2f, -0.1f, 1)));
+    const SceneMaterial* offset = find("Offset UV");
+    ASSERT_NE(offset, nullptr);
+    EXPECT_TRUE(near(offset->uvTransform * glm::vec3(0.25f, 0.25f, 1), glm::vec3(0.75f, 0.75f, 1)));
+    const SceneMaterial* rotation = find("Rotation");
+    ASSERT_NE(rotation, nullptr);
+    // 22.5 degrees: (1, 0) -> (cos, -sin).
+    EXPECT_TRUE(near(rotation->uvTransform * glm::vec3(1, 0, 1), glm::vec3(0.9238795f, -0.3826834f, 1)));
+    // Sampler 0: clamp, linear, no mipmaps; textures 2-4 have none (repeat, trilinear).
+    EXPECT_EQ(scene->textures[0].sampler.wrapS, WRAP_CLAMP_TO_EDGE);
+    EXPECT_EQ(scene->textures[0].sampler.mipmapMode, MIPMAP_NONE);
+    EXPECT_EQ(scene->textures[0].sampler.minFilter, FILTER_LINEAR);
+}
+
+TEST(AssimpModels, SpiderObj)
+{
+    std::string path = assimpModel("OBJ/spider.obj");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    // Every map_Kd (written ".\\name.jpg") resolves next to spider.mtl.
+    EXPECT_EQ(warnings, "");
+    ASSERT_FALSE(scene->materials.empty());
+    ASSERT_FALSE(scene->textures.empty());
+    bool spiderTex = false;
+    for (const SceneTexture& t : scene->textures) {
+        spiderTex = spiderTex || t.name == "/usr/share/assimp/models/OBJ/SpiderTex.jpg";
+        EXPECT_TRUE(t.srgb);
+        EXPECT_GT(t.levels, 1u);
+    }
+    EXPECT_TRUE(spiderTex);
+    for (const SceneMaterial& m : scene->materials) {
+        if (m.name == "default") continue;
+        EXPECT_GE(m.baseColorTexture, 0) << m.name;
+    }
+    ASSERT_EQ(scene->texcoords.size(), scene->positions.size());
+    ASSERT_EQ(scene->triMaterials.size(), scene->triangleCount());
+    bool anyNonZero = false;
+    for (const glm::vec4& uv : scene->texcoords) anyNonZero = anyNonZero || uv.x != 0.0f || uv.y != 0.0f;
+    EXPECT_TRUE(anyNonZero);
 }
 
 // ---- shipped assets -------------------------------------------------------------------------

@@ -31,6 +31,71 @@ std::vector<glm::vec4> concat(std::vector<glm::vec4> a, const std::vector<glm::v
     return a;
 }
 
+// A 4x4 black and white checkerboard (texel (i, j) white where i + j is even, row j = 0 on top) with its
+// full mip chain, sampled NEAREST without mipmaps and wrapped by `wrap`. Its left half has alpha 0 when
+// `transparentLeft` is set. The smaller levels are the box averages (sRGB 188 is linear 0.5); the
+// tests never sample them, but a SceneTexture always carries its whole chain.
+SceneTexture checkerboard(uint32_t wrap, bool transparentLeft = false)
+{
+    SceneTexture t;
+    t.name = "checkerboard";
+    t.width = t.height = 4;
+    t.levels = 3;
+    t.srgb = true;
+    for (uint32_t j = 0; j < 4; ++j)
+        for (uint32_t i = 0; i < 4; ++i) {
+            const uint32_t rgb = (i + j) % 2 == 0 ? 0x00FFFFFFu : 0u;
+            t.texels.push_back(rgb | (transparentLeft && i < 2 ? 0u : 0xFF000000u));
+        }
+    t.texels.insert(t.texels.end(), 4 + 1, 0xFFBCBCBCu);  // levels 1 (2x2) and 2 (1x1)
+    t.sampler = TextureSampler{wrap, wrap, FILTER_NEAREST, FILTER_NEAREST, MIPMAP_NONE};
+    return t;
+}
+
+// The checkerboard's colour at texel (i, j), wrapped by REPEAT (CLAMP_TO_EDGE callers stay inside).
+uint32_t checkerWord(int i, int j)
+{
+    return ((i % 4) + (j % 4)) % 2 == 0 ? 0xFFFFFFFFu : 0xFF000000u;
+}
+
+// A screen-filling quad at depth 0.5 (two triangles) with one material textured by `texture`, and
+// texture coordinates uvScale * (0..1) across it: at the centre of pixel (x, y) of a w x h image,
+// u = uvScale * (x + 0.5) / w and v = uvScale * (y + 0.5) / h (NDC y = -1, the top row, is v = 0).
+Scene texturedQuad(const SceneTexture& texture, float uvScale, uint32_t alphaMode = ALPHA_OPAQUE)
+{
+    Scene scene = clipSpaceScene(quad(-1, -1, 1, 1, 0.5f));
+    for (const glm::vec4& p : scene.positions)
+        scene.texcoords.push_back(
+            glm::vec4((p.x + 1.0f) * 0.5f * uvScale, (p.y + 1.0f) * 0.5f * uvScale, 0, 0));
+    SceneMaterial material;
+    material.baseColorTexture = 0;
+    material.alphaMode = alphaMode;
+    material.alphaCutoff = 0.5f;
+    scene.materials = {material};
+    scene.triMaterials.assign(scene.triangleCount(), 0);
+    if (alphaMode == ALPHA_MASK)
+        for (uint32_t& flags : scene.triFlags) flags |= TRI_FLAG_ALPHA_MASK;
+    scene.textures = {texture};
+    return scene;
+}
+
+// Lambert with ambient 1 and no directional light: the colour is the base colour itself.
+RenderSettings unlitSettings(uint32_t width, uint32_t height)
+{
+    RenderSettings s = testSettings(width, height);
+    s.shadingMode = SHADING_LAMBERT;
+    s.ambient = 1.0f;
+    s.lightColor = glm::vec3(0.0f);
+    return s;
+}
+
+// Whether coordinate `texels` (u or v times the texture size) lies within 1e-3 texel of a texel border,
+// where the nearest texel is a matter of rounding.
+bool nearTexelBorder(float texels)
+{
+    return std::abs(texels - std::round(texels)) < 1e-3f;
+}
+
 bool isOneLine(const std::string& message)
 {
     return !message.empty() && message.find('\n') == std::string::npos;
@@ -196,6 +261,127 @@ TEST_F(VulkanGraphicsTest, BuiltinSceneMatchesTheComputeBackend)
     // rasterizer between the unsnapped ones: the two planes differ by the depth change over up to
     // half a subpixel, which stays far below this on the built-in scene.
     EXPECT_LT(worstDepth, 1e-3f);
+}
+
+// Hardware texturing through a real image and sampler: NEAREST returns texel (floor(4u), floor(4v)).
+TEST_F(VulkanGraphicsTest, NearestCheckerboardShowsTheTexelUnderEachPixelCentre)
+{
+    const uint32_t w = 64, h = 64;
+    RenderOutput out = render(texturedQuad(checkerboard(WRAP_CLAMP_TO_EDGE), 1.0f), unlitSettings(w, h));
+    ASSERT_EQ(out.color.pixels.size(), size_t(w) * h);
+    size_t checked = 0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float u = (float(x) + 0.5f) / float(w), v = (float(y) + 0.5f) / float(h);
+            if (nearTexelBorder(4.0f * u) || nearTexelBorder(4.0f * v)) continue;
+            const size_t i = size_t(y) * w + x;
+            ASSERT_EQ(out.color.pixels[i], checkerWord(int(4.0f * u), int(4.0f * v))) << x << "," << y;
+            ASSERT_NE(out.aov.id[i], EMPTY_ID) << x << "," << y;
+            ++checked;
+        }
+    EXPECT_EQ(checked, size_t(w) * h);  // no pixel centre of this layout is near a texel border
+}
+
+// The texcoord debug view shows the interpolated (u, v) as red and green.
+TEST_F(VulkanGraphicsTest, TexcoordViewShowsTheInterpolatedUv)
+{
+    const uint32_t w = 64, h = 64;
+    RenderSettings s = unlitSettings(w, h);
+    s.shadingMode = SHADING_TEXCOORD;
+    RenderOutput out = render(texturedQuad(checkerboard(WRAP_CLAMP_TO_EDGE), 1.0f), s);
+    ASSERT_EQ(out.color.pixels.size(), size_t(w) * h);
+    int worst = 0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec3 uv((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h), 0.0f);
+            worst = std::max(worst, channelDifference(out.color.pixels[size_t(y) * w + x], packRgba8(uv)));
+        }
+    EXPECT_LE(worst, 1);  // 1/255 of the stored (sRGB-encoded) value
+}
+
+// The mip debug view shows the level of detail of the hardware's derivatives: 64 texture repeats across
+// 64 pixels put 4 texels of level 0 under each pixel step, lambda = 2, green in mipColor's ramp. On
+// llvmpipe this also covers the quads that the quad's diagonal crosses (see reference.frag).
+TEST_F(VulkanGraphicsTest, MipViewShowsTheLevelOfDetailOfTheHardwareDerivatives)
+{
+    const uint32_t w = 64, h = 64;
+    RenderSettings s = unlitSettings(w, h);
+    s.shadingMode = SHADING_MIP;
+    const SceneTexture texture = checkerboard(WRAP_REPEAT);
+    RenderOutput out = render(texturedQuad(texture, 64.0f), s);
+    ASSERT_EQ(out.color.pixels.size(), size_t(w) * h);
+    int worst = 0;
+    for (uint32_t pixel : out.color.pixels)
+        worst = std::max(worst, channelDifference(pixel, packRgba8(mipColor(2.0f))));
+    EXPECT_LE(worst, 1);
+}
+
+// alphaMode MASK: where the texture's alpha is below the cutoff the triangle covers nothing, so the
+// background id, depth and colour show through on the left half.
+TEST_F(VulkanGraphicsTest, AlphaMaskCutsOutTheTransparentHalf)
+{
+    const uint32_t w = 64, h = 64;
+    RenderSettings s = unlitSettings(w, h);
+    RenderOutput out = render(texturedQuad(checkerboard(WRAP_CLAMP_TO_EDGE, true), 1.0f, ALPHA_MASK), s);
+    ASSERT_EQ(out.aov.id.size(), size_t(w) * h);
+    const uint32_t background = packRgba8(s.background);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            if (x < w / 2) {
+                ASSERT_EQ(out.aov.id[i], EMPTY_ID) << x << "," << y;
+                ASSERT_EQ(out.aov.depth[i], 1.0f) << x << "," << y;
+                ASSERT_EQ(out.color.pixels[i], background) << x << "," << y;
+            } else {
+                ASSERT_TRUE(out.aov.id[i] == 0 || out.aov.id[i] == 1) << x << "," << y;
+                ASSERT_EQ(out.aov.depth[i], 0.5f) << x << "," << y;
+            }
+        }
+    // The bench's visibility-only pass cannot test alpha, so it falls back to the full pass.
+    s.visibilityOnly = true;
+    RenderOutput visibility =
+        render(texturedQuad(checkerboard(WRAP_CLAMP_TO_EDGE, true), 1.0f, ALPHA_MASK), s);
+    EXPECT_EQ(visibility.aov.id, out.aov.id);
+}
+
+// REPEAT with texture coordinates 0..2 draws the checkerboard twice along each axis.
+TEST_F(VulkanGraphicsTest, RepeatWrapTilesTheTexture)
+{
+    const uint32_t w = 64, h = 64;
+    RenderOutput out = render(texturedQuad(checkerboard(WRAP_REPEAT), 2.0f), unlitSettings(w, h));
+    ASSERT_EQ(out.color.pixels.size(), size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float u = 2.0f * (float(x) + 0.5f) / float(w), v = 2.0f * (float(y) + 0.5f) / float(h);
+            if (nearTexelBorder(4.0f * u) || nearTexelBorder(4.0f * v)) continue;
+            ASSERT_EQ(out.color.pixels[size_t(y) * w + x], checkerWord(int(4.0f * u), int(4.0f * v)))
+                << x << "," << y;
+        }
+    // The second copy repeats the first: the right half equals the left half.
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w / 2; ++x)
+            ASSERT_EQ(out.color.pixels[size_t(y) * w + x], out.color.pixels[size_t(y) * w + x + w / 2])
+                << x << "," << y;
+}
+
+// The compute pipeline samples in software what the reference samples in hardware; on these
+// NEAREST textures both must give the same ids and colours.
+TEST_F(VulkanGraphicsTest, TexturedQuadsMatchTheComputeBackend)
+{
+    const uint32_t w = 64, h = 64;
+    const RenderSettings s = unlitSettings(w, h);
+    for (const Scene& scene : {texturedQuad(checkerboard(WRAP_REPEAT), 2.0f),
+                               texturedQuad(checkerboard(WRAP_CLAMP_TO_EDGE, true), 1.0f, ALPHA_MASK)}) {
+        RenderOutput graphics = render(scene, s);
+        RenderOutput compute = renderCompute(scene, s);
+        ASSERT_EQ(graphics.aov.id.size(), size_t(w) * h);
+        ASSERT_EQ(compute.aov.id.size(), size_t(w) * h);
+        EXPECT_EQ(graphics.aov.id, compute.aov.id);
+        int worst = 0;
+        for (size_t i = 0; i < graphics.color.pixels.size(); ++i)
+            worst = std::max(worst, channelDifference(graphics.color.pixels[i], compute.color.pixels[i]));
+        EXPECT_EQ(worst, 0);
+    }
 }
 
 TEST_F(VulkanGraphicsTest, ReportsTimingsStatsAndDevice)

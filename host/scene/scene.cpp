@@ -30,6 +30,63 @@ bool finitePosition(const glm::vec4& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
 }
 
+// Textures must be what GpuTexture promises (full chain, sizes in range); materials, per-triangle
+// material indices and texture coordinates must be consistent, since the backends index with them
+// without further checks.
+Status checkMaterials(const Scene& scene, size_t triangles, const std::string& errorPrefix)
+{
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const SceneTexture& t = scene.textures[i];
+        bool sizeOk =
+            t.width >= 1 && t.height >= 1 && t.width <= MAX_TEXTURE_DIM && t.height <= MAX_TEXTURE_DIM;
+        uint32_t levels = 1;
+        size_t texels = 0;
+        if (sizeOk) {
+            for (uint32_t m = std::max(t.width, t.height); m > 1; m >>= 1) ++levels;
+            for (uint32_t k = 0; k < levels; ++k)
+                texels += size_t(std::max(1u, t.width >> k)) * std::max(1u, t.height >> k);
+        }
+        if (!sizeOk || t.levels != levels || t.texels.size() != texels)
+            return makeError(ExitCode::Usage,
+                             "{}: texture {} ('{}', {}x{}, {} levels, {} texels) is malformed", errorPrefix,
+                             i, t.name, t.width, t.height, t.levels, t.texels.size());
+    }
+    bool anyTexture = false;
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const SceneMaterial& m = scene.materials[i];
+        if (m.baseColorTexture < -1 ||
+            (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) >= scene.textures.size()))
+            return makeError(ExitCode::Usage, "{}: material {} uses texture {}, but there are {} textures",
+                             errorPrefix, i, m.baseColorTexture, scene.textures.size());
+        if (m.texCoord > 1)
+            return makeError(ExitCode::Usage,
+                             "{}: material {} uses texture coordinate set {} (0 or 1 expected)", errorPrefix,
+                             i, m.texCoord);
+        if (m.alphaMode != ALPHA_OPAQUE && m.alphaMode != ALPHA_MASK)
+            return makeError(ExitCode::Usage, "{}: material {} has unknown alpha mode {}", errorPrefix, i,
+                             m.alphaMode);
+        anyTexture = anyTexture || m.baseColorTexture >= 0;
+    }
+    if (scene.materials.empty() != scene.triMaterials.empty() ||
+        (!scene.triMaterials.empty() && scene.triMaterials.size() != triangles))
+        return makeError(ExitCode::Usage,
+                         "{}: {} per-triangle material indices for {} triangles and {} materials",
+                         errorPrefix, scene.triMaterials.size(), triangles, scene.materials.size());
+    for (size_t t = 0; t < scene.triMaterials.size(); ++t) {
+        if (scene.triMaterials[t] >= scene.materials.size())
+            return makeError(ExitCode::Usage, "{}: triangle {} uses material {}, but there are {} materials",
+                             errorPrefix, t, scene.triMaterials[t], scene.materials.size());
+    }
+    if (!scene.texcoords.empty() && scene.texcoords.size() != scene.positions.size())
+        return makeError(ExitCode::Usage, "{}: {} texture coordinates for {} vertices", errorPrefix,
+                         scene.texcoords.size(), scene.positions.size());
+    if (anyTexture && scene.texcoords.empty())
+        return makeError(ExitCode::Usage,
+                         "{}: a material has a texture but the scene has no texture coordinates",
+                         errorPrefix);
+    return okStatus();
+}
+
 // `warnAs` names the scene in warnings and `errorPrefix` starts every error message, so that file
 // loaders can report "cannot load '<path>': ..." while other callers get "<what>: ...".
 Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& errorPrefix)
@@ -53,6 +110,8 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
 
     size_t triangles = scene.indices.size() / 3;
     scene.triFlags.resize(triangles, 0u);
+    SR_TRY(checkMaterials(scene, triangles, errorPrefix));
+    bool hasTriMaterials = !scene.triMaterials.empty();
 
     // Compact in place; the relative order of the kept triangles (their ids) is preserved.
     size_t kept = 0;
@@ -69,12 +128,14 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         if (kept != t) {
             std::copy(tri, tri + 3, &scene.indices[3 * kept]);
             scene.triFlags[kept] = scene.triFlags[t];
+            if (hasTriMaterials) scene.triMaterials[kept] = scene.triMaterials[t];
         }
         ++kept;
     }
     uint64_t dropped = triangles - kept;
     scene.indices.resize(3 * kept);
     scene.triFlags.resize(kept);
+    if (hasTriMaterials) scene.triMaterials.resize(kept);
     if (dropped > 0) {
         scene.droppedTriangles += dropped;
         fmt::print(stderr,

@@ -3,6 +3,10 @@
 // tinygltf parses the JSON and resolves buffers (external files, data URIs, the GLB chunk); every
 // index, offset and count it hands over is validated here before any byte is read, so a malformed
 // file becomes a one-line error instead of an out-of-bounds read.
+//
+// Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode
+// and double-sidedness. Images are decoded only when a used material needs them; an image that cannot
+// be read or decoded is a warning (the material keeps its factor), one over the size limit an error.
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -15,6 +19,7 @@
 
 #include "raster_shared.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 namespace sr {
 namespace {
@@ -29,12 +34,124 @@ Error fail(const std::string& reason)
     return Error{reason, ExitCode::Usage};
 }
 
-// Image payloads are never used by the rasterizer; skipping their decoding keeps a broken or exotic
-// texture from failing the load of the geometry.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-               void*)
+// Keeps the still encoded bytes of images given by URI (external files, data URIs) instead of decoding
+// them: only the images that used materials need are decoded, later, so that a broken or exotic image
+// costs a warning about its texture rather than the whole file. Images in buffer views are read later
+// from the validated buffers, since tinygltf passes them on without checking that the view lies inside
+// its buffer. Always succeeds, so tinygltf never fails a load over an image.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*)
 {
+    if (image->bufferView < 0 && bytes && size > 0) {
+        image->image.assign(bytes, bytes + size);
+        image->as_is = true;
+    }
     return true;
+}
+
+// tinygltf's messages about external images it could not read: the loader reports each unreadable
+// image once itself, naming the image and what happens instead, so these lines are dropped.
+std::string withoutImageFileWarnings(const std::string& warn)
+{
+    static const char* kPrefixes[] = {"File not found : ", "File read error : ", "File is empty : ",
+                                      "Failed to load external 'uri' for image[",
+                                      "Image data is empty for image["};
+    std::string out;
+    size_t start = 0;
+    while (start < warn.size()) {
+        size_t end = std::min(warn.find('\n', start), warn.size());
+        std::string line = warn.substr(start, end - start);
+        bool drop = false;
+        for (const char* prefix : kPrefixes) drop = drop || line.rfind(prefix, 0) == 0;
+        if (!drop) out += line + "\n";
+        start = end + 1;
+    }
+    return out;
+}
+
+uint32_t wrapMode(int gltf)
+{
+    switch (gltf) {
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WRAP_CLAMP_TO_EDGE;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WRAP_MIRRORED_REPEAT;
+    default: return WRAP_REPEAT;  // 10497 and anything invalid: glTF's default
+    }
+}
+
+// A glTF sampler as TextureSampler; values the spec does not define fall back to its defaults
+// (linear magnification, trilinear minification).
+TextureSampler samplerOf(const tinygltf::Sampler& s)
+{
+    TextureSampler out;
+    out.wrapS = wrapMode(s.wrapS);
+    out.wrapT = wrapMode(s.wrapT);
+    out.magFilter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? FILTER_NEAREST : FILTER_LINEAR;
+    switch (s.minFilter) {
+    case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        out.minFilter = FILTER_NEAREST;
+        out.mipmapMode = MIPMAP_NONE;
+        break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        out.minFilter = FILTER_LINEAR;
+        out.mipmapMode = MIPMAP_NONE;
+        break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+        out.minFilter = FILTER_NEAREST;
+        out.mipmapMode = MIPMAP_NEAREST;
+        break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+        out.minFilter = FILTER_LINEAR;
+        out.mipmapMode = MIPMAP_NEAREST;
+        break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+        out.minFilter = FILTER_NEAREST;
+        out.mipmapMode = MIPMAP_LINEAR;
+        break;
+    default:  // LINEAR_MIPMAP_LINEAR, undefined (-1) or invalid
+        out.minFilter = FILTER_LINEAR;
+        out.mipmapMode = MIPMAP_LINEAR;
+        break;
+    }
+    return out;
+}
+
+// KHR_texture_transform of a textureInfo as T * R * S, column-major so that uv' = m * (u, v, 1). The
+// rotation is counter-clockwise in UV space (v down): u' = cos u + sin v, v' = -sin u + cos v, the
+// extension README's rows [cos, sin; -sin, cos] (its example, rotation pi/2 with offset (0, 1) and
+// scale 0.5 selecting the lower left quadrant, pins the direction). `texCoord` is overridden when the
+// extension gives one.
+glm::mat3 textureTransform(const tinygltf::TextureInfo& info, int& texCoord)
+{
+    auto it = info.extensions.find("KHR_texture_transform");
+    if (it == info.extensions.end() || !it->second.IsObject()) return glm::mat3(1.0f);
+    const tinygltf::Value& ext = it->second;
+    auto pair = [&](const char* key, double& a, double& b) {
+        if (!ext.Has(key)) return;
+        const tinygltf::Value& v = ext.Get(key);
+        if (v.IsArray() && v.ArrayLen() == 2 && v.Get(0).IsNumber() && v.Get(1).IsNumber()) {
+            a = v.Get(0).GetNumberAsDouble();
+            b = v.Get(1).GetNumberAsDouble();
+        }
+    };
+    double ox = 0.0, oy = 0.0, sx = 1.0, sy = 1.0, rotation = 0.0;
+    pair("offset", ox, oy);
+    pair("scale", sx, sy);
+    if (ext.Has("rotation") && ext.Get("rotation").IsNumber())
+        rotation = ext.Get("rotation").GetNumberAsDouble();
+    if (ext.Has("texCoord") && ext.Get("texCoord").IsInt()) texCoord = ext.Get("texCoord").GetNumberAsInt();
+    double c = std::cos(rotation), s = std::sin(rotation);
+    glm::dmat3 t(1.0), r(1.0), scale(1.0);
+    t[2] = glm::dvec3(ox, oy, 1.0);
+    r[0] = glm::dvec3(c, -s, 0.0);
+    r[1] = glm::dvec3(s, c, 0.0);
+    scale[0][0] = sx;
+    scale[1][1] = sy;
+    return glm::mat3(t * r * scale);
+}
+
+bool isDefaultMaterial(const SceneMaterial& m)
+{
+    return m.baseColorFactor == glm::vec4(1.0f) && m.baseColorTexture < 0 && m.alphaMode == ALPHA_OPAQUE;
 }
 
 int componentSize(int componentType)
@@ -228,7 +345,12 @@ private:
     Status addPrimitive(const tinygltf::Primitive& prim, const std::string& where, const glm::dmat4& world,
                         const glm::dmat3& normalMatrix, bool flip);
     Status addCamera(int cameraIndex, int nodeIndex, const glm::dmat4& world);
-    void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c);
+    void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c, const glm::vec4& uv);
+    Result<uint32_t> useMaterial(int gltfMaterial);
+    Result<int32_t> useTexture(int gltfTexture, const std::string& material);
+    bool imageBytes(const tinygltf::Image& image, const uint8_t*& bytes, size_t& size,
+                    std::string& why) const;
+    void warnOnce(bool& done, const std::string& message);
 
     const tinygltf::Model& model_;
     const std::string& path_;
@@ -237,7 +359,170 @@ private:
     std::array<size_t, 4> skippedLineModes_{};  // indexed by TINYGLTF_MODE_POINTS..LINE_STRIP
     size_t skippedWithoutPositions_ = 0;
     bool anyNonWhite_ = false;
+    // glTF material / texture index -> Scene::materials / Scene::textures index; -1 not yet used.
+    std::vector<int32_t> materialIndex_;
+    std::vector<int32_t> textureIndex_;
+    std::vector<bool> textureTried_;
+    int32_t defaultMaterial_ = -1;
+    std::vector<bool> texCoordWarned_;  // per scene material: missing texture coordinate set reported
+    bool blendWarned_ = false;
+    std::array<bool, 4> ignoredTextureWarned_{};
 };
+
+void GltfFlattener::warnOnce(bool& done, const std::string& message)
+{
+    if (done) return;
+    done = true;
+    fmt::print(stderr, "warning: {}: {}\n", path_, message);
+}
+
+// The encoded bytes of an image: kept by keepEncodedImage for URIs, read from its buffer view
+// (bounds-checked) otherwise. False with a reason when there are none.
+bool GltfFlattener::imageBytes(const tinygltf::Image& image, const uint8_t*& bytes, size_t& size,
+                               std::string& why) const
+{
+    if (image.bufferView < 0) {
+        if (image.image.empty() || !image.as_is) {
+            why = image.uri.empty() ? "no image data" : "file not found or unreadable";
+            return false;
+        }
+        bytes = image.image.data();
+        size = image.image.size();
+        return true;
+    }
+    if (size_t(image.bufferView) >= model_.bufferViews.size()) {
+        why = fmt::format("buffer view {} does not exist", image.bufferView);
+        return false;
+    }
+    const tinygltf::BufferView& bv = model_.bufferViews[size_t(image.bufferView)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) {
+        why = fmt::format("buffer view {} uses buffer {}, which does not exist", image.bufferView, bv.buffer);
+        return false;
+    }
+    const std::vector<unsigned char>& data = model_.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset || bv.byteLength == 0) {
+        why = fmt::format("buffer view {} lies outside its buffer", image.bufferView);
+        return false;
+    }
+    bytes = data.data() + bv.byteOffset;
+    size = bv.byteLength;
+    return true;
+}
+
+// Scene::textures index of glTF texture `gltfTexture` (image + sampler), loaded on first use; -1 when it
+// cannot be used (reported once). Fails only for an image over the size limit.
+Result<int32_t> GltfFlattener::useTexture(int gltfTexture, const std::string& material)
+{
+    if (gltfTexture < 0 || size_t(gltfTexture) >= model_.textures.size()) {
+        fmt::print(stderr,
+                   "warning: {}: material '{}' uses texture {}, which does not exist; drawn with its base "
+                   "colour factor only\n",
+                   path_, material, gltfTexture);
+        return int32_t(-1);
+    }
+    size_t index = size_t(gltfTexture);
+    if (textureTried_[index]) return textureIndex_[index];
+    textureTried_[index] = true;
+
+    const tinygltf::Texture& texture = model_.textures[index];
+    TextureSampler sampler;
+    if (texture.sampler >= 0 && size_t(texture.sampler) < model_.samplers.size())
+        sampler = samplerOf(model_.samplers[size_t(texture.sampler)]);
+    // Named after the image's URI (data URIs are not kept as URIs) or name, so messages point at it.
+    std::string name = fmt::format("image {}", texture.source);
+    std::string why;
+    const uint8_t* bytes = nullptr;
+    size_t size = 0;
+    bool haveBytes = false;
+    if (texture.source < 0 || size_t(texture.source) >= model_.images.size()) {
+        why = texture.source < 0 ? "the texture has no image (extension-only sources are not supported)"
+                                 : "no such image";
+    } else {
+        const tinygltf::Image& image = model_.images[size_t(texture.source)];
+        if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0)
+            name = image.uri;
+        else if (!image.name.empty())
+            name = image.name;
+        haveBytes = imageBytes(image, bytes, size, why);
+    }
+    if (haveBytes) {
+        Result<SceneTexture> loaded = loadTextureMemory(name, bytes, size, true, sampler);
+        if (loaded) {
+            textureIndex_[index] = int32_t(scene_.textures.size());
+            scene_.textures.push_back(std::move(*loaded));
+            return textureIndex_[index];
+        }
+        if (isTextureSizeError(loaded.error())) return loaded.error();
+        why = loaded.error().message;
+    }
+    fmt::print(stderr,
+               "warning: {}: cannot load image '{}' of texture {} ({}); drawn with the base colour factor "
+               "only\n",
+               path_, name, gltfTexture, why);
+    return int32_t(-1);
+}
+
+// Scene::materials index for a glTF material (-1: the default material), created on first use.
+Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
+{
+    if (gltfMaterial < 0) {
+        if (defaultMaterial_ < 0) {
+            defaultMaterial_ = int32_t(scene_.materials.size());
+            SceneMaterial m;
+            m.name = "default";
+            scene_.materials.push_back(m);
+            texCoordWarned_.push_back(false);
+        }
+        return uint32_t(defaultMaterial_);
+    }
+    size_t index = size_t(gltfMaterial);
+    if (materialIndex_[index] >= 0) return uint32_t(materialIndex_[index]);
+
+    const tinygltf::Material& src = model_.materials[index];
+    SceneMaterial m;
+    m.name = src.name.empty() ? fmt::format("material {}", gltfMaterial) : src.name;
+    const std::vector<double>& factor = src.pbrMetallicRoughness.baseColorFactor;
+    if (factor.size() == 4)
+        m.baseColorFactor = glm::vec4(float(factor[0]), float(factor[1]), float(factor[2]), float(factor[3]));
+    if (src.alphaMode == "MASK") {
+        m.alphaMode = ALPHA_MASK;
+        m.alphaCutoff = float(src.alphaCutoff);
+    } else if (src.alphaMode == "BLEND") {
+        warnOnce(blendWarned_, "alphaMode BLEND drawn as opaque");
+    }
+
+    const char* kIgnored[4] = {"metallicRoughnessTexture", "normalTexture", "occlusionTexture",
+                               "emissiveTexture"};
+    const int ignoredIndex[4] = {src.pbrMetallicRoughness.metallicRoughnessTexture.index,
+                                 src.normalTexture.index, src.occlusionTexture.index,
+                                 src.emissiveTexture.index};
+    for (size_t i = 0; i < 4; ++i) {
+        if (ignoredIndex[i] >= 0)
+            warnOnce(ignoredTextureWarned_[i],
+                     fmt::format("{} ignored (only base colour is supported)", kIgnored[i]));
+    }
+
+    const tinygltf::TextureInfo& info = src.pbrMetallicRoughness.baseColorTexture;
+    if (info.index >= 0) {
+        int texCoord = info.texCoord;
+        m.uvTransform = textureTransform(info, texCoord);
+        Result<int32_t> texture = useTexture(info.index, m.name);
+        if (!texture) return texture.error();
+        if (*texture >= 0 && (texCoord < 0 || texCoord > 1)) {
+            fmt::print(stderr,
+                       "warning: {}: material '{}' uses TEXCOORD_{} (only sets 0 and 1 are supported); drawn "
+                       "without its texture\n",
+                       path_, m.name, texCoord);
+        } else {
+            m.baseColorTexture = *texture;
+            m.texCoord = uint32_t(std::max(texCoord, 0));
+        }
+    }
+    materialIndex_[index] = int32_t(scene_.materials.size());
+    scene_.materials.push_back(m);
+    texCoordWarned_.push_back(false);
+    return uint32_t(materialIndex_[index]);
+}
 
 Status GltfFlattener::run()
 {
@@ -263,6 +548,9 @@ Status GltfFlattener::run()
     }
 
     visited_.assign(model_.nodes.size(), false);
+    materialIndex_.assign(model_.materials.size(), -1);
+    textureIndex_.assign(model_.textures.size(), -1);
+    textureTried_.assign(model_.textures.size(), false);
     for (int root : roots) SR_TRY(visitTree(root));
 
     for (int mode = TINYGLTF_MODE_POINTS; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
@@ -277,6 +565,22 @@ Status GltfFlattener::run()
                    skippedWithoutPositions_);
     }
     if (!anyNonWhite_) scene_.colors.clear();
+
+    // The emptiness rules of Scene: no materials when none changes anything, no texture coordinates
+    // (and no textures) when no material is textured.
+    bool anyTexture = false, allDefault = true;
+    for (const SceneMaterial& m : scene_.materials) {
+        anyTexture = anyTexture || m.baseColorTexture >= 0;
+        allDefault = allDefault && isDefaultMaterial(m);
+    }
+    if (allDefault) {
+        scene_.materials.clear();
+        scene_.triMaterials.clear();
+    }
+    if (!anyTexture) {
+        scene_.texcoords.clear();
+        scene_.textures.clear();
+    }
     return okStatus();
 }
 
@@ -332,11 +636,13 @@ Status GltfFlattener::addMesh(int meshIndex, const glm::dmat4& world)
     return okStatus();
 }
 
-void GltfFlattener::pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c)
+void GltfFlattener::pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c,
+                               const glm::vec4& uv)
 {
     scene_.positions.emplace_back(p, 1.0f);
     scene_.normals.emplace_back(n, 0.0f);
     scene_.colors.push_back(c);
+    scene_.texcoords.push_back(uv);
     if (c != glm::vec4(1.0f)) anyNonWhite_ = true;
 }
 
@@ -398,24 +704,62 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
             return fail(fmt::format("{}: {} colours for {} positions", where, colors.count, vertexCount));
     }
 
-    glm::vec4 baseColor(1.0f);
+    // TEXCOORD_0 and TEXCOORD_1: float, or normalised unsigned byte / short (glTF 2.0, 3.7.2.1).
+    std::array<AccessorView, 2> uvSets;
+    std::array<bool, 2> hasUv{};
+    for (int set = 0; set < 2; ++set) {
+        std::string name = fmt::format("TEXCOORD_{}", set);
+        int accessor = attribute(name.c_str());
+        if (accessor < 0) continue;
+        Result<AccessorView> view = viewAccessor(model_, accessor);
+        if (!view) return view.error();
+        bool componentOk = view->componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                           view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                           view->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        if (view->type != TINYGLTF_TYPE_VEC2 || !componentOk)
+            return fail(
+                fmt::format("{}: {} must be VEC2 of float, unsigned byte or unsigned short", where, name));
+        if (view->count != vertexCount)
+            return fail(fmt::format("{}: {} texture coordinates in {} for {} positions", where, view->count,
+                                    name, vertexCount));
+        uvSets[size_t(set)] = *view;
+        hasUv[size_t(set)] = true;
+    }
+
     bool doubleSided = false;
     if (prim.material >= 0) {
         if (size_t(prim.material) >= model_.materials.size())
             return fail(fmt::format("{} uses material {}, which does not exist", where, prim.material));
-        const tinygltf::Material& material = model_.materials[size_t(prim.material)];
-        const std::vector<double>& factor = material.pbrMetallicRoughness.baseColorFactor;
-        if (factor.size() == 4)
-            baseColor = glm::vec4(float(factor[0]), float(factor[1]), float(factor[2]), float(factor[3]));
-        doubleSided = material.doubleSided;
+        doubleSided = model_.materials[size_t(prim.material)].doubleSided;
     }
+    Result<uint32_t> materialId = useMaterial(prim.material);
+    if (!materialId) return materialId.error();
+    SceneMaterial& material = scene_.materials[*materialId];
+    if (material.baseColorTexture >= 0 && !hasUv[material.texCoord]) {
+        // The material is shared by every primitive that uses it, so it loses its texture everywhere.
+        if (!texCoordWarned_[*materialId])
+            fmt::print(stderr,
+                       "warning: {}: material '{}' uses TEXCOORD_{}, which {} does not have; drawn without "
+                       "its texture\n",
+                       path_, material.name, material.texCoord, where);
+        texCoordWarned_[*materialId] = true;
+        material.baseColorTexture = -1;
+    }
+    // The base colour factor stays in the material (the shading stage multiplies it in), so the vertex
+    // colours are COLOR_0 alone.
     auto colorOf = [&](size_t v) {
         glm::vec4 c(1.0f);
         if (hasColors) {
             c = glm::vec4(colors.component(v, 0), colors.component(v, 1), colors.component(v, 2), 1.0f);
             if (colors.type == TINYGLTF_TYPE_VEC4) c.w = colors.component(v, 3);
         }
-        return c * baseColor;
+        return c;
+    };
+    auto uvOf = [&](size_t v) {
+        glm::vec4 uv(0.0f);
+        if (hasUv[0]) uv.x = uvSets[0].component(v, 0), uv.y = uvSets[0].component(v, 1);
+        if (hasUv[1]) uv.z = uvSets[1].component(v, 0), uv.w = uvSets[1].component(v, 1);
+        return uv;
     };
 
     // The primitive's vertex sequence: its indices, or 0..count-1 without them.
@@ -462,7 +806,8 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
         return glm::vec3(world * glm::dvec4(glm::dvec3(positions->vec3(v)), 1.0));
     };
     size_t triangleCount = tris.size() / 3;
-    uint32_t flags = doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
+    uint32_t flags = (doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u) |
+                     (material.alphaMode == ALPHA_MASK ? TRI_FLAG_ALPHA_MASK : 0u);
     size_t base = scene_.positions.size();
     size_t added = hasNormals ? vertexCount : 3 * triangleCount;
     if (added > kMaxVertices - base)
@@ -471,7 +816,7 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
     if (hasNormals) {
         for (size_t v = 0; v < vertexCount; ++v) {
             glm::vec3 normal = safeNormalize(normalMatrix * glm::dvec3(normals.vec3(v)));
-            pushVertex(worldPosition(v), normal, colorOf(v));
+            pushVertex(worldPosition(v), normal, colorOf(v), uvOf(v));
         }
         for (uint32_t local : tris)
             scene_.indices.push_back(local < vertexCount ? uint32_t(base + local) : kInvalidIndex);
@@ -489,11 +834,12 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
             glm::vec3 normal = safeNormalize(glm::cross(e1, e2));
             for (int k = 0; k < 3; ++k) {
                 scene_.indices.push_back(uint32_t(scene_.positions.size()));
-                pushVertex(p[k], normal, colorOf(tri[k]));
+                pushVertex(p[k], normal, colorOf(tri[k]), uvOf(tri[k]));
             }
         }
     }
     scene_.triFlags.insert(scene_.triFlags.end(), triangleCount, flags);
+    scene_.triMaterials.insert(scene_.triMaterials.end(), triangleCount, *materialId);
     return okStatus();
 }
 
@@ -556,7 +902,7 @@ Result<Scene> loadGltf(const std::string& path)
     bool binary = got == sizeof magic && std::memcmp(magic, "glTF", 4) == 0;
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&skipImage, nullptr);
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
@@ -566,6 +912,7 @@ Result<Scene> loadGltf(const std::string& path)
         if (reason.empty()) reason = "tinygltf could not parse the file";
         return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
     }
+    warn = withoutImageFileWarnings(warn);
     if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
 
     GltfFlattener flattener(model, path);

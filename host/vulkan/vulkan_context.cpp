@@ -572,12 +572,19 @@ void VulkanContext::destroyBuffer(GpuBuffer& b)
 Status VulkanContext::allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect,
                                     uint32_t width, uint32_t height, VkImageUsageFlags usage)
 {
+    return allocateImage(image, format, aspect, width, height, 1, usage);
+}
+
+Status VulkanContext::allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect,
+                                    uint32_t width, uint32_t height, uint32_t mipLevels,
+                                    VkImageUsageFlags usage)
+{
     VkImageCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
     info.imageType = VK_IMAGE_TYPE_2D;
     info.format = format;
     info.extent = {width, height, 1};
-    info.mipLevels = 1;
+    info.mipLevels = mipLevels;
     info.arrayLayers = 1;
     info.samples = VK_SAMPLE_COUNT_1_BIT;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -598,7 +605,7 @@ Status VulkanContext::allocateImage(GpuImage& image, VkFormat format, VkImageAsp
     viewInfo.image = image.image;
     viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
     viewInfo.format = format;
-    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
+    viewInfo.subresourceRange = {aspect, 0, mipLevels, 0, 1};
     SR_VK_CHECK(vkCreateImageView(device_, &viewInfo, nullptr, &image.view));
     return okStatus();
 }

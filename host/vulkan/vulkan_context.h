@@ -129,6 +129,9 @@ public:
     // Same for a device-local optimal-tiling image in layout UNDEFINED.
     Status allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect, uint32_t width,
                          uint32_t height, VkImageUsageFlags usage);
+    // The same with `mipLevels` levels; the view covers all of them.
+    Status allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect, uint32_t width,
+                         uint32_t height, uint32_t mipLevels, VkImageUsageFlags usage);
     void destroyImage(GpuImage& image);
     // Device memory allocated through this context now, and the most it ever held at once.
     size_t allocatedBytes() const { return allocatedBytes_; }
@@ -149,6 +152,8 @@ public:
     // the pipeline layout of every pipeline of both backends.
     VkPipelineLayout pipelineLayout() const { return pipelineLayout_; }
     VkDescriptorSet descriptorSet() const { return descriptorSet_; }
+    // The layout of that set, for a backend that builds a pipeline layout with further sets after it.
+    VkDescriptorSetLayout setLayout() const { return setLayout_; }
     // Points binding i at the whole of buffers[i]. No submitted work may still use the set.
     void writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT]);
 

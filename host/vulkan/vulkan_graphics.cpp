@@ -1,7 +1,8 @@
 // vulkan_graphics.cpp - see vulkan_graphics.h.
 //
 // Everything lives for one call: a VulkanContext on a graphics queue, the scene's input buffers
-// (BUF_INDICES doubles as the index buffer), the three attachments, a classic render pass with one
+// (BUF_INDICES doubles as the index buffer), the scene's textures as sampled images with their mip
+// chains and samplers (descriptor set 1), the three attachments, a classic render pass with one
 // subpass, one framebuffer and one pipeline. Each frame is one submission holding the render pass
 // between two timestamps; after the last frame the attachments are copied into the context's staging
 // buffer and read on the host.
@@ -15,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "render/materials.h"
 #include "vulkan/vulkan_context.h"
 
 namespace sr {
@@ -27,6 +29,20 @@ namespace {
 
 constexpr VkFormat kWordFormat = VK_FORMAT_R32_UINT;  // colour and id attachments
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+// Texture formats: the hardware decodes sRGB texels to linear before filtering, as the compute path's
+// decode table does.
+constexpr VkFormat kSrgbTextureFormat = VK_FORMAT_R8G8B8A8_SRGB;
+constexpr VkFormat kLinearTextureFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormatFeatureFlags kTextureFeatures = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+                                                  VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
+                                                  VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+
+// Specialization constant ids: the visibility shader's background word, the vertex shader's
+// texcoords switch and the fragment shader's texture array size.
+constexpr uint32_t kBackgroundConstant = 0;
+constexpr uint32_t kHasTexcoordsConstant = 1;
+constexpr uint32_t kTextureSlotsConstant = 2;
 
 // Attachment indices of the render pass and the framebuffer.
 constexpr uint32_t kColorAttachment = 0;
@@ -47,17 +63,93 @@ constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTAC
 constexpr VkAccessFlags kAttachmentWrites =
     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
 
-// The checks of every backend, plus the one this backend adds.
+// Texels a full level chain of `levels` levels from width x height holds.
+uint64_t chainTexels(uint32_t width, uint32_t height, uint32_t levels)
+{
+    uint64_t texels = 0;
+    for (uint32_t k = 0; k < levels; ++k)
+        texels += uint64_t(std::max(width >> k, 1u)) * std::max(height >> k, 1u);
+    return texels;
+}
+
+// The checks of every backend, plus those this backend adds: the shaders read the material buffers
+// and fetch texcoords per vertex without bounds checks, and each texture becomes an image.
 Status checkInputs(const Scene& scene, const RenderSettings& settings)
 {
     SR_TRY(checkRenderInputs(scene, settings));
-    // The fragment shader colours through shadePixel, which knows the modes up to the id view; the
-    // later ones are debug views of the compute pipeline's own buffers.
-    if (settings.shadingMode > SHADING_PRIMITIVE_ID)
+    // The hit count is a debug view of the compute pipeline's own counter buffer.
+    if (settings.shadingMode == SHADING_HIT_COUNT)
         return makeError(ExitCode::Usage,
                          "vulkan-graphics: shading mode {} exists only in the compute pipeline",
                          settings.shadingMode);
+    if (!scene.materials.empty() && scene.triMaterials.size() != scene.triangleCount())
+        return makeError(ExitCode::Usage, "the scene has {} triangle materials for {} triangles",
+                         scene.triMaterials.size(), scene.triangleCount());
+    const bool textured =
+        std::any_of(scene.materials.begin(), scene.materials.end(), [&](const SceneMaterial& m) {
+            return m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size();
+        });
+    if ((textured || !scene.texcoords.empty()) && scene.texcoords.size() != scene.vertexCount())
+        return makeError(ExitCode::Usage, "the scene has {} texture coordinates for {} vertices",
+                         scene.texcoords.size(), scene.vertexCount());
+    for (const SceneTexture& t : scene.textures) {
+        uint32_t fullChain = 1;  // 1 + floor(log2(max(width, height)))
+        while ((std::max(t.width, t.height) >> fullChain) != 0) ++fullChain;
+        if (t.width < 1 || t.height < 1 || t.width > MAX_TEXTURE_DIM || t.height > MAX_TEXTURE_DIM ||
+            t.levels < 1 || t.levels > fullChain ||
+            t.texels.size() != chainTexels(t.width, t.height, t.levels))
+            return makeError(ExitCode::Usage, "texture '{}' is malformed ({}x{}, {} levels, {} texels)",
+                             t.name, t.width, t.height, t.levels, t.texels.size());
+    }
     return okStatus();
+}
+
+VkFilter vkFilter(uint32_t filter)
+{
+    return filter == FILTER_NEAREST ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
+}
+
+VkSamplerAddressMode vkAddressMode(uint32_t wrap)
+{
+    return wrap == WRAP_CLAMP_TO_EDGE     ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+           : wrap == WRAP_MIRRORED_REPEAT ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                          : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+}
+
+// The VkSampler description of `sampler` for a texture of `levels` levels, with the --texture-filter
+// override (TEXTURE_FILTER_*) applied as texture.h's textureSelect applies it.
+VkSamplerCreateInfo samplerInfo(const TextureSampler& sampler, uint32_t levels, uint32_t filterOverride)
+{
+    uint32_t magFilter = sampler.magFilter, minFilter = sampler.minFilter, mipmapMode = sampler.mipmapMode;
+    if (filterOverride == TEXTURE_FILTER_NEAREST) {
+        magFilter = minFilter = FILTER_NEAREST;
+        mipmapMode = MIPMAP_NONE;
+    } else if (filterOverride == TEXTURE_FILTER_BILINEAR) {
+        magFilter = minFilter = FILTER_LINEAR;
+        mipmapMode = MIPMAP_NONE;
+    } else if (filterOverride == TEXTURE_FILTER_TRILINEAR) {
+        magFilter = minFilter = FILTER_LINEAR;
+        mipmapMode = MIPMAP_LINEAR;
+    }
+    VkSamplerCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+    info.magFilter = vkFilter(magFilter);
+    info.minFilter = vkFilter(minFilter);
+    info.mipmapMode =
+        mipmapMode == MIPMAP_LINEAR ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = vkAddressMode(sampler.wrapS);
+    info.addressModeV = vkAddressMode(sampler.wrapT);
+    info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.anisotropyEnable = VK_FALSE;
+    info.compareEnable = VK_FALSE;
+    info.minLod = 0.0f;
+    // No mipmapping is level 0 only: maxLod 0.25 keeps lambda's sign, and so the choice between the
+    // min and mag filters, while nearest level selection can only give level 0 (the spec's advice for
+    // OpenGL's non-mipmapped min filters).
+    info.maxLod = mipmapMode == MIPMAP_NONE ? 0.25f : float(levels);
+    info.borderColor = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    info.unnormalizedCoordinates = VK_FALSE;
+    return info;
 }
 
 // The objects of one render on top of a context; the destructor releases them.
@@ -83,6 +175,8 @@ private:
     Status uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
                              VkBufferUsageFlags extraUsage);
     Status uploadScene(const Scene& scene);
+    Status uploadTexture(const SceneTexture& texture, GpuImage& image);
+    Status createTextures(const Scene& scene);
     Status createTargets();
     Status createRenderPass();
     Status createFramebuffer();
@@ -93,8 +187,18 @@ private:
     uint32_t backgroundWord_ = 0;
     uint32_t indexCount_ = 0;
     bool visibilityOnly_ = false;
-    GpuBuffer buffers_[BUF_COUNT];  // the parameters and the scene inputs; the other bindings stay empty
-    GpuBuffer placeholder_;         // bound to every binding without a buffer of its own
+    VkBool32 hasTexcoords_ = VK_FALSE;  // BUF_TEXCOORDS holds the scene's texcoords
+    GpuBuffer buffers_[BUF_COUNT];      // the parameters and the scene inputs; the other bindings stay empty
+    GpuBuffer placeholder_;             // bound to every binding without a buffer of its own
+    // One image and sampler per scene texture, or one white placeholder texel when there is none: the
+    // fragment shader's texture array is never empty.
+    std::vector<GpuImage> textures_;
+    std::vector<VkSampler> samplers_;
+    uint32_t textureSlots_ = 0;  // entries of the texture array binding
+    VkDescriptorSetLayout textureSetLayout_ = VK_NULL_HANDLE;
+    VkDescriptorPool texturePool_ = VK_NULL_HANDLE;
+    VkDescriptorSet textureSet_ = VK_NULL_HANDLE;       // freed with texturePool_
+    VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;  // the context's set 0, then the texture set
     GpuImage color_, id_, depth_;
     VkRenderPass renderPass_ = VK_NULL_HANDLE;
     VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
@@ -109,6 +213,11 @@ GraphicsRender::~GraphicsRender()
     vkDestroyPipeline(device, pipeline_, nullptr);
     vkDestroyFramebuffer(device, framebuffer_, nullptr);
     vkDestroyRenderPass(device, renderPass_, nullptr);
+    vkDestroyPipelineLayout(device, pipelineLayout_, nullptr);
+    vkDestroyDescriptorPool(device, texturePool_, nullptr);
+    vkDestroyDescriptorSetLayout(device, textureSetLayout_, nullptr);
+    for (VkSampler sampler : samplers_) vkDestroySampler(device, sampler, nullptr);
+    for (GpuImage& image : textures_) ctx_.destroyImage(image);
     for (GpuImage* image : {&color_, &id_, &depth_}) ctx_.destroyImage(*image);
     for (GpuBuffer& b : buffers_) ctx_.destroyBuffer(b);
     ctx_.destroyBuffer(placeholder_);
@@ -119,12 +228,18 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint
 {
     bool anyDoubleSided = std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
                                       [](uint32_t f) { return (f & TRI_FLAG_DOUBLE_SIDED) != 0u; });
-    visibilityOnly_ = visibilityOnly && (!anyDoubleSided || params.cullMode == CULL_NONE);
+    // Alpha-masked triangles cover a pixel only where their texture says so, which only the full
+    // fragment shader knows (the compute pipeline tests the flag only when there are materials).
+    bool anyMasked =
+        params.materialCount > 0 && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
+                                                [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
+    visibilityOnly_ = visibilityOnly && (!anyDoubleSided || params.cullMode == CULL_NONE) && !anyMasked;
     params_ = params;
     backgroundWord_ = backgroundWord;
     indexCount_ = static_cast<uint32_t>(scene.indices.size());
     SR_TRY(checkDevice(scene));
     SR_TRY(uploadScene(scene));
+    SR_TRY(createTextures(scene));
     SR_TRY(createTargets());
     SR_TRY(createRenderPass());
     SR_TRY(createFramebuffer());
@@ -169,6 +284,31 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
             return makeError(ExitCode::Usage, "vulkan-graphics: {} does not support copyable {}",
                              ctx_.properties().deviceName, need.name);
     }
+
+    // Textures: sampled, linearly filtered, uploaded images of both formats, and as many samplers and
+    // sampled images in the fragment stage as there are textures (next to the set 0 buffers and the
+    // two colour outputs).
+    for (VkFormat format : {kSrgbTextureFormat, kLinearTextureFormat}) {
+        VkFormatProperties properties{};
+        vkGetPhysicalDeviceFormatProperties(ctx_.physicalDevice(), format, &properties);
+        if ((properties.optimalTilingFeatures & kTextureFeatures) != kTextureFeatures)
+            return makeError(ExitCode::Usage,
+                             "vulkan-graphics: {} cannot sample and filter RGBA8 {} textures",
+                             ctx_.properties().deviceName, format == kSrgbTextureFormat ? "sRGB" : "UNORM");
+    }
+    const uint64_t slots = std::max<uint64_t>(scene.textures.size(), 1);
+    const uint64_t maxSlots =
+        std::min({limits.maxPerStageDescriptorSamplers, limits.maxPerStageDescriptorSampledImages,
+                  limits.maxDescriptorSetSamplers, limits.maxDescriptorSetSampledImages,
+                  limits.maxSamplerAllocationCount, limits.maxPerStageResources - BUF_COUNT - 2});
+    if (slots > maxSlots)
+        return makeError(ExitCode::Usage, "vulkan-graphics: {} textures exceed the device's limit of {}",
+                         scene.textures.size(), maxSlots);
+    for (const SceneTexture& t : scene.textures)
+        if (std::max(t.width, t.height) > limits.maxImageDimension2D)
+            return makeError(ExitCode::Usage,
+                             "vulkan-graphics: texture '{}' ({}x{}) exceeds the device's image limit of {}",
+                             t.name, t.width, t.height, limits.maxImageDimension2D);
     return okStatus();
 }
 
@@ -204,6 +344,19 @@ Status GraphicsRender::uploadScene(const Scene& scene)
                              VK_BUFFER_USAGE_INDEX_BUFFER_BIT));
     SR_TRY(
         uploadSceneBuffer(BUF_TRI_FLAGS, scene.triFlags.data(), scene.triFlags.size() * sizeof(uint32_t), 0));
+    // The fragment shader reads the material of its triangle; the texels go to images instead
+    // (createTextures), so BUF_TEXTURES and BUF_TEXELS stay placeholders.
+    if (!scene.materials.empty()) {
+        const std::vector<GpuMaterial> materials = gpuMaterials(scene);
+        SR_TRY(uploadSceneBuffer(BUF_MATERIALS, materials.data(), materials.size() * sizeof(GpuMaterial), 0));
+        SR_TRY(uploadSceneBuffer(BUF_TRI_MATERIALS, scene.triMaterials.data(),
+                                 scene.triMaterials.size() * sizeof(uint32_t), 0));
+    }
+    if (!scene.texcoords.empty()) {
+        SR_TRY(uploadSceneBuffer(BUF_TEXCOORDS, scene.texcoords.data(),
+                                 scene.texcoords.size() * sizeof(glm::vec4), 0));
+        hasTexcoords_ = VK_TRUE;
+    }
 
     // Written once by the host before the first submission, which makes the write visible.
     SR_TRY(ctx_.allocateBuffer(buffers_[BUF_PARAMS], roundUp(sizeof(RasterParams), kMinBufferBytes),
@@ -221,6 +374,129 @@ Status GraphicsRender::uploadScene(const Scene& scene)
     for (uint32_t i = 0; i < BUF_COUNT; ++i)
         handles[i] = buffers_[i].buffer != VK_NULL_HANDLE ? buffers_[i].buffer : placeholder_.buffer;
     ctx_.writeDescriptorSet(handles);
+    return okStatus();
+}
+
+// Creates `image` with every level of `texture` and uploads them, leaving it ready for sampling in
+// the fragment shader.
+Status GraphicsRender::uploadTexture(const SceneTexture& texture, GpuImage& image)
+{
+    const VkFormat format = texture.srgb ? kSrgbTextureFormat : kLinearTextureFormat;
+    SR_TRY(ctx_.allocateImage(image, format, VK_IMAGE_ASPECT_COLOR_BIT, texture.width, texture.height,
+                              texture.levels, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT));
+    const VkDeviceSize bytes = texture.texels.size() * sizeof(uint32_t);
+    SR_TRY(ctx_.ensureStaging(bytes));
+    // RGBA8 with R in the low byte is the byte order R, G, B, A of the formats on a little-endian host.
+    std::memcpy(ctx_.staging().mapped, texture.texels.data(), bytes);  // coherent: the submission shows it
+
+    // The levels lie one after another in the staging buffer, each row-major from the top row, which
+    // is the image's row 0 (t = 0, glTF's v = 0).
+    std::vector<VkBufferImageCopy> regions(texture.levels);
+    VkDeviceSize offset = 0;
+    for (uint32_t k = 0; k < texture.levels; ++k) {
+        const uint32_t w = std::max(texture.width >> k, 1u), h = std::max(texture.height >> k, 1u);
+        regions[k] = VkBufferImageCopy{};
+        regions[k].bufferOffset = offset;
+        regions[k].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, k, 0, 1};
+        regions[k].imageExtent = {w, h, 1};
+        offset += VkDeviceSize(w) * h * sizeof(uint32_t);
+    }
+
+    VkImageMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image.image;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, texture.levels, 0, 1};
+    SR_TRY(ctx_.beginCommands());
+    VkCommandBuffer cmd = ctx_.commandBuffer();
+    // UNDEFINED -> TRANSFER_DST: nothing to keep, the copy waits for the transition.
+    barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.srcAccessMask = 0;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &barrier);
+    vkCmdCopyBufferToImage(cmd, ctx_.staging().buffer, image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           texture.levels, regions.data());
+    // TRANSFER_DST -> SHADER_READ_ONLY, the copy made visible to the fragment shaders of every later
+    // submission.
+    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &barrier);
+    return ctx_.submitAndWait();
+}
+
+Status GraphicsRender::createTextures(const Scene& scene)
+{
+    // A scene without textures still gets one (never sampled) entry: the array binding the fragment
+    // shader declares must hold a valid descriptor.
+    SceneTexture placeholder;
+    placeholder.name = "placeholder";
+    placeholder.width = placeholder.height = placeholder.levels = 1;
+    placeholder.srgb = false;
+    placeholder.texels = {0xFFFFFFFFu};
+    std::vector<const SceneTexture*> sources;
+    for (const SceneTexture& t : scene.textures) sources.push_back(&t);
+    if (sources.empty()) sources.push_back(&placeholder);
+    textureSlots_ = uint32_t(sources.size());
+
+    textures_.resize(sources.size());
+    samplers_.assign(sources.size(), VK_NULL_HANDLE);
+    std::vector<VkDescriptorImageInfo> imageInfos(sources.size());
+    for (size_t i = 0; i < sources.size(); ++i) {
+        SR_TRY(uploadTexture(*sources[i], textures_[i]));
+        const VkSamplerCreateInfo info =
+            samplerInfo(sources[i]->sampler, sources[i]->levels, params_.textureFilter);
+        SR_VK_CHECK(vkCreateSampler(ctx_.device(), &info, nullptr, &samplers_[i]));
+        imageInfos[i] = {samplers_[i], textures_[i].view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    }
+
+    VkDescriptorSetLayoutBinding binding{};
+    binding.binding = 0;
+    binding.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    binding.descriptorCount = textureSlots_;
+    binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkDescriptorSetLayoutCreateInfo setInfo{};
+    setInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    setInfo.bindingCount = 1;
+    setInfo.pBindings = &binding;
+    SR_VK_CHECK(vkCreateDescriptorSetLayout(ctx_.device(), &setInfo, nullptr, &textureSetLayout_));
+
+    // Set 0 stays the context's, which the compute stages use unchanged; the texture array is set 1
+    // (reference.frag's baseTextures).
+    const VkDescriptorSetLayout setLayouts[2] = {ctx_.setLayout(), textureSetLayout_};
+    VkPipelineLayoutCreateInfo layoutInfo{};
+    layoutInfo.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    layoutInfo.setLayoutCount = 2;
+    layoutInfo.pSetLayouts = setLayouts;
+    SR_VK_CHECK(vkCreatePipelineLayout(ctx_.device(), &layoutInfo, nullptr, &pipelineLayout_));
+
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textureSlots_};
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &poolSize;
+    SR_VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &poolInfo, nullptr, &texturePool_));
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = texturePool_;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &textureSetLayout_;
+    SR_VK_CHECK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &textureSet_));
+
+    VkWriteDescriptorSet write{};
+    write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    write.dstSet = textureSet_;
+    write.dstBinding = 0;
+    write.descriptorCount = textureSlots_;
+    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    write.pImageInfo = imageInfos.data();
+    vkUpdateDescriptorSets(ctx_.device(), 1, &write, 0, nullptr);
     return okStatus();
 }
 
@@ -324,10 +600,16 @@ Status GraphicsRender::createPipeline()
         stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         stage.pName = "main";
     }
-    // The visibility shader writes the background word, given as specialization constant 0.
-    VkSpecializationMapEntry backgroundEntry{0, 0, sizeof(uint32_t)};
-    VkSpecializationInfo specialization{1, &backgroundEntry, sizeof(uint32_t), &backgroundWord_};
-    if (visibilityOnly_) stages[1].pSpecializationInfo = &specialization;
+    // The visibility shader writes the background word; the full one sizes its texture array; the
+    // vertex shader fetches texcoords only where the scene has them.
+    VkSpecializationMapEntry backgroundEntry{kBackgroundConstant, 0, sizeof(uint32_t)};
+    VkSpecializationInfo background{1, &backgroundEntry, sizeof(uint32_t), &backgroundWord_};
+    VkSpecializationMapEntry slotsEntry{kTextureSlotsConstant, 0, sizeof(uint32_t)};
+    VkSpecializationInfo slots{1, &slotsEntry, sizeof(uint32_t), &textureSlots_};
+    stages[1].pSpecializationInfo = visibilityOnly_ ? &background : &slots;
+    VkSpecializationMapEntry texcoordsEntry{kHasTexcoordsConstant, 0, sizeof(VkBool32)};
+    VkSpecializationInfo texcoords{1, &texcoordsEntry, sizeof(VkBool32), &hasTexcoords_};
+    stages[0].pSpecializationInfo = &texcoords;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = *vertex;
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -398,7 +680,7 @@ Status GraphicsRender::createPipeline()
     info.pMultisampleState = &multisample;
     info.pDepthStencilState = &depthStencil;
     info.pColorBlendState = &blendState;
-    info.layout = ctx_.pipelineLayout();
+    info.layout = pipelineLayout_;
     info.renderPass = renderPass_;
     info.subpass = 0;
     VkResult result = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
@@ -432,9 +714,8 @@ Status GraphicsRender::drawFrame(double& ms)
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, 0);
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
-    VkDescriptorSet set = ctx_.descriptorSet();
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, ctx_.pipelineLayout(), 0, 1, &set, 0,
-                            nullptr);
+    const VkDescriptorSet sets[2] = {ctx_.descriptorSet(), textureSet_};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 2, sets, 0, nullptr);
     vkCmdBindIndexBuffer(cmd, buffers_[BUF_INDICES].buffer, 0, VK_INDEX_TYPE_UINT32);
     // One draw of the whole list: gl_PrimitiveID counts triangles from 0, the compute pipeline's ids.
     vkCmdDrawIndexed(cmd, indexCount_, 1, 0, 0, 0);

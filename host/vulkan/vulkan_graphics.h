@@ -5,7 +5,9 @@
 // compute backends. Attachments: R32_UINT colour (the same packed sRGB RGBA8 word the compute `shade`
 // stage writes, computed by the same shared-header shading code), R32_UINT id (gl_PrimitiveID, cleared
 // to EMPTY_ID) and D32_SFLOAT depth (LESS, cleared to 1.0). Facing culling happens in the fragment
-// shader so that glTF doubleSided triangles are never culled within the single draw.
+// shader so that glTF doubleSided triangles are never culled within the single draw. Base colour
+// textures are real images (all mip levels, sRGB or UNORM) sampled through real samplers with the
+// hardware's derivatives, so the compute path's software sampling is checked against the hardware's.
 #ifndef RASTER_VULKAN_GRAPHICS_H
 #define RASTER_VULKAN_GRAPHICS_H
 
