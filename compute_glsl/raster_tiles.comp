@@ -18,6 +18,8 @@
 #include "buffers.glsl"
 
 layout(local_size_x_id = 0) in;
+// Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
+layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 #define LANES gl_WorkGroupSize.x
 #define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
@@ -49,8 +51,10 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             bool ok = loadBinTriangle(binEntries[base + lane], t);
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
-            bool maskable = ok && params.materialCount != 0u;
-            masked[lane] = maskable ? (triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
+            if (MATERIALS) {
+                bool maskable = ok && params.materialCount != 0u;
+                masked[lane] = maskable ? (triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
+            }
         }
         barrier();
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
@@ -59,7 +63,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
                 float depth;
                 if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth) &&
-                    (masked[k] == 0u || alphaMaskCovers(setupTriId(tris[k]), px[j], py[j]))) {
+                    (!MATERIALS || masked[k] == 0u ||
+                     alphaMaskCovers(setupTriId(tris[k]), px[j], py[j]))) {
                     key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
                     ++hits[j];
                 }

@@ -11,6 +11,8 @@
 #include "bin.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
+// Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
+layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 
 // Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
@@ -21,7 +23,7 @@ void emitTriangle(TriSetup t, bool clipped)
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
-        bool masked = params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
+        bool masked = MATERIALS && params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;

@@ -24,9 +24,13 @@ __global__ void __launch_bounds__(GROUP_SIZE) vertexKernel(const RasterParams pa
 {
     vertexStage(params, b);
 }
+// setup and raster_tiles come in two builds: with the alpha test of MASK materials, launched when the
+// scene has materials, and without, so that the test's code (surface, material and texture lookups)
+// costs the untextured scenes neither registers nor instructions.
+template <bool kMaterials>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
-    setupStage(params, b);
+    setupStage<kMaterials>(params, b);
 }
 __global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams params, const Buffers b)
 {
@@ -45,10 +49,11 @@ __global__ void __launch_bounds__(GROUP_SIZE) binFillKernel(const RasterParams p
 {
     binFillStage(params, b);
 }
+template <bool kMaterials>
 __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesKernel(const RasterParams params, const Buffers b)
 {
-    rasterTilesStage(params, b);
+    rasterTilesStage<kMaterials>(params, b);
 }
 __global__ void __launch_bounds__(GROUP_SIZE) shadeKernel(const RasterParams params, const Buffers b)
 {
@@ -70,15 +75,26 @@ cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, con
 {
     if (blocks == 0) return cudaSuccess;
     uint threads = stageBlockSize(stage);
+    bool materials = params.materialCount != 0u;
     switch (stage) {
     case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
-    case STAGE_SETUP: setupKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SETUP:
+        if (materials)
+            setupKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
+        else
+            setupKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);
+        break;
     case STAGE_BIN_COUNT: binCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_BIN_FILL: binFillKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
-    case STAGE_RASTER_TILES: rasterTilesKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_RASTER_TILES:
+        if (materials)
+            rasterTilesKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
+        else
+            rasterTilesKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);
+        break;
     case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     default: return cudaErrorInvalidValue;
     }

@@ -16,12 +16,13 @@ constexpr uint kLanes = TILE_SIZE * TILE_SIZE;
 constexpr uint kPixelsPerLane = TILE_SIZE * TILE_SIZE / kLanes;  // 1: the GLSL twin's loops run once here
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the block.
+template <bool kMaterials>
 __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, uint tile, uint lane,
                                   uint begin, uint end)
 {
     __shared__ TriSetup tris[kLanes];
     __shared__ uint minDepth[kLanes];
-    __shared__ uint masked[kLanes];  // TRI_FLAG_ALPHA_MASK of each: coverage also needs the alpha test
+    __shared__ uint masked[kMaterials ? kLanes : 1];  // TRI_FLAG_ALPHA_MASK of each: needs the alpha test
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
     int px[kPixelsPerLane], py[kPixelsPerLane];
     uint64_t key[kPixelsPerLane];
@@ -43,8 +44,9 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
             bool ok = loadBinTriangle(params, b, b.binEntries[base + lane], t);
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
-            masked[lane] =
-                ok && params.materialCount != 0u ? (b.triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
+            if (kMaterials)
+                masked[lane] =
+                    ok && params.materialCount != 0u ? (b.triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
         }
         __syncthreads();
         for (uint j = 0u; j < kPixelsPerLane; ++j) {
@@ -53,7 +55,8 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
                 if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
                 float depth;
                 if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth) &&
-                    (masked[k] == 0u || alphaMaskCovers(params, b, setupTriId(tris[k]), px[j], py[j]))) {
+                    (!kMaterials || masked[k] == 0u ||
+                     alphaMaskCovers(params, b, setupTriId(tris[k]), px[j], py[j]))) {
                     key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
                     ++hits[j];
                 }
@@ -69,6 +72,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
     }
 }
 
+template <bool kMaterials>
 __device__ inline void rasterTilesStage(const RasterParams& params, const Buffers& b)
 {
     uint lane = threadIdx.x;
@@ -77,7 +81,7 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
         uint tile = b.activeTiles[index];
         uint begin = tile == 0u ? 0u : min(binEnd(b, tile - 1u), params.binCapacity);
         uint end = min(binEnd(b, tile), params.binCapacity);
-        if (begin < end) rasterTile(params, b, tile, lane, begin, end);
+        if (begin < end) rasterTile<kMaterials>(params, b, tile, lane, begin, end);
     }
 }
 }  // namespace sr

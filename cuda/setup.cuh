@@ -9,6 +9,7 @@ namespace sr {
 // Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
+template <bool kMaterials>
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
                                     bool clipped)
 {
@@ -16,7 +17,8 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
-        bool masked = params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
+        bool masked =
+            kMaterials && params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
                 float depth;
@@ -50,6 +52,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
+template <bool kMaterials>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
     uint tri = globalThreadId();
@@ -73,7 +76,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                           params.height, t)) {
-            emitTriangle(params, b, t, kind == PREPARE_CLIPPED);
+            emitTriangle<kMaterials>(params, b, t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }

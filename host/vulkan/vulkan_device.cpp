@@ -9,6 +9,7 @@
 // Buffer sizes: size() returns the byte count of the last resize(); the allocation behind it is
 // that count rounded up to 16 bytes and is only replaced when a resize asks for more than it holds,
 // so shrinking keeps the larger allocation. upload() and download() are checked against size().
+#include <cstddef>
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
@@ -129,6 +130,9 @@ private:
     VulkanContext context_;
     DeviceInfo info_;
     VkPipeline pipelines_[STAGE_COUNT] = {};
+    // setup and raster_tiles built with the alpha test of MASK materials (SPEC_MATERIALS), bound for
+    // scenes with materials; pipelines_ has them without it. Null for the other stages.
+    VkPipeline materialPipelines_[STAGE_COUNT] = {};
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
     bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
@@ -140,6 +144,7 @@ VulkanDevice::~VulkanDevice()
     context_.waitIdle();
     for (GpuBuffer& b : buffers_) context_.destroyBuffer(b);
     for (VkPipeline pipeline : pipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
+    for (VkPipeline pipeline : materialPipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
 }
 
 Status VulkanDevice::init(int index)
@@ -164,36 +169,50 @@ Status VulkanDevice::createPipelines()
     // Specialization constant 0, the invocations of a raster_tiles group: one per tile pixel on a GPU;
     // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
     // coroutine, one SIMD-wide bundle that walks several pixels each (compute_glsl/raster_tiles.comp).
+    // Specialization constant SPEC_MATERIALS of setup and raster_tiles: whether the alpha test of MASK
+    // materials is compiled in. Each is built both ways, so that scenes without materials run code
+    // without the test's surface, material and texture lookups (fewer registers, as in CUDA).
     const uint32_t rasterLanes = info_.isCpu ? MIN_RASTER_LANES : TILE_SIZE * TILE_SIZE;
-    const VkSpecializationMapEntry laneEntry{0, 0, sizeof rasterLanes};
-    VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 1;
-    specialization.pMapEntries = &laneEntry;
-    specialization.dataSize = sizeof rasterLanes;
-    specialization.pData = &rasterLanes;
+    struct Constants {
+        uint32_t rasterLanes;
+        VkBool32 materials;
+    } constants[2] = {{rasterLanes, VK_FALSE}, {rasterLanes, VK_TRUE}};
+    const VkSpecializationMapEntry entries[2] = {
+        {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
+        {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)}};
     // All at construction: a shader the driver rejects is reported before any work is done, and
     // lazy creation would only move the compile time into the first frame's timings.
     for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
-        Result<VkShaderModule> module =
-            context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
-        if (!module.ok()) return module.error();
+        bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
+        for (int withMaterials = 0; withMaterials <= (variants ? 1 : 0); ++withMaterials) {
+            Result<VkShaderModule> module =
+                context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
+            if (!module.ok()) return module.error();
+            VkSpecializationInfo specialization{};
+            specialization.mapEntryCount = 2;
+            specialization.pMapEntries = entries;
+            specialization.dataSize = sizeof(Constants);
+            specialization.pData = &constants[withMaterials];
 
-        VkComputePipelineCreateInfo info{};
-        info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-        info.flags = VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // large dispatches are split, see runDispatches
-        info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        info.stage.module = *module;
-        info.stage.pName = "main";
-        info.stage.pSpecializationInfo = stage == STAGE_RASTER_TILES ? &specialization : nullptr;
-        info.layout = context_.pipelineLayout();
-        VkResult result = vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr,
-                                                   &pipelines_[stage]);
-        // The pipeline keeps what it needs of the module.
-        vkDestroyShaderModule(context_.device(), *module, nullptr);
-        if (result != VK_SUCCESS)
-            return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)),
-                           __FILE__, __LINE__);
+            VkComputePipelineCreateInfo info{};
+            info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+            info.flags =
+                VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // large dispatches are split, see runDispatches
+            info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+            info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+            info.stage.module = *module;
+            info.stage.pName = "main";
+            info.stage.pSpecializationInfo = variants ? &specialization : nullptr;
+            info.layout = context_.pipelineLayout();
+            VkPipeline& pipeline = withMaterials ? materialPipelines_[stage] : pipelines_[stage];
+            VkResult result =
+                vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+            // The pipeline keeps what it needs of the module.
+            vkDestroyShaderModule(context_.device(), *module, nullptr);
+            if (result != VK_SUCCESS)
+                return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)),
+                               __FILE__, __LINE__);
+        }
     }
     return okStatus();
 }
@@ -305,7 +324,9 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     for (size_t i = 0; i < dispatches.size(); ++i) {
         const Dispatch& d = dispatches[i];
         const uint32_t first = static_cast<uint32_t>(2 * i);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[d.stage]);
+        bool materials = params.materialCount != 0u && materialPipelines_[d.stage] != VK_NULL_HANDLE;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          materials ? materialPipelines_[d.stage] : pipelines_[d.stage]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
         // An empty stage still gets its two timestamps, so gpuMs keeps one entry per dispatch.
         // More groups than the device takes in one dispatch (lavapipe: 65,535) run as several
