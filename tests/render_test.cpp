@@ -13,16 +13,8 @@
 namespace sr::test {
 namespace {
 
-class RenderTest : public ::testing::TestWithParam<std::string> {
+class RenderTest : public BackendTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        device_ = openBackend(GetParam(), skip);
-        if (skip) GTEST_SKIP() << GetParam() << " absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
-        ASSERT_TRUE(device_);
-    }
-
     RenderOutput render(const Scene& scene, const RenderSettings& settings,
                         const CameraMatrices& camera = identityCamera())
     {
@@ -30,8 +22,6 @@ protected:
         EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
         return out.ok() ? std::move(*out) : RenderOutput{};
     }
-
-    std::unique_ptr<ComputeDevice> device_;
 };
 
 // Two triangles forming an axis-aligned rectangle in NDC at depth z.

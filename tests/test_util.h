@@ -20,6 +20,21 @@ namespace sr::test {
 // `skip` is set and the caller must GTEST_SKIP(). Vulkan runs with validation (errors fail the call).
 std::unique_ptr<ComputeDevice> openBackend(const std::string& backend, bool& skip);
 
+// A test run once per backend (the parameter names it): device_ is open, or the test was skipped under
+// SR_ALLOW_MISSING_BACKENDS, or it failed.
+class BackendTest : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override
+    {
+        bool skip = false;
+        device_ = openBackend(GetParam(), skip);
+        if (skip) GTEST_SKIP() << GetParam() << " absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        ASSERT_TRUE(device_);
+    }
+
+    std::unique_ptr<ComputeDevice> device_;
+};
+
 // A scene whose vertex positions are clip coordinates: render it with identityCamera().
 // Each triangle is given as 3 clip-space vec4s; normals face +z, no colours.
 Scene clipSpaceScene(const std::vector<glm::vec4>& corners, const std::vector<uint32_t>& flags = {});

@@ -13,16 +13,8 @@
 namespace sr::test {
 namespace {
 
-class TextureTest : public ::testing::TestWithParam<std::string> {
+class TextureTest : public BackendTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        device_ = openBackend(GetParam(), skip);
-        if (skip) GTEST_SKIP() << GetParam() << " absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
-        ASSERT_TRUE(device_);
-    }
-
     // Unlit: ambient 1 and no light, so the colour is the base colour, sRGB-encoded.
     RenderOutput render(const Scene& scene, uint32_t w, uint32_t h)
     {
@@ -34,8 +26,6 @@ protected:
         EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
         return out.ok() ? std::move(*out) : RenderOutput{};
     }
-
-    std::unique_ptr<ComputeDevice> device_;
 };
 
 // A quad over the NDC square [x0, x1] x [y0, y1] at depth z, texture coordinates (0, 0) at its top-left

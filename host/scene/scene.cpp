@@ -87,6 +87,27 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
     return okStatus();
 }
 
+// Scene's emptiness rules: no materials when none changes anything (white, untextured, opaque), no
+// texture coordinates and no textures when no material is textured, so that such a scene costs the
+// pipeline nothing for them.
+void dropUnusedMaterials(Scene& scene)
+{
+    bool anyTexture = false, allDefault = true;
+    for (const SceneMaterial& m : scene.materials) {
+        anyTexture = anyTexture || m.baseColorTexture >= 0;
+        allDefault = allDefault && m.baseColorFactor == glm::vec4(1.0f) && m.baseColorTexture < 0 &&
+                     m.alphaMode == ALPHA_OPAQUE;
+    }
+    if (allDefault) {
+        scene.materials.clear();
+        scene.triMaterials.clear();
+    }
+    if (!anyTexture) {
+        scene.texcoords.clear();
+        scene.textures.clear();
+    }
+}
+
 // `warnAs` names the scene in warnings and `errorPrefix` starts every error message, so that file
 // loaders can report "cannot load '<path>': ..." while other callers get "<what>: ...".
 Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& errorPrefix)
@@ -111,6 +132,7 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     size_t triangles = scene.indices.size() / 3;
     scene.triFlags.resize(triangles, 0u);
     SR_TRY(checkMaterials(scene, triangles, errorPrefix));
+    dropUnusedMaterials(scene);
     bool hasTriMaterials = !scene.triMaterials.empty();
 
     // Compact in place; the relative order of the kept triangles (their ids) is preserved.

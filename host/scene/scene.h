@@ -101,7 +101,8 @@ Scene tessellatedSphere(int rings);
 Result<Scene> builtinSceneNamed(const std::string& name);
 
 // Drops triangles with out-of-range indices or non-finite positions (counting them in
-// droppedTriangles), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
+// droppedTriangles), drops materials, texture coordinates and textures that change nothing (the
+// emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 
 // finalizeScene for a scene read from `path`: warnings name the file and a failure reads

@@ -149,11 +149,6 @@ glm::mat3 textureTransform(const tinygltf::TextureInfo& info, int& texCoord)
     return glm::mat3(t * r * scale);
 }
 
-bool isDefaultMaterial(const SceneMaterial& m)
-{
-    return m.baseColorFactor == glm::vec4(1.0f) && m.baseColorTexture < 0 && m.alphaMode == ALPHA_OPAQUE;
-}
-
 int componentSize(int componentType)
 {
     switch (componentType) {
@@ -566,21 +561,6 @@ Status GltfFlattener::run()
     }
     if (!anyNonWhite_) scene_.colors.clear();
 
-    // The emptiness rules of Scene: no materials when none changes anything, no texture coordinates
-    // (and no textures) when no material is textured.
-    bool anyTexture = false, allDefault = true;
-    for (const SceneMaterial& m : scene_.materials) {
-        anyTexture = anyTexture || m.baseColorTexture >= 0;
-        allDefault = allDefault && isDefaultMaterial(m);
-    }
-    if (allDefault) {
-        scene_.materials.clear();
-        scene_.triMaterials.clear();
-    }
-    if (!anyTexture) {
-        scene_.texcoords.clear();
-        scene_.textures.clear();
-    }
     return okStatus();
 }
 

@@ -243,20 +243,6 @@ Result<Scene> loadObj(const std::string& path)
         }
     }
     if (!anyNonWhite) scene.colors.clear();
-    // Scene's emptiness rules, as for glTF.
-    bool anyTexture = false, allDefault = true;
-    for (const SceneMaterial& m : scene.materials) {
-        anyTexture = anyTexture || m.baseColorTexture >= 0;
-        allDefault = allDefault && m.baseColorFactor == glm::vec4(1.0f) && m.baseColorTexture < 0;
-    }
-    if (allDefault) {
-        scene.materials.clear();
-        scene.triMaterials.clear();
-    }
-    if (!anyTexture) {
-        scene.texcoords.clear();
-        scene.textures.clear();
-    }
     if (shortFaces > 0) {
         fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
     }
