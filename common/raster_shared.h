@@ -134,7 +134,7 @@ SR_NAMESPACE_BEGIN
 #define ALPHA_MASK 1u  // covered only where alpha >= alphaCutoff
 #define NO_TEXTURE 0xFFFFFFFFu
 // Specialization constant (Vulkan) / template argument (CUDA) of setup and raster_tiles: false builds
-// them without the alpha test of MASK materials, the build a scene without materials runs.
+// them without the alpha test of MASK materials, the build a scene without MASK triangles runs.
 #define SPEC_MATERIALS 1
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 

@@ -25,8 +25,8 @@ __global__ void __launch_bounds__(GROUP_SIZE) vertexKernel(const RasterParams pa
     vertexStage(params, b);
 }
 // setup and raster_tiles come in two builds: with the alpha test of MASK materials, launched when the
-// scene has materials, and without, so that the test's code (surface, material and texture lookups)
-// costs the untextured scenes neither registers nor instructions.
+// scene has MASK triangles (Dispatch::alphaTest), and without, so that the test's code (surface,
+// material and texture lookups) costs every other scene neither registers nor instructions.
 template <bool kMaterials>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
@@ -70,17 +70,16 @@ uint stageBlockSize(uint stage)
     }
 }
 
-cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, const Buffers& buffers,
-                        cudaStream_t stream)
+cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterParams& params,
+                        const Buffers& buffers, cudaStream_t stream)
 {
     if (blocks == 0) return cudaSuccess;
     uint threads = stageBlockSize(stage);
-    bool materials = params.materialCount != 0u;
     switch (stage) {
     case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SETUP:
-        if (materials)
+        if (alphaTest)
             setupKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
         else
             setupKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);
@@ -90,7 +89,7 @@ cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, con
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_BIN_FILL: binFillKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_RASTER_TILES:
-        if (materials)
+        if (alphaTest)
             rasterTilesKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
         else
             rasterTilesKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);

@@ -11,9 +11,10 @@ namespace sr {
 // Threads per block of `stage`; equals local_size_x of compute_glsl/<stage>.comp.
 uint stageBlockSize(uint stage);
 
-// Enqueues `blocks` blocks of stage `stage` on `stream`; returns the launch error, if any.
-cudaError_t launchStage(uint stage, uint blocks, const RasterParams& params, const Buffers& buffers,
-                        cudaStream_t stream);
+// Enqueues `blocks` blocks of stage `stage` on `stream`, for setup and raster_tiles the build with the
+// alpha test when `alphaTest` (Dispatch::alphaTest); returns the launch error, if any.
+cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterParams& params,
+                        const Buffers& buffers, cudaStream_t stream);
 
 }  // namespace sr
 

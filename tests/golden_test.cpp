@@ -34,6 +34,18 @@ std::string sourceDir()
     return env ? env : SR_SOURCE_DIR;
 }
 
+// A scene's arguments with @assimp (manifest shorthand for Debian's assimp-testmodels folder, which
+// SR_ASSIMP_MODELS overrides) expanded.
+std::string expandAssimp(std::string args)
+{
+    const char* env = std::getenv("SR_ASSIMP_MODELS");
+    const std::string root = env ? env : "/usr/share/assimp/models";
+    for (size_t at = args.find("@assimp"); at != std::string::npos;
+         at = args.find("@assimp", at + root.size()))
+        args.replace(at, 7, root);
+    return args;
+}
+
 std::vector<GoldenScene> loadManifest()
 {
     std::vector<GoldenScene> scenes;
@@ -65,9 +77,9 @@ TEST_P(GoldenTest, VulkanComputeMatchesCudaGolden)
 
     std::string out = ::testing::TempDir() + "golden_" + scene.name;
     // The tool runs from the source tree so that asset paths in the manifest resolve.
-    ToolRun run =
-        runTool("render " + scene.args + " --backend vulkan -q -o " + out + ".png --aov " + out + ".exr",
-                sourceDir());
+    ToolRun run = runTool("render " + expandAssimp(scene.args) + " --backend vulkan -q -o " + out +
+                              ".png --aov " + out + ".exr",
+                          sourceDir());
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
 
     CompareTolerance exact;

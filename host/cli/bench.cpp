@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "scene/camera.h"
+#include "scene/texture.h"
 #include "render/compute_device.h"
 #include "cli/stats_json.h"
 #include "vulkan/vulkan_graphics.h"
@@ -22,7 +23,8 @@ struct BenchScene {
     std::string name;
     Scene scene;
     CameraMatrices camera;
-    double triangleArea = 0.0;  // pixels, for the sweep scenes
+    double triangleArea = 0.0;                     // pixels, for the sweep scenes
+    uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_* for the textured scenes
 };
 
 // Clip space is world space for the synthetic scenes: identity matrices, depth range 0..1.
@@ -85,6 +87,40 @@ Scene layerScene(int layers)
     return scene;
 }
 
+// A texture-free copy of a textured scene: the same geometry, so the pair shows what texturing costs.
+Scene untextured(Scene scene)
+{
+    scene.materials.clear();
+    scene.triMaterials.clear();
+    scene.texcoords.clear();
+    scene.textures.clear();
+    return scene;
+}
+
+// The dense sphere with texture coordinates from its normals (u around the axis, v from pole to pole)
+// and a 1024 x 1024 checkerboard of 16 x 16 squares, glTF's default sampler.
+Scene texturedSphere(int rings)
+{
+    Scene scene = tessellatedSphere(rings);
+    constexpr float kPi = 3.14159265358979f;
+    for (const glm::vec4& n : scene.normals)
+        scene.texcoords.emplace_back(0.5f + std::atan2(n.z, n.x) / (2.0f * kPi),
+                                     std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi, 0.0f, 0.0f);
+    std::vector<uint8_t> texels;
+    for (int y = 0; y < 1024; ++y)
+        for (int x = 0; x < 1024; ++x) {
+            uint8_t c = ((x / 64) + (y / 64)) % 2 ? 230 : 30;
+            texels.insert(texels.end(), {c, uint8_t(c / 2 + 60), 90, 255});
+        }
+    auto texture = makeTexture("sphere checkerboard", 1024, 1024, texels.data(), true, TextureSampler{});
+    scene.textures.push_back(std::move(*texture));
+    SceneMaterial m;
+    m.baseColorTexture = 0;
+    scene.materials.push_back(m);
+    scene.triMaterials.assign(scene.triangleCount(), 0u);
+    return scene;
+}
+
 Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, uint32_t h)
 {
     auto wanted = [&](const std::string& name) {
@@ -119,14 +155,47 @@ Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, u
         if (!s) return s.error();
         scenes.push_back(std::move(*s));
     }
+    // Textured scenes, each next to its untextured twin: builtin:checker seen from 30 degrees above so
+    // that the plane fills the screen and grazes towards the top (minification up to the last level),
+    // once per filter; and a textured sphere of about 1M triangles.
+    const std::pair<const char*, uint32_t> filters[] = {{"checker-nearest", TEXTURE_FILTER_NEAREST},
+                                                        {"checker-bilinear", TEXTURE_FILTER_BILINEAR},
+                                                        {"checker-trilinear", TEXTURE_FILTER_TRILINEAR}};
+    bool anyChecker = wanted("checker-untextured");
+    for (auto [name, filter] : filters) anyChecker = anyChecker || wanted(name);
+    if (anyChecker) {
+        auto checker = builtinSceneNamed("builtin:checker");
+        if (!checker) return checker.error();
+        auto spec = parseCameraSpec("orbit:0,30,2.5");
+        if (!spec) return spec.error();
+        auto camera = resolveCamera(*spec, *checker, w, h);
+        if (!camera) return camera.error();
+        if (wanted("checker-untextured"))
+            scenes.push_back({"checker-untextured", untextured(*checker), *camera, 0.0});
+        for (auto [name, filter] : filters)
+            if (wanted(name)) scenes.push_back({name, *checker, *camera, 0.0, filter});
+    }
+    if (wanted("sphere-untextured") || wanted("sphere-textured")) {
+        Scene sphere = texturedSphere(512);  // 1,046,528 triangles
+        auto camera = resolveCamera(CameraSpec{}, sphere, w, h);
+        if (!camera) return camera.error();
+        if (wanted("sphere-untextured"))
+            scenes.push_back({"sphere-untextured", untextured(sphere), *camera, 0.0});
+        if (wanted("sphere-textured"))
+            scenes.push_back({"sphere-textured", std::move(sphere), *camera, 0.0, TEXTURE_FILTER_AUTO});
+    }
     if (scenes.empty()) return makeError(ExitCode::Usage, "bench: no scene matches --scenes");
     return scenes;
 }
 
 size_t sceneBytes(const Scene& s)
 {
-    return (s.positions.size() + s.normals.size() + s.colors.size()) * sizeof(glm::vec4) +
-           (s.indices.size() + s.triFlags.size()) * sizeof(uint32_t);
+    size_t texels = 0;
+    for (const SceneTexture& t : s.textures) texels += t.texels.size();
+    return (s.positions.size() + s.normals.size() + s.colors.size() + s.texcoords.size()) *
+               sizeof(glm::vec4) +
+           (s.indices.size() + s.triFlags.size() + s.triMaterials.size() + texels) * sizeof(uint32_t) +
+           s.materials.size() * sizeof(GpuMaterial);
 }
 
 Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
@@ -170,6 +239,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                 r.repeat = o.repeat;
                 r.cullMode = CULL_BACK;
                 r.shadingMode = SHADING_LAMBERT;
+                r.textureFilter = s.textureFilter;
                 auto out = renderOn(backend, o.device, s, r);
                 if (!out) return out.error();
                 double ms = out->total.medianMs;

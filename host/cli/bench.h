@@ -2,11 +2,13 @@
 //
 // Scenes: a triangle-size sweep (about 1M triangles of 0.5, 2, 8, 32 and 128 px area each, scattered at
 // random depths), 16 overlapping full-screen layers in random depth order, the Stanford bunny, a dense
-// tessellated sphere and the built-in scene. Every (scene, resolution) is run on every backend back to
-// back, so their ratios come from the same machine in the same minute. Reported per run: min/median/max
-// of each stage's GPU time over the timed repeats, total GPU ms, visibility ms (the frame less deferred
-// shading; for vulkan-graphics its depth + id pass, the hardware baseline), triangles/s, pixels/s, peak
-// and working device memory (peak less the scene's own buffers) against 40 B/triangle + 16 B/pixel.
+// tessellated sphere and the built-in scene; then textured scenes next to untextured twins: a
+// full-screen grazing checkerboard plane per texture filter and a textured sphere of about 1M triangles.
+// Every (scene, resolution) is run on every backend back to back, so their ratios come from the same machine
+// in the same minute. Reported per run: min/median/max of each stage's GPU time over the timed repeats, total
+// GPU ms, visibility ms (the frame less deferred shading; for vulkan-graphics its depth + id pass, the
+// hardware baseline), triangles/s, pixels/s, peak and working device memory (peak less the scene's own
+// buffers) against 40 B/triangle + 16 B/pixel.
 #ifndef RASTER_BENCH_H
 #define RASTER_BENCH_H
 

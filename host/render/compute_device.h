@@ -37,6 +37,10 @@ struct DeviceInfo {
 struct Dispatch {
     uint32_t stage = 0;   // STAGE_*
     uint32_t groups = 0;  // number of groups (1D); group sizes are fixed per stage in the kernels
+    // setup and raster_tiles: run their build with the alpha test of MASK materials (SPEC_MATERIALS),
+    // which a scene without MASK triangles never pays for (a CPU device evaluates both sides of a
+    // per-pixel branch, a GPU loses registers).
+    bool alphaTest = false;
 };
 
 class ComputeDevice {

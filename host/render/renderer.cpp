@@ -70,7 +70,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
     uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
     uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
 
-    return {
+    std::vector<Dispatch> dispatches = {
         {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
@@ -81,6 +81,9 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
         {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
     };
+    for (Dispatch& d : dispatches)
+        d.alphaTest = work.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES);
+    return dispatches;
 }
 
 // No vertex shared on average: as many vertices as triangle corners.
@@ -221,6 +224,9 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE)};
     if (device.info().rasterGroups) work.groups.raster = device.info().rasterGroups;
     work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
+    work.alphaTest =
+        !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
+                                                [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
     RenderOutput out;
     out.device = device.info();
     std::vector<std::vector<double>> stageMs(STAGE_COUNT);

@@ -61,6 +61,7 @@ struct FrameWork {
     GroupCounts groups;
     bool binBig = true;      // bin_count, the scans, bin_fill and raster_tiles
     bool countSplit = true;  // bin_count
+    bool alphaTest = false;  // setup and raster_tiles with the alpha test: some triangle is alphaMode MASK
 };
 
 struct StageTiming {

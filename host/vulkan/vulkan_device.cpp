@@ -131,7 +131,8 @@ private:
     DeviceInfo info_;
     VkPipeline pipelines_[STAGE_COUNT] = {};
     // setup and raster_tiles built with the alpha test of MASK materials (SPEC_MATERIALS), bound for
-    // scenes with materials; pipelines_ has them without it. Null for the other stages.
+    // dispatches that ask for it (Dispatch::alphaTest); pipelines_ has them without it. Null for the
+    // other stages.
     VkPipeline materialPipelines_[STAGE_COUNT] = {};
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
@@ -170,8 +171,9 @@ Status VulkanDevice::createPipelines()
     // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
     // coroutine, one SIMD-wide bundle that walks several pixels each (compute_glsl/raster_tiles.comp).
     // Specialization constant SPEC_MATERIALS of setup and raster_tiles: whether the alpha test of MASK
-    // materials is compiled in. Each is built both ways, so that scenes without materials run code
-    // without the test's surface, material and texture lookups (fewer registers, as in CUDA).
+    // materials is compiled in. Each is built both ways, so that scenes without MASK triangles run code
+    // without the test's surface, material and texture lookups (fewer registers on a GPU; on a CPU, where
+    // both sides of a per-pixel branch run, none of the test's work).
     const uint32_t rasterLanes = info_.isCpu ? MIN_RASTER_LANES : TILE_SIZE * TILE_SIZE;
     struct Constants {
         uint32_t rasterLanes;
@@ -324,9 +326,9 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     for (size_t i = 0; i < dispatches.size(); ++i) {
         const Dispatch& d = dispatches[i];
         const uint32_t first = static_cast<uint32_t>(2 * i);
-        bool materials = params.materialCount != 0u && materialPipelines_[d.stage] != VK_NULL_HANDLE;
+        bool alphaTest = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          materials ? materialPipelines_[d.stage] : pipelines_[d.stage]);
+                          alphaTest ? materialPipelines_[d.stage] : pipelines_[d.stage]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
         // An empty stage still gets its two timestamps, so gpuMs keeps one entry per dispatch.
         // More groups than the device takes in one dispatch (lavapipe: 65,535) run as several
