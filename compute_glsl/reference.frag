@@ -16,7 +16,9 @@ layout(constant_id = 2) const uint kTextureSlots = 1u;
 layout(set = 1, binding = 0) uniform sampler2D baseTextures[kTextureSlots];
 
 layout(location = 0) smooth in vec4 vTexcoords;
-layout(location = 1) noperspective in vec4 vTexcoordsAffine;
+// Screen-linear texture coordinates as tc * w and w, both perspective-correct (reference.vert says why).
+layout(location = 1) smooth in vec4 vTexcoordsTimesW;
+layout(location = 2) smooth in float vClipW;
 
 layout(location = 0) out uint outColor;
 layout(location = 1) out uint outId;
@@ -43,7 +45,7 @@ void main()
     // storage buffer, and llvmpipe's helper invocations read storage buffers as zeros, which breaks
     // implicit derivatives in every quad that a triangle edge crosses. (Implicit derivatives are by
     // definition these dFdx/dFdy, so on other devices this changes nothing.)
-    vec4 tc = mix(vTexcoords, vTexcoordsAffine, bvec4(params.uvInterpolation == UV_AFFINE));
+    vec4 tc = mix(vTexcoords, vTexcoordsTimesW / vClipW, bvec4(params.uvInterpolation == UV_AFFINE));
     vec4 tcDx = dFdx(tc), tcDy = dFdy(tc);
     vec2 uv = vec2(0.0f);
     float lambda = -128.0f;  // materialBaseColor's value without a texture

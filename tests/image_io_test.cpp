@@ -1,4 +1,5 @@
-// image_io_test.cpp - PNG and AOV EXR round trips must be bit exact; failures are one-line errors.
+// image_io_test.cpp - PNG and AOV EXR round trips (id, Z and the optional surface channels) must be bit
+// exact; failures are one-line errors.
 #include <stdlib.h>
 
 #include <cstring>
@@ -178,6 +179,140 @@ TEST(ImageIo, AovExrErrors)
     aov.depth.assign(4, 1.0f);
     std::string noDir = dir.file("no/such/dir/out.exr");
     expectOneLineError(Result<Unit>(writeAovExr(noDir, aov)), noDir);
+}
+
+// Random float bits, NaN payloads and signed zeros included, for a plane of n values.
+std::vector<float> randomPlane(std::mt19937& rng, size_t n)
+{
+    std::vector<float> plane;
+    for (size_t i = 0; i < n; ++i) plane.push_back(floatFromBits(rng()));
+    return plane;
+}
+
+AovImage surfaceAov(uint32_t w, uint32_t h)
+{
+    AovImage aov;
+    aov.width = w;
+    aov.height = h;
+    size_t n = size_t(w) * h;
+    std::mt19937 rng(7);
+    for (size_t i = 0; i < n; ++i) aov.id.push_back(rng());
+    aov.depth = randomPlane(rng, n);
+    for (std::vector<float>* plane :
+         {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
+        *plane = randomPlane(rng, n);
+    aov.baryU[0] = floatFromBits(0x7fc00001u);  // quiet NaN with payload
+    aov.uvV[1] = floatFromBits(0x80000000u);    // -0
+    return aov;
+}
+
+std::vector<uint32_t> planeBits(const std::vector<float>& plane)
+{
+    std::vector<uint32_t> bits;
+    for (float f : plane) bits.push_back(bitsOf(f));
+    return bits;
+}
+
+TEST(ImageIo, AovExrSurfaceChannelsRoundTripBitExact)
+{
+    AovImage aov = surfaceAov(13, 7);
+    test::ScratchDir dir("sr_image");
+    std::string path = dir.file("surface.exr");
+    Status written = writeAovExr(path, aov);
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    Result<AovImage> back = readAovExr(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->id, aov.id);
+    EXPECT_EQ(planeBits(back->depth), planeBits(aov.depth));
+    EXPECT_EQ(planeBits(back->baryU), planeBits(aov.baryU));
+    EXPECT_EQ(planeBits(back->baryV), planeBits(aov.baryV));
+    EXPECT_EQ(planeBits(back->uvU), planeBits(aov.uvU));
+    EXPECT_EQ(planeBits(back->uvV), planeBits(aov.uvV));
+    EXPECT_EQ(planeBits(back->normalX), planeBits(aov.normalX));
+    EXPECT_EQ(planeBits(back->normalY), planeBits(aov.normalY));
+    EXPECT_EQ(planeBits(back->normalZ), planeBits(aov.normalZ));
+
+    // The header: nine channels in OpenEXR's (bytewise) name order, only `id` UINT.
+    EXRVersion version;
+    ASSERT_EQ(ParseEXRVersionFromFile(&version, path.c_str()), TINYEXR_SUCCESS);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    ASSERT_EQ(ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err), TINYEXR_SUCCESS);
+    const char* names[] = {"N.x", "N.y", "N.z", "Z", "bary.u", "bary.v", "id", "uv.u", "uv.v"};
+    ASSERT_EQ(header.num_channels, 9);
+    for (int c = 0; c < 9; ++c) {
+        EXPECT_STREQ(header.channels[c].name, names[c]);
+        EXPECT_EQ(header.pixel_types[c], c == 6 ? TINYEXR_PIXELTYPE_UINT : TINYEXR_PIXELTYPE_FLOAT)
+            << names[c];
+    }
+    FreeEXRHeader(&header);
+}
+
+TEST(ImageIo, AovExrSurfaceGroupsAreOptional)
+{
+    // Only the normal group: the file holds id, Z and N.*, and reads back without bary and uv.
+    AovImage aov = surfaceAov(5, 4);
+    aov.baryU.clear();
+    aov.baryV.clear();
+    aov.uvU.clear();
+    aov.uvV.clear();
+    test::ScratchDir dir("sr_image");
+    std::string path = dir.file("normals.exr");
+    ASSERT_TRUE(writeAovExr(path, aov).ok());
+    Result<AovImage> back = readAovExr(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_FALSE(back->hasBary());
+    EXPECT_FALSE(back->hasUv());
+    ASSERT_TRUE(back->hasNormal());
+    EXPECT_EQ(planeBits(back->normalZ), planeBits(aov.normalZ));
+}
+
+TEST(ImageIo, AovExrSurfaceErrors)
+{
+    test::ScratchDir dir("sr_image");
+    AovImage aov = surfaceAov(4, 2);
+    aov.uvV.pop_back();  // a plane of the wrong size
+    std::string wrongSize = dir.file("wrong.exr");
+    Status written = writeAovExr(wrongSize, aov);
+    expectOneLineError(Result<Unit>(written), wrongSize);
+    if (!written.ok()) {
+        EXPECT_NE(written.error().message.find("uv.v"), std::string::npos) << written.error().message;
+    }
+    aov.uvV.clear();  // half a group
+    expectOneLineError(Result<Unit>(writeAovExr(wrongSize, aov)), wrongSize);
+
+    // A file with `bary.u` but no `bary.v`, written with tinyexr directly.
+    std::vector<float> depth(4, 0.5f), baryU(4, 0.25f);
+    std::vector<uint32_t> id(4, 3u);
+    EXRChannelInfo channels[3] = {};
+    std::strcpy(channels[0].name, "Z");
+    std::strcpy(channels[1].name, "bary.u");
+    std::strcpy(channels[2].name, "id");
+    int types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_UINT};
+    EXRHeader header;
+    InitEXRHeader(&header);
+    header.num_channels = 3;
+    header.channels = channels;
+    header.pixel_types = types;
+    header.requested_pixel_types = types;
+    unsigned char* planes[3] = {reinterpret_cast<unsigned char*>(depth.data()),
+                                reinterpret_cast<unsigned char*>(baryU.data()),
+                                reinterpret_cast<unsigned char*>(id.data())};
+    EXRImage image;
+    InitEXRImage(&image);
+    image.num_channels = 3;
+    image.images = planes;
+    image.width = 2;
+    image.height = 2;
+    std::string partial = dir.file("partial.exr");
+    const char* err = nullptr;
+    ASSERT_EQ(SaveEXRImageToFile(&image, &header, partial.c_str(), &err), TINYEXR_SUCCESS);
+    Result<AovImage> read = readAovExr(partial);
+    expectOneLineError(read, partial);
+    if (!read.ok()) {
+        EXPECT_NE(read.error().message.find("'bary.v'"), std::string::npos) << read.error().message;
+    }
 }
 
 }  // namespace

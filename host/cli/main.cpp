@@ -108,6 +108,9 @@ Status runRender(RenderCommand& cmd)
         s.background = *v;
     }
 
+    // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
+    s.surfaceAovs = !cmd.aovPath.empty();
+
     auto cameraSpec = parseCameraSpec(cmd.camera);
     if (!cameraSpec) return cameraSpec.error();
     Result<Scene> scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
@@ -221,7 +224,8 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
     render->add_option("--camera", cmd.camera, "auto, gltf:N or orbit:AZ,EL,DIST (degrees, scene units)");
     render->add_option("-o,--output", cmd.output, "colour image (PNG, sRGB)");
-    render->add_option("--aov", cmd.aovPath, "EXR with channels id (UINT) and Z (FLOAT)");
+    render->add_option("--aov", cmd.aovPath,
+                       "EXR with channels id (UINT), Z, bary.u, bary.v, uv.u, uv.v, N.x, N.y, N.z (FLOAT)");
     render->add_option("--stats", cmd.statsPath, "JSON statistics and per-stage GPU times");
     render->add_option("--repeat", cmd.settings.repeat, "timed runs")->check(CLI::Range(1, 100000));
     render->add_option("--warmup", cmd.settings.warmup, "untimed runs first")->check(CLI::Range(0, 100000));

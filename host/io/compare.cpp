@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <initializer_list>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -33,6 +36,31 @@ RgbaImage blankHeatmap(uint32_t w, uint32_t h)
     img.height = h;
     img.pixels.assign(size_t(w) * h, heat(0.0));
     return img;
+}
+
+// |a - b|, with NaN against NaN equal and NaN against a number infinitely far (so it is never hidden).
+double floatDiff(float a, float b)
+{
+    if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b) ? 0.0 : INFINITY;
+    return std::abs(double(a) - double(b));
+}
+
+// Checks that each surface group either is absent or has one value per pixel in every channel, so the
+// comparison never reads past a plane that a caller filled by hand.
+Status checkSurfaceSizes(const AovImage& aov, const char* which)
+{
+    size_t n = size_t(aov.width) * aov.height;
+    auto bad = [&](bool has, std::initializer_list<const std::vector<float>*> planes) {
+        if (!has) return false;
+        for (const std::vector<float>* p : planes)
+            if (p->size() != n) return true;
+        return false;
+    };
+    if (bad(aov.hasBary(), {&aov.baryU, &aov.baryV}) || bad(aov.hasUv(), {&aov.uvU, &aov.uvV}) ||
+        bad(aov.hasNormal(), {&aov.normalX, &aov.normalY, &aov.normalZ}))
+        return makeError(ExitCode::Usage, "AOV {} has surface channels of the wrong size for {}x{}", which,
+                         aov.width, aov.height);
+    return okStatus();
 }
 
 }  // namespace
@@ -107,7 +135,40 @@ Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const Com
         ++both;
     }
     r.meanDepthDiff = both ? depthSum / double(both) : 0.0;
-    r.pass = r.coverageMismatches + r.idMismatches <= tol.maxIdMismatches && r.pixelsOverTolerance == 0;
+
+    // Surface channels: only where both images have the group (older files and renders without
+    // --aov have none), and only on pixels showing the same triangle, where they mean the same thing.
+    SR_TRY(checkSurfaceSizes(a, "a"));
+    SR_TRY(checkSurfaceSizes(b, "b"));
+    std::vector<double> surfaceWorst(a.id.size(), 0.0);
+    auto compareGroup =
+        [&](bool has, double& maxDiff,
+            std::initializer_list<std::pair<const std::vector<float>*, const std::vector<float>*>> planes) {
+            if (!has) return;
+            maxDiff = 0.0;
+            for (size_t i = 0; i < a.id.size(); ++i) {
+                if (a.id[i] == 0xFFFFFFFFu || a.id[i] != b.id[i]) continue;
+                for (auto [pa, pb] : planes) {
+                    double d = floatDiff((*pa)[i], (*pb)[i]);
+                    maxDiff = std::max(maxDiff, d);
+                    surfaceWorst[i] = std::max(surfaceWorst[i], d);
+                }
+            }
+        };
+    compareGroup(a.hasBary() && b.hasBary(), r.maxBaryDiff, {{&a.baryU, &b.baryU}, {&a.baryV, &b.baryV}});
+    compareGroup(a.hasUv() && b.hasUv(), r.maxUvDiff, {{&a.uvU, &b.uvU}, {&a.uvV, &b.uvV}});
+    compareGroup(a.hasNormal() && b.hasNormal(), r.maxNormalDiff,
+                 {{&a.normalX, &b.normalX}, {&a.normalY, &b.normalY}, {&a.normalZ, &b.normalZ}});
+    if (tol.surfaceTolerance >= 0.0) {
+        for (size_t i = 0; i < surfaceWorst.size(); ++i) {
+            if (surfaceWorst[i] <= tol.surfaceTolerance) continue;
+            ++r.surfaceOverTolerance;
+            if (r.heatmap.pixels[i] == heat(0.0)) r.heatmap.pixels[i] = heat(0.33);
+        }
+    }
+
+    r.pass = r.coverageMismatches + r.idMismatches <= tol.maxIdMismatches && r.pixelsOverTolerance == 0 &&
+             r.surfaceOverTolerance == 0;
     return r;
 }
 
@@ -144,6 +205,15 @@ std::string formatReport(const CompareReport& r, const CompareTolerance& tol)
         s += fmt::format("  Mean depth diff: {:.9g}\n", r.meanDepthDiff);
         s += fmt::format("  {} pixels ({:.4f}%) over depth tolerance {:g}\n", r.pixelsOverTolerance,
                          pct(r.pixelsOverTolerance), tol.depthTolerance);
+        // Printed only for groups both files have, so reports on id/Z-only files read as before.
+        for (auto [label, diff] : {std::pair<const char*, double>{"bary", r.maxBaryDiff},
+                                   {"uv", r.maxUvDiff},
+                                   {"N", r.maxNormalDiff}}) {
+            if (diff >= 0.0) s += fmt::format("  Max {} diff: {:.9g}\n", label, diff);
+        }
+        if (tol.surfaceTolerance >= 0.0)
+            s += fmt::format("  {} pixels ({:.4f}%) over surface tolerance {:g}\n", r.surfaceOverTolerance,
+                             pct(r.surfaceOverTolerance), tol.surfaceTolerance);
     } else {
         s += fmt::format("  Mean error = {:.6f} (8-bit units)\n", r.meanError);
         s += fmt::format("  RMS error = {:.6f}\n", r.rmsError);

@@ -14,6 +14,9 @@ struct CompareTolerance {
     int colorLsb = 0;              // largest allowed per-channel difference of 8-bit colour
     uint64_t maxIdMismatches = 0;  // AOVs: pixels whose triangle id may differ
     float depthTolerance = 0.0f;   // AOVs: largest allowed |Z_a - Z_b| where both are covered
+    // AOVs: largest allowed difference of any surface channel (bary, uv, N) where both files have its
+    // group and the pixel shows the same triangle in both; negative: reported, never failed on.
+    double surfaceTolerance = -1.0;
 };
 
 struct CompareReport {
@@ -27,6 +30,10 @@ struct CompareReport {
     uint64_t idMismatches = 0;        // both covered, different triangle
     uint64_t coverageMismatches = 0;  // covered in one, background in the other
     double maxDepthDiff = 0.0, meanDepthDiff = 0.0;
+    // Surface channel groups, compared only where both files have the group: the largest |a - b| over
+    // the group's channels and the pixels covered by the same triangle in both; -1: not compared.
+    double maxBaryDiff = -1.0, maxUvDiff = -1.0, maxNormalDiff = -1.0;
+    uint64_t surfaceOverTolerance = 0;  // such pixels over surfaceTolerance (when it is set)
     bool isAov = false;
     bool pass = false;
     RgbaImage heatmap;  // per-pixel difference, black (none) through red and yellow to white

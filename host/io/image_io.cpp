@@ -1,13 +1,15 @@
-// image_io.cpp - PNG through stb, the id/depth AOV EXR through tinyexr.
+// image_io.cpp - PNG through stb, the AOV EXR (id, depth and the surface channels) through tinyexr.
 #include "io/image_io.h"
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <memory>
 
 namespace sr {
@@ -53,6 +55,27 @@ struct ExrImageGuard {
 constexpr const char* kDepthChannel = "Z";
 constexpr const char* kIdChannel = "id";
 
+// The surface channels by group: a group is written when computed and read when the file has all of
+// its channels, so the reader and the writer share one table.
+struct SurfaceGroup {
+    const char* label;
+    size_t count;
+    const char* names[3];
+    std::vector<float> AovImage::*planes[3];
+};
+const SurfaceGroup kSurfaceGroups[] = {
+    {"bary", 2, {"bary.u", "bary.v", nullptr}, {&AovImage::baryU, &AovImage::baryV, nullptr}},
+    {"uv", 2, {"uv.u", "uv.v", nullptr}, {&AovImage::uvU, &AovImage::uvV, nullptr}},
+    {"N", 3, {"N.x", "N.y", "N.z"}, {&AovImage::normalX, &AovImage::normalY, &AovImage::normalZ}},
+};
+
+// One channel of the file being written.
+struct ExrPlane {
+    const char* name;
+    int pixelType;  // TINYEXR_PIXELTYPE_*
+    const void* data;
+};
+
 }  // namespace
 
 Status writePng(const std::string& path, const RgbaImage& image)
@@ -93,33 +116,51 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
 {
     SR_TRY(checkSize(path, aov.width, aov.height, aov.id.size(), "the id channel"));
     SR_TRY(checkSize(path, aov.width, aov.height, aov.depth.size(), "the depth channel"));
+    std::vector<ExrPlane> planes = {{kDepthChannel, TINYEXR_PIXELTYPE_FLOAT, aov.depth.data()},
+                                    {kIdChannel, TINYEXR_PIXELTYPE_UINT, aov.id.data()}};
+    for (const SurfaceGroup& group : kSurfaceGroups) {
+        bool any = false;
+        for (size_t c = 0; c < group.count; ++c) any = any || !(aov.*group.planes[c]).empty();
+        if (!any) continue;  // not computed: the file keeps the layout it had without the group
+        for (size_t c = 0; c < group.count; ++c) {
+            const std::vector<float>& plane = aov.*group.planes[c];
+            std::string what = fmt::format("the {} channel", group.names[c]);
+            SR_TRY(checkSize(path, aov.width, aov.height, plane.size(), what.c_str()));
+            planes.push_back({group.names[c], TINYEXR_PIXELTYPE_FLOAT, plane.data()});
+        }
+    }
+    // OpenEXR wants channels sorted by name (bytewise: "N.x" < "Z" < "bary.u" < "id" < "uv.u"). ZIP is
+    // lossless, so ids and float bits survive exactly.
+    std::sort(planes.begin(), planes.end(),
+              [](const ExrPlane& a, const ExrPlane& b) { return std::strcmp(a.name, b.name) < 0; });
 
-    // OpenEXR wants channels sorted by name: "Z" < "id" in ASCII. ZIP is lossless, so ids and
-    // depth bits survive exactly.
-    EXRChannelInfo channels[2] = {};
-    std::strcpy(channels[0].name, kDepthChannel);
-    std::strcpy(channels[1].name, kIdChannel);
-    int pixelTypes[2] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_UINT};
-    int requestedTypes[2] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_UINT};
+    const size_t n = planes.size();
+    std::vector<EXRChannelInfo> channels(n);
+    std::vector<int> pixelTypes(n);
+    std::vector<unsigned char*> images(n);
+    for (size_t c = 0; c < n; ++c) {
+        channels[c] = {};
+        std::strcpy(channels[c].name, planes[c].name);
+        pixelTypes[c] = planes[c].pixelType;
+        // tinyexr's image is not const, but saving only reads it.
+        images[c] = static_cast<unsigned char*>(const_cast<void*>(planes[c].data));
+    }
+    std::vector<int> requestedTypes = pixelTypes;
 
     EXRHeader header;
     InitEXRHeader(&header);
-    header.num_channels = 2;
-    header.channels = channels;
-    header.pixel_types = pixelTypes;
-    header.requested_pixel_types = requestedTypes;
+    header.num_channels = int(n);
+    header.channels = channels.data();
+    header.pixel_types = pixelTypes.data();
+    header.requested_pixel_types = requestedTypes.data();
     header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
     header.data_window = {0, 0, int(aov.width) - 1, int(aov.height) - 1};
     header.display_window = header.data_window;
 
-    unsigned char* planes[2] = {
-        reinterpret_cast<unsigned char*>(const_cast<float*>(aov.depth.data())),
-        reinterpret_cast<unsigned char*>(const_cast<uint32_t*>(aov.id.data())),
-    };
     EXRImage image;
     InitEXRImage(&image);
-    image.num_channels = 2;
-    image.images = planes;
+    image.num_channels = int(n);
+    image.images = images.data();
     image.width = int(aov.width);
     image.height = int(aov.height);
 
@@ -154,19 +195,42 @@ Result<AovImage> readAovExr(const std::string& path)
     if (rc != TINYEXR_SUCCESS) return fail(takeExrError(err, rc));
     ExrHeaderGuard headerGuard{&header};
 
-    int depthChannel = -1, idChannel = -1;
+    auto channelIndex = [&](const char* name) {
+        for (int c = 0; c < header.num_channels; ++c)
+            if (std::strcmp(header.channels[c].name, name) == 0) return c;
+        return -1;
+    };
     for (int c = 0; c < header.num_channels; ++c) {
-        if (std::strcmp(header.channels[c].name, kDepthChannel) == 0) depthChannel = c;
-        if (std::strcmp(header.channels[c].name, kIdChannel) == 0) idChannel = c;
         // Half channels come back as float; UINT and FLOAT stay as stored.
         if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
             header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
     }
+    int depthChannel = channelIndex(kDepthChannel), idChannel = channelIndex(kIdChannel);
     if (depthChannel < 0 || idChannel < 0) return fail("the file needs both an 'id' and a 'Z' channel");
     if (header.pixel_types[idChannel] != TINYEXR_PIXELTYPE_UINT)
         return fail("channel 'id' is not of type UINT");
     if (header.pixel_types[depthChannel] == TINYEXR_PIXELTYPE_UINT)
         return fail("channel 'Z' is not of type FLOAT or HALF");
+    // Surface groups: all channels of a group, or none (files from before them, or written without).
+    int surfaceChannels[std::size(kSurfaceGroups)][3] = {};
+    for (size_t g = 0; g < std::size(kSurfaceGroups); ++g) {
+        const SurfaceGroup& group = kSurfaceGroups[g];
+        const char* present = nullptr;
+        const char* missing = nullptr;
+        for (size_t c = 0; c < group.count; ++c) {
+            int index = channelIndex(group.names[c]);
+            surfaceChannels[g][c] = index;
+            if (index >= 0)
+                present = group.names[c];
+            else
+                missing = group.names[c];
+            if (index >= 0 && header.pixel_types[index] == TINYEXR_PIXELTYPE_UINT)
+                return fail(fmt::format("channel '{}' is not of type FLOAT or HALF", group.names[c]));
+        }
+        if (present && missing)
+            return fail(fmt::format("channel '{}' without '{}' (the {} channels come together)", present,
+                                    missing, group.label));
+    }
 
     EXRImage image;
     InitEXRImage(&image);
@@ -184,6 +248,16 @@ Result<AovImage> readAovExr(const std::string& path)
     aov.depth.resize(count);
     std::memcpy(aov.id.data(), image.images[idChannel], count * sizeof(uint32_t));
     std::memcpy(aov.depth.data(), image.images[depthChannel], count * sizeof(float));
+    for (size_t g = 0; g < std::size(kSurfaceGroups); ++g) {
+        const SurfaceGroup& group = kSurfaceGroups[g];
+        for (size_t c = 0; c < group.count; ++c) {
+            int index = surfaceChannels[g][c];
+            if (index < 0) continue;
+            std::vector<float>& plane = aov.*group.planes[c];
+            plane.resize(count);
+            std::memcpy(plane.data(), image.images[index], count * sizeof(float));
+        }
+    }
     return aov;
 }
 

@@ -1,7 +1,9 @@
 // image_io.h - PNG colour images and EXR AOVs.
 //
 // PNG: 8-bit RGBA through stb (Debian's libstb). EXR: through tinyexr, with a UINT channel `id`
-// (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window depth, 1.0 background).
+// (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window depth, 1.0 background),
+// plus, when the renderer was asked for them (RenderSettings::surfaceAovs), the FLOAT surface channels
+// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background).
 #ifndef RASTER_IMAGE_IO_H
 #define RASTER_IMAGE_IO_H
 
@@ -18,16 +20,33 @@ struct RgbaImage {
     std::vector<uint32_t> pixels;  // row-major from the top row, R in the low byte
 };
 
+// One plane per channel, row-major from the top row. The surface channels come in three groups (bary,
+// uv, normal), each either empty (not computed, or absent from the file) or one value per pixel in
+// every one of its channels; files written without them keep the two-channel layout of old files.
 struct AovImage {
     uint32_t width = 0, height = 0;
-    std::vector<uint32_t> id;  // row-major from the top row
-    std::vector<float> depth;
+    std::vector<uint32_t> id;  // EXR `id`
+    std::vector<float> depth;  // EXR `Z`
+    // EXR `bary.u`, `bary.v`: perspective-correct barycentrics of vertices 1 and 2 at the pixel centre
+    // (vertex 0's weight is 1 - u - v).
+    std::vector<float> baryU, baryV;
+    // EXR `uv.u`, `uv.v`: base colour texture coordinates after the material's KHR_texture_transform;
+    // 0 where the triangle's material has no texture.
+    std::vector<float> uvU, uvV;
+    // EXR `N.x`, `N.y`, `N.z`: unit view-space shading normal, facing the viewer.
+    std::vector<float> normalX, normalY, normalZ;
+
+    bool hasBary() const { return !baryU.empty(); }
+    bool hasUv() const { return !uvU.empty(); }
+    bool hasNormal() const { return !normalX.empty(); }
 };
 
 Status writePng(const std::string& path, const RgbaImage& image);
 Result<RgbaImage> readPng(const std::string& path);  // any PNG, expanded to RGBA8
 Status writeAovExr(const std::string& path, const AovImage& aov);
-Result<AovImage> readAovExr(const std::string& path);  // needs the `id` and `Z` channels
+// Needs the `id` and `Z` channels; reads each surface group whose channels are all present, and fails
+// on a group with only some of them (a file cut short or renamed by another tool).
+Result<AovImage> readAovExr(const std::string& path);
 
 }  // namespace sr
 

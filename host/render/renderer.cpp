@@ -7,6 +7,7 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "render/aov.h"
 #include "render/materials.h"
 #include "scene/texture.h"
 
@@ -312,6 +313,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
         out.aov.id[i] = visibilityId(visibility[i]);
         out.aov.depth[i] = visibilityDepth(visibility[i]);
     }
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
     return out;
 }
 

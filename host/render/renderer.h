@@ -39,6 +39,7 @@ struct RenderSettings {
     bool firstFrameSkipsBinning = false;  // tests: start as if the last frame had no big triangle
     uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_*: AUTO follows each texture's sampler
     uint32_t uvInterpolation = UV_PERSPECTIVE;     // UV_PERSPECTIVE or UV_AFFINE
+    bool surfaceAovs = false;  // fill RenderOutput.aov's bary, uv and N channels (fillSurfaceAovs)
 };
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).

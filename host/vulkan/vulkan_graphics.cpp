@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "render/aov.h"
 #include "render/materials.h"
 #include "vulkan/vulkan_context.h"
 
@@ -782,6 +783,7 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
         if (frame >= settings.warmup) drawMs.push_back(ms);
     }
     SR_TRY(render.readBack(out.color, out.aov));
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
 
     StageTiming draw;
     draw.name = "draw";

@@ -1,0 +1,79 @@
+// aov.cpp - see aov.h.
+#include "render/aov.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "render/materials.h"
+
+namespace sr {
+namespace {
+
+// The normal shadePixel (shade.h) lights with: the interpolated vertex normal, or the face normal where
+// that is zero, turned to the viewer's side of the face. Spelled out here because shadePixel returns a
+// colour, not the normal; the steps and their order are the same so the bits are too.
+vec3 shadingNormal(const SurfacePoint& s)
+{
+    vec3 v = normalize(vec3(0.0f) - s.viewPos);
+    vec3 fn = dot(s.faceNormal, s.faceNormal) > 0.0f ? normalize(s.faceNormal) : vec3(0.0f, 0.0f, 1.0f);
+    if (dot(fn, v) < 0.0f) fn = vec3(0.0f) - fn;
+    vec3 n = dot(s.viewNormal, s.viewNormal) > 0.0f ? normalize(s.viewNormal) : fn;
+    if (dot(n, fn) < 0.0f) n = vec3(0.0f) - n;
+    return n;
+}
+
+}  // namespace
+
+void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov)
+{
+    const size_t pixels = std::min(aov.id.size(), size_t(aov.width) * aov.height);
+    for (std::vector<float>* plane :
+         {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
+        plane->assign(pixels, 0.0f);
+    if (aov.width == 0) return;
+
+    // The material lookup of materialBaseColor (compute_glsl/buffers.glsl): the scene's materials in
+    // the GPU's layout, the last one for an out-of-range index, no coordinates without a texture.
+    const std::vector<GpuMaterial> materials = gpuMaterials(scene);
+    const bool haveUv = !materials.empty() && scene.triMaterials.size() == scene.triangleCount() &&
+                        scene.texcoords.size() == scene.vertexCount();
+    const auto textureCount = uint32_t(scene.textures.size());
+    const size_t triangles = scene.triangleCount();
+
+    for (size_t i = 0; i < pixels; ++i) {
+        const uint32_t id = aov.id[i];
+        if (id == EMPTY_ID || id >= triangles) continue;
+        const uint32_t i0 = scene.indices[3 * size_t(id)];
+        const uint32_t i1 = scene.indices[3 * size_t(id) + 1];
+        const uint32_t i2 = scene.indices[3 * size_t(id) + 2];
+        const int px = int(i % aov.width), py = int(i / aov.width);
+        const SurfacePoint s =
+            surfaceAt(params, px, py, scene.positions[i0], scene.positions[i1], scene.positions[i2],
+                      scene.normals[i0], scene.normals[i1], scene.normals[i2]);
+        aov.baryU[i] = s.bary.y;
+        aov.baryV[i] = s.bary.z;
+
+        if (haveUv) {
+            const GpuMaterial& m = materials[std::min<size_t>(scene.triMaterials[id], materials.size() - 1)];
+            if (m.baseColorTexture < textureCount) {
+                const bool second = m.texCoord != 0u;
+                auto set = [&](uint32_t v) {
+                    const glm::vec4& t = scene.texcoords[v];
+                    return second ? vec2(t.z, t.w) : vec2(t.x, t.y);
+                };
+                vec2 dx, dy;
+                vec2 uv = surfaceUv(s, set(i0), set(i1), set(i2), dx, dy);
+                uv = materialTransformUv(m, uv);
+                aov.uvU[i] = uv.x;
+                aov.uvV[i] = uv.y;
+            }
+        }
+
+        const vec3 n = shadingNormal(s);
+        aov.normalX[i] = n.x;
+        aov.normalY[i] = n.y;
+        aov.normalZ[i] = n.z;
+    }
+}
+
+}  // namespace sr

@@ -1,0 +1,23 @@
+// aov.h - the surface AOVs (barycentrics, texture coordinates, shading normal) of a rendered frame.
+//
+// Computed on the host from the frame's triangle ids, with the shade stage's own shared-header code
+// (surfaceAt, surfaceUv, materialTransformUv), so every backend's EXR carries the same values for the
+// same ids without any backend storing more than its visibility buffer.
+#ifndef RASTER_AOV_H
+#define RASTER_AOV_H
+
+#include "io/image_io.h"
+#include "raster_shared.h"
+#include "scene/scene.h"
+
+namespace sr {
+
+// Fills aov's bary, uv and normal channels (see AovImage) from aov.id, for the scene and the
+// RasterParams the frame was drawn with (RenderOutput::params); aov.width x aov.height must be
+// params.width x params.height and aov.id one id per pixel. Background pixels, and ids outside the
+// scene (which no backend writes), get 0 in every channel.
+void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov);
+
+}  // namespace sr
+
+#endif  // RASTER_AOV_H
