@@ -19,23 +19,32 @@ SR_NAMESPACE_BEGIN
 SR_FN vec3 clipBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc, vec3 weights, SR_OUT(vec3) dX,
                             SR_OUT(vec3) dY)
 {
-    vec2 p0 = vec2(c0.x - ndc.x * c0.w, c0.y - ndc.y * c0.w);
-    vec2 p1 = vec2(c1.x - ndc.x * c1.w, c1.y - ndc.y * c1.w);
-    vec2 p2 = vec2(c2.x - ndc.x * c2.w, c2.y - ndc.y * c2.w);
-    vec3 a = vec3(p1.x * p2.y - p1.y * p2.x, p2.x * p0.y - p2.y * p0.x, p0.x * p1.y - p0.y * p1.x) * weights;
+    // Every step is `precise` and the one division goes through recipDet, so that the texture
+    // coordinates and their derivatives, and with them the texel and level a lookup picks, have the
+    // same bits on every backend (Vulkan may contract a * b + c and divide 2.5 ulp off).
+    SR_PRECISE vec2 p0 = vec2(c0.x - ndc.x * c0.w, c0.y - ndc.y * c0.w);
+    SR_PRECISE vec2 p1 = vec2(c1.x - ndc.x * c1.w, c1.y - ndc.y * c1.w);
+    SR_PRECISE vec2 p2 = vec2(c2.x - ndc.x * c2.w, c2.y - ndc.y * c2.w);
+    SR_PRECISE vec3 a =
+        vec3(p1.x * p2.y - p1.y * p2.x, p2.x * p0.y - p2.y * p0.x, p0.x * p1.y - p0.y * p1.x) * weights;
     // d(cross(p_j, p_k)) / dX = w_k y_j - w_j y_k and / dY = w_j x_k - w_k x_j, with p for x, y.
-    vec3 ax = vec3(c2.w * p1.y - c1.w * p2.y, c0.w * p2.y - c2.w * p0.y, c1.w * p0.y - c0.w * p1.y) * weights;
-    vec3 ay = vec3(c1.w * p2.x - c2.w * p1.x, c2.w * p0.x - c0.w * p2.x, c0.w * p1.x - c1.w * p0.x) * weights;
-    float sum = a.x + a.y + a.z;
+    SR_PRECISE vec3 ax =
+        vec3(c2.w * p1.y - c1.w * p2.y, c0.w * p2.y - c2.w * p0.y, c1.w * p0.y - c0.w * p1.y) * weights;
+    SR_PRECISE vec3 ay =
+        vec3(c1.w * p2.x - c2.w * p1.x, c2.w * p0.x - c0.w * p2.x, c0.w * p1.x - c1.w * p0.x) * weights;
+    SR_PRECISE float sum = a.x + a.y + a.z;
     dX = vec3(0.0f);
     dY = vec3(0.0f);
-    if (sum == 0.0f || !isFinite(sum)) return vec3(1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f);
-    float sx = ax.x + ax.y + ax.z;
-    float sy = ay.x + ay.y + ay.z;
-    vec3 b = a / sum;
+    float inv = recipDet(sum);
+    if (!isFinite(sum) || !isFinite(inv) || inv == 0.0f) return vec3(1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f);
+    SR_PRECISE float sx = ax.x + ax.y + ax.z;
+    SR_PRECISE float sy = ay.x + ay.y + ay.z;
+    SR_PRECISE vec3 b = a * inv;
     // Quotient rule: d(a_i / S) = (da_i - b_i dS) / S.
-    dX = (ax - b * sx) / sum;
-    dY = (ay - b * sy) / sum;
+    SR_PRECISE vec3 bx = (ax - b * sx) * inv;
+    SR_PRECISE vec3 by = (ay - b * sy) * inv;
+    dX = bx;
+    dY = by;
     return clamp(b, vec3(0.0f), vec3(1.0f));  // clamped against rounding at grazing angles
 }
 
@@ -48,8 +57,9 @@ SR_FN vec3 perspectiveBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc)
 // NDC of the centre of pixel (px, py).
 SR_FN vec2 pixelCenterNdc(int px, int py, uint width, uint height)
 {
-    return vec2((float(px) + 0.5f) * 2.0f / float(width) - 1.0f,
-                (float(py) + 0.5f) * 2.0f / float(height) - 1.0f);
+    SR_PRECISE float x = (float(px) + 0.5f) * 2.0f * recipDet(float(width)) - 1.0f;
+    SR_PRECISE float y = (float(py) + 0.5f) * 2.0f * recipDet(float(height)) - 1.0f;
+    return vec2(x, y);
 }
 
 SR_FN float linearToSrgb(float c)
@@ -166,8 +176,10 @@ SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec
     else
         s.uvBary = s.bary;
     // One pixel is 2 / width NDC units along x and 2 / height along y.
-    s.uvBaryDx = dX * (2.0f / float(params.width));
-    s.uvBaryDy = dY * (2.0f / float(params.height));
+    SR_PRECISE vec3 pdx = dX * (2.0f * recipDet(float(params.width)));
+    SR_PRECISE vec3 pdy = dY * (2.0f * recipDet(float(params.height)));
+    s.uvBaryDx = pdx;
+    s.uvBaryDy = pdy;
     s.viewPos = interpolate3(s.bary, p0, p1, p2);
     s.viewNormal = interpolate3(s.bary, n0, n1, n2);
     vec3 e1 = vec3(p1.x - p0.x, p1.y - p0.y, p1.z - p0.z);
@@ -180,9 +192,12 @@ SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec
 // with their derivatives per pixel.
 SR_FN vec2 surfaceUv(SurfacePoint s, vec2 tc0, vec2 tc1, vec2 tc2, SR_OUT(vec2) dUvDx, SR_OUT(vec2) dUvDy)
 {
-    dUvDx = tc0 * s.uvBaryDx.x + tc1 * s.uvBaryDx.y + tc2 * s.uvBaryDx.z;
-    dUvDy = tc0 * s.uvBaryDy.x + tc1 * s.uvBaryDy.y + tc2 * s.uvBaryDy.z;
-    return tc0 * s.uvBary.x + tc1 * s.uvBary.y + tc2 * s.uvBary.z;
+    SR_PRECISE vec2 dx = tc0 * s.uvBaryDx.x + tc1 * s.uvBaryDx.y + tc2 * s.uvBaryDx.z;
+    SR_PRECISE vec2 dy = tc0 * s.uvBaryDy.x + tc1 * s.uvBaryDy.y + tc2 * s.uvBaryDy.z;
+    SR_PRECISE vec2 uv = tc0 * s.uvBary.x + tc1 * s.uvBary.y + tc2 * s.uvBary.z;
+    dUvDx = dx;
+    dUvDy = dy;
+    return uv;
 }
 
 // Interpolated vertex colour (linear RGBA) at the surface point.

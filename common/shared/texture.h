@@ -61,7 +61,8 @@ SR_FN uint textureTexelIndex(GpuTexture t, uint levelOffset, ivec2 size, int i, 
 // log2 of a positive, finite float from its exponent and the series
 // log2(m) = 2 / ln 2 * (r + r^3 / 3 + r^5 / 5 + ...), r = (m - 1) / (m + 1), with m in [sqrt(1/2), sqrt(2)),
 // so |r| < 0.172 and seven terms leave an error below 1e-9: the same few correctly rounded operations
-// on every backend, where the built-in log2 differs in its last bits between CUDA and GLSL drivers.
+// on every backend (the division through recipDet), where the built-in log2 differs in its last bits
+// between CUDA and GLSL drivers.
 SR_FN float log2Deterministic(float x)
 {
     uint bits = floatBitsToUint(x);
@@ -71,7 +72,7 @@ SR_FN float log2Deterministic(float x)
         m = m * 0.5f;
         e = e + 1;
     }
-    SR_PRECISE float r = (m - 1.0f) / (m + 1.0f);
+    SR_PRECISE float r = (m - 1.0f) * recipDet(m + 1.0f);
     SR_PRECISE float r2 = r * r;
     SR_PRECISE float s = 1.0f / 13.0f;
     s = s * r2 + 1.0f / 11.0f;
