@@ -18,19 +18,18 @@
 
 SR_NAMESPACE_BEGIN
 
-// Texel index i wrapped into [0, size) by `mode` (WRAP_*). REPEAT and MIRRORED_REPEAT use floored
-// (never negative) remainders, so u < 0 repeats the way it does for u > 1.
+// Texel index i wrapped into [0, size) by `mode` (WRAP_*). REPEAT and MIRRORED_REPEAT take floored
+// remainders, so u < 0 repeats the way it does for u > 1. GLSL leaves % of a negative operand
+// undefined (NVIDIA and C++ disagree), so i is first moved up by a multiple of the period: i stays
+// within +-(2^22 + 1) (textureTexelCoords), hence i + k * period is positive and below 2^31.
 SR_FN int wrapTexel(int i, int size, uint mode)
 {
     if (mode == WRAP_CLAMP_TO_EDGE) return clamp(i, 0, size - 1);
-    if (mode == WRAP_MIRRORED_REPEAT) {
-        int period = 2 * size;
-        int m = i % period;
-        if (m < 0) m += period;
-        return m < size ? m : period - 1 - m;
-    }
-    int r = i % size;
-    return r < 0 ? r + size : r;
+    int period = mode == WRAP_MIRRORED_REPEAT ? 2 * size : size;
+    int shifted = i + (4194306 / period + 1) * period;
+    int m = shifted % period;
+    if (mode == WRAP_MIRRORED_REPEAT) return m < size ? m : period - 1 - m;
+    return m;
 }
 
 // Size of level `level` (max(1, size >> level) on each axis).
