@@ -44,9 +44,9 @@ SR_NAMESPACE_BEGIN
 #define BUF_BIN_ENTRIES 11    // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
 #define BUF_ACTIVE_TILES 12   // uint: the screen tiles whose bin is not empty, in no particular order
 #define BUF_COUNTERS 13       // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 14     // uint64 per pixel: depth bits << 32 | triangle id, ~0 = empty
-#define BUF_FRAMEBUFFER 15    // uint per pixel: RGBA8, sRGB-encoded colour
-#define BUF_HIT_COUNT 16      // uint per pixel: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_VISIBILITY 14     // uint64 per sample: depth bits << 32 | triangle id, ~0 = empty (samplePlane)
+#define BUF_FRAMEBUFFER 15    // uint per output pixel: RGBA8, sRGB-encoded, resolved colour
+#define BUF_HIT_COUNT 16      // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
 #define BUF_MATERIALS 17      // GpuMaterial per scene material (RasterParams.materialCount of them)
 #define BUF_TRI_MATERIALS 18  // uint per triangle: its material's index (read only when materialCount > 0)
 #define BUF_TEXCOORDS 19      // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
@@ -104,7 +104,11 @@ SR_NAMESPACE_BEGIN
 // lets float rounding of clipped vertices move edges by more than the 1/256 snap), snapped coordinates
 // stay below 2^23 subpixels and edge-function products below 2^48, comfortably inside int64.
 #define GUARD_BAND_PX 16384.0f
-#define MAX_FRAMEBUFFER_DIM 16384
+#define MAX_FRAMEBUFFER_DIM 16384  // largest raster grid side (output resolution x ssaa)
+#define MAX_SAMPLES 16             // largest sampleCount
+#define MAX_SSAA 8                 // largest ssaa factor
+// The 1x sample pattern's sampleBounds: the pixel centre, 128 subpixels from the pixel's corner.
+#define PIXEL_CENTER_BOUNDS 0x80808080u
 // The most groups one dispatch may have: invocation indices are 32-bit and the largest group has
 // SCAN_GROUP_SIZE = 256 invocations. The largest the pipeline asks for is setup's for 2^31 / 3
 // triangles, 5.6M groups.
@@ -136,6 +140,9 @@ SR_NAMESPACE_BEGIN
 // Specialization constant (Vulkan) / template argument (CUDA) of setup and raster_tiles: false builds
 // them without the alpha test of MASK materials, the build a scene without MASK triangles runs.
 #define SPEC_MATERIALS 1
+// Specialization constant (Vulkan) / template argument (CUDA) of raster_tiles and shade: the sample
+// count they are built for (RasterParams.sampleCount), which sizes each invocation's array of keys or ids.
+#define SPEC_SAMPLES 2
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u
@@ -187,6 +194,10 @@ struct RasterParams {
     uint textureFilter;     // TEXTURE_FILTER_*: AUTO follows each texture's sampler
     uint uvInterpolation;   // UV_PERSPECTIVE or UV_AFFINE
     uint textureCount;      // entries in BUF_TEXTURES
+    uint sampleCount;       // coverage samples per pixel (MSAA): 1, 2, 4, 8 or 16, at standardSample()
+    uint sampleBounds;      // sampleBoundsOf(sampleCount): the pattern's extent within a pixel
+    uint ssaa;              // SSAA factor N: width x height is the raster grid, N times the output's per side
+    uint samplePlane;  // width * height: sample s of pixel p has its visibility key at s * samplePlane + p
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -224,7 +235,7 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 20 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 24 * 4, "RasterParams must match std140");
 static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");

@@ -75,7 +75,8 @@ bool loadBinTriangle(uint ref, out TriSetup t)
         t = setupTris[0];
         return false;
     }
-    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
+    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height,
+                         params.sampleBounds, t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

@@ -1,8 +1,9 @@
-// clear.comp - stage `clear`: every pixel's visibility key to empty (~0) (and hit count to 0 when
+// clear.comp - stage `clear`: every sample's visibility key to empty (~0) (and hit count to 0 when
 // counting), every counter and every screen tile's bin count to 0. Each invocation clears CLEAR_SPAN
 // elements GROUP_SIZE apart, so every store of a group is contiguous and a frame needs an eighth of
 // the groups (launching a group per 128 pixels cost more than the stores).
-// groups = ceil(max(pixels, tiles, COUNTER_COUNT) / (GROUP_SIZE * CLEAR_SPAN)).
+// groups = ceil(max(samples, tiles, COUNTER_COUNT) / (GROUP_SIZE * CLEAR_SPAN)), samples = samplePlane *
+// sampleCount.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -17,7 +18,7 @@ void main()
         uint i = first + k * uint(GROUP_SIZE);
         if (i < uint(COUNTER_COUNT)) counters[i] = 0u;
         if (i < params.tilesX * params.tilesY) tileBins[i] = 0u;
-        if (i >= params.width * params.height) return;
+        if (i >= params.samplePlane * params.sampleCount) return;
         visibility[i] = ~uint64_t(0);
         if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) hitCount[i] = 0u;
     }

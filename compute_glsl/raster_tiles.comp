@@ -2,10 +2,11 @@
 // TILE_SIZE pixels with big triangles in their bin, listed by scan_blocks). For each tile the group
 // walks the bin in batches of LANES refs: each invocation sets one triangle up into shared memory, then
 // every invocation tests its pixels against the whole batch, keeping the smallest visibility key of each
-// in a register. The tile's pixels belong to this group alone, so nothing is resolved with atomics: each
-// key starts from what setup's small triangles left in the visibility buffer and is stored once at the
-// end. A triangle whose depth bound lies behind a pixel's key is skipped there without a coverage test
-// (early depth; off while counting hits, which must see every triangle).
+// of their samples in a register (one build per sample count, SPEC_SAMPLES, so the keys stay registers).
+// The tile's pixels belong to this group alone, so nothing is resolved with atomics: each key starts
+// from what setup's small triangles left in the visibility buffer and is stored once at the end. A
+// triangle whose depth bound lies behind every sample's key of a pixel is skipped there without a
+// coverage test (early depth; off while counting hits, which must see every triangle).
 // LANES is specialization constant 0: TILE_SIZE^2 on a GPU (one pixel per invocation, as the CUDA
 // twin), the SIMD width on a CPU device, where every invocation of a group that synchronizes becomes a
 // coroutine and fewer, longer invocations cost far less.
@@ -20,6 +21,8 @@
 layout(local_size_x_id = 0) in;
 // Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
+// Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): sizes each invocation's array of keys.
+layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 #define LANES gl_WorkGroupSize.x
 #define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
@@ -27,22 +30,30 @@ shared TriSetup tris[TILE_SIZE * TILE_SIZE];
 shared uint minDepth[TILE_SIZE * TILE_SIZE];
 shared uint masked[TILE_SIZE * TILE_SIZE];  // TRI_FLAG_ALPHA_MASK of each: coverage needs the alpha test
 
-// Resolves the bin entries [begin, end) of one screen tile into its pixels. Uniform across the group.
+// Resolves the bin entries [begin, end) of one screen tile into its pixels' SAMPLES samples each.
+// Uniform across the group. Sample s of the invocation's j-th pixel has its key at j * SAMPLES + s.
 void rasterTile(uint tile, uint lane, uint begin, uint end)
 {
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
     int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
-    uint64_t key[MAX_PIXELS_PER_LANE];
-    uint hits[MAX_PIXELS_PER_LANE];
+    uint64_t key[MAX_PIXELS_PER_LANE * SAMPLES];
+    uint hits[MAX_PIXELS_PER_LANE * SAMPLES];
+    uint farthest[MAX_PIXELS_PER_LANE];  // the largest depth bits among the pixel's keys
+    float depth[SAMPLES];
     for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
         uint p = lane + j * LANES;  // this invocation's j-th pixel of the tile
         px[j] = int(tile % params.tilesX) * TILE_SIZE + int(p % uint(TILE_SIZE));
         py[j] = int(tile / params.tilesX) * TILE_SIZE + int(p / uint(TILE_SIZE));
         bool mine =
             p < uint(TILE_SIZE * TILE_SIZE) && uint(px[j]) < params.width && uint(py[j]) < params.height;
-        key[j] = mine ? visibility[uint(py[j]) * params.width + uint(px[j])] : ~uint64_t(0);
+        uint pixel = mine ? uint(py[j]) * params.width + uint(px[j]) : 0u;
+        farthest[j] = 0u;
+        for (uint s = 0u; s < SAMPLES; ++s) {
+            key[j * SAMPLES + s] = mine ? visibility[s * params.samplePlane + pixel] : ~uint64_t(0);
+            farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
+            hits[j * SAMPLES + s] = 0u;
+        }
         if (!mine) px[j] = -1;
-        hits[j] = 0u;
     }
     for (uint base = begin; base < end; base += LANES) {
         uint count = min(end - base, LANES);
@@ -60,13 +71,36 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
             if (px[j] < 0) continue;
             for (uint k = 0u; k < count; ++k) {
-                if (!countHits && uint(key[j] >> 32) < minDepth[k]) continue;
-                float depth;
-                if (minDepth[k] != 0xFFFFFFFFu && rasterPixel(tris[k], px[j], py[j], depth) &&
-                    (!MATERIALS || masked[k] == 0u ||
-                     alphaMaskCovers(setupTriId(tris[k]), px[j], py[j]))) {
-                    key[j] = min(key[j], packVisibility(depth, setupTriId(tris[k])));
-                    ++hits[j];
+                // Early depth: every sample of the pixel already holds something nearer.
+                if (minDepth[k] == 0xFFFFFFFFu || (!countHits && farthest[j] < minDepth[k])) continue;
+                uint id = setupTriId(tris[k]);
+                if (SAMPLES == 1u) {
+                    if (rasterPixel(tris[k], px[j], py[j], depth[0]) &&
+                        (!MATERIALS || masked[k] == 0u || alphaMaskCovers(id, px[j], py[j]))) {
+                        key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
+                        farthest[j] = uint(key[j * SAMPLES] >> 32);
+                        ++hits[j * SAMPLES];
+                    }
+                    continue;
+                }
+                // One test of the pixel's sample rectangle rejects most uncovered pixels at the cost of
+                // one sample's edge functions.
+                if (!triangleTouchesPixels(tris[k], px[j], py[j], px[j], py[j], params.sampleBounds))
+                    continue;
+                uint mask = 0u;
+                for (uint s = 0u; s < SAMPLES; ++s)
+                    if (rasterSample(tris[k], samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
+                        mask |= 1u << s;
+                // The alpha test runs once per pixel, at its centre, as hardware shades a pixel.
+                if (mask == 0u || (MATERIALS && masked[k] != 0u && !alphaMaskCovers(id, px[j], py[j])))
+                    continue;
+                farthest[j] = 0u;
+                for (uint s = 0u; s < SAMPLES; ++s) {
+                    if ((mask & (1u << s)) != 0u) {
+                        key[j * SAMPLES + s] = min(key[j * SAMPLES + s], packVisibility(depth[s], id));
+                        ++hits[j * SAMPLES + s];
+                    }
+                    farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
                 }
             }
         }
@@ -75,8 +109,10 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
     for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
         if (px[j] < 0) continue;
         uint pixel = uint(py[j]) * params.width + uint(px[j]);
-        visibility[pixel] = key[j];
-        if (countHits) hitCount[pixel] += hits[j];
+        for (uint s = 0u; s < SAMPLES; ++s) {
+            visibility[s * params.samplePlane + pixel] = key[j * SAMPLES + s];
+            if (countHits) hitCount[s * params.samplePlane + pixel] += hits[j * SAMPLES + s];
+        }
     }
 }
 
@@ -91,4 +127,3 @@ void main()
         if (begin < end) rasterTile(tile, lane, begin, end);
     }
 }
-

@@ -14,21 +14,34 @@ layout(local_size_x = GROUP_SIZE) in;
 // Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 
-// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
+// Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
 void emitTriangle(TriSetup t, bool clipped)
 {
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
         bool masked = MATERIALS && params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
-                float depth;
-                if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
-                    mergeFragment(uint(y) * params.width + uint(x), depth, id);
+                uint pixel = uint(y) * params.width + uint(x);
+                if (params.sampleCount == 1u) {
+                    float depth;
+                    if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
+                        mergeFragment(pixel, depth, id);
+                    continue;
+                }
+                // MSAA: the alpha test runs once per pixel, at its centre, as hardware shades a pixel.
+                uint mask = pixelCoverage(t, params.sampleCount, x, y);
+                if (mask == 0u || (masked && !alphaMaskCovers(id, x, y))) continue;
+                for (uint s = 0u; s < params.sampleCount; ++s) {
+                    float depth;
+                    if ((mask & (1u << s)) != 0u &&
+                        rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
+                        mergeFragment(s * params.samplePlane + pixel, depth, id);
+                }
             }
         }
         return;
@@ -79,7 +92,7 @@ void main()
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, t)) {
+                          params.height, params.sampleBounds, t)) {
             emitTriangle(t, kind == PREPARE_CLIPPED);
             ++emitted;
         }

@@ -1,32 +1,71 @@
-// shade.comp - stage `shade`: per pixel, resolve the visibility key to its triangle, interpolate that
-// triangle's vertex attributes perspective-correctly at the pixel centre, apply its material (base
-// colour factor, texture with analytic derivatives), shade, and store RGBA8 (sRGB).
-// One thread per pixel; groups = ceil(width * height / GROUP_SIZE).
+// shade.comp - stage `shade`: per output pixel, resolve the visibility keys of its samples (the ssaa x
+// ssaa raster pixels it covers, sampleCount samples each) to their triangles; shade each distinct
+// triangle of a raster pixel once, at the raster pixel's centre (as hardware MSAA runs a fragment
+// shader once per pixel and primitive), interpolating its vertex attributes perspective-correctly and
+// applying its material (base colour factor, texture with analytic derivatives); average the samples'
+// colours, clamped to the displayable range, in linear space (a box filter) and store RGBA8 (sRGB).
+// One invocation per output pixel; groups = ceil(outputPixels / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
+// Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): one build per count, so that a raster
+// pixel's ids sit in registers while its distinct triangles are found.
+layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
+
+// Colour of triangle `id` at the centre of raster pixel (x, y).
+vec3 shadeTriangle(uint id, int x, int y)
+{
+    uint i0 = indices[3u * id];
+    uint i1 = indices[3u * id + 1u];
+    uint i2 = indices[3u * id + 2u];
+    SurfacePoint s = surfaceAt(params, x, y, positions[i0], positions[i1], positions[i2], normals[i0],
+                               normals[i1], normals[i2]);
+    vec2 uv;
+    float lambda;
+    vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
+    return shadeSurface(params, id, s, base, uv, lambda);
+}
 
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= params.width * params.height) return;
-    uint id = visibilityId(visibility[i]);
-    vec3 color = vec3(params.background.x, params.background.y, params.background.z);
-    if (params.shadingMode == SHADING_HIT_COUNT) {
-        color = hitCountColor(hitCount[i], color);
-    } else if (id != EMPTY_ID) {
-        uint i0 = indices[3u * id];
-        uint i1 = indices[3u * id + 1u];
-        uint i2 = indices[3u * id + 2u];
-        SurfacePoint s = surfaceAt(params, int(i % params.width), int(i / params.width), positions[i0],
-                                   positions[i1], positions[i2], normals[i0], normals[i1], normals[i2]);
-        vec2 uv;
-        float lambda;
-        vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
-        color = shadeSurface(params, id, s, base, uv, lambda);
+    uint outWidth = params.width / params.ssaa;
+    if (i >= outWidth * (params.height / params.ssaa)) return;
+    vec3 background = vec3(params.background.x, params.background.y, params.background.z);
+    uint n = params.ssaa;
+    precise vec3 sum = vec3(0.0f);
+    for (uint sy = 0u; sy < n; ++sy) {
+        for (uint sx = 0u; sx < n; ++sx) {
+            int x = int((i % outWidth) * n + sx);
+            int y = int((i / outWidth) * n + sy);
+            uint pixel = uint(y) * params.width + uint(x);
+            if (params.shadingMode == SHADING_HIT_COUNT) {
+                for (uint s = 0u; s < SAMPLES; ++s)
+                    sum = sum + hitCountColor(hitCount[s * params.samplePlane + pixel], background);
+                continue;
+            }
+            uint id[SAMPLES];
+            for (uint s = 0u; s < SAMPLES; ++s)
+                id[s] = visibilityId(visibility[s * params.samplePlane + pixel]);
+            for (uint s = 0u; s < SAMPLES; ++s) {
+                // Shade each triangle of the pixel once, at its first sample, weighted by its samples.
+                uint owned = 0u;
+                bool first = true;
+                for (uint o = 0u; o < SAMPLES; ++o) {
+                    if (id[o] != id[s]) continue;
+                    first = first && o >= s;
+                    ++owned;
+                }
+                if (!first) continue;
+                vec3 color = id[s] == EMPTY_ID ? background : shadeTriangle(id[s], x, y);
+                // Each sample's colour as the image shows it (clamped to [0, 1], packRgba8's range) before
+                // the mean: a highlight far above 1 must not bleed over the pixel's other samples.
+                sum = sum + clamp(color, vec3(0.0f), vec3(1.0f)) * float(owned);
+            }
+        }
     }
-    framebuffer[i] = packRgba8(color);
+    framebuffer[i] = packRgba8(sum * recipDet(float(n * n * SAMPLES)));
 }

@@ -16,7 +16,7 @@ __device__ inline void binTiles(const RasterParams& params, const Buffers& b, co
     for (uint k = first; k < end; ++k) {
         int tx = rect.x + int(k % cols);
         int ty = rect.y + int(k / cols);
-        if (!triangleTouchesTile(t, bounds, tx, ty)) continue;
+        if (!triangleTouchesTile(t, bounds, tx, ty, params.sampleBounds)) continue;
         uint tile = uint(ty) * params.tilesX + uint(tx);
         if (kFill) {
             uint slot = b.scanSums[tile / uint(SCAN_GROUP_SIZE)] + atomicAdd(&b.tileBins[tile], 1u);
@@ -37,7 +37,7 @@ __device__ inline void binPieces(const RasterParams& params, const Buffers& b)
         if (!kFill && (piece.y & PIECE_COUNTED) != 0u) continue;
         TriSetup t;
         if (!loadBinTriangle(params, b, piece.x, t)) continue;
-        ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+        ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
         uint tiles = tileCount(bounds);
         uint first = piece.y & ~PIECE_COUNTED;
         binTiles<kFill>(params, b, t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles));

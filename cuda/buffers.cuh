@@ -72,7 +72,8 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
     if (ref >= params.triangleCount) return false;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, ref, c0, c1, c2)) return false;
-    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, t);
+    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, params.sampleBounds,
+                         t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

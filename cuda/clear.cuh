@@ -1,8 +1,9 @@
-// clear.cuh - stage `clear`: every pixel's visibility key to empty (~0) (and hit count to 0 when
+// clear.cuh - stage `clear`: every sample's visibility key to empty (~0) (and hit count to 0 when
 // counting), every counter and every screen tile's bin count to 0. Each thread clears CLEAR_SPAN
 // elements GROUP_SIZE apart, so every store of a block is contiguous and a frame needs an eighth of
 // the blocks (launching a block per 128 pixels cost more than the stores).
-// blocks = ceil(max(pixels, tiles, COUNTER_COUNT) / (GROUP_SIZE * CLEAR_SPAN)).
+// blocks = ceil(max(samples, tiles, COUNTER_COUNT) / (GROUP_SIZE * CLEAR_SPAN)), samples = samplePlane *
+// sampleCount.
 namespace sr {
 
 __device__ inline void clearStage(const RasterParams& params, const Buffers& b)
@@ -12,7 +13,7 @@ __device__ inline void clearStage(const RasterParams& params, const Buffers& b)
         uint i = first + k * uint(GROUP_SIZE);
         if (i < uint(COUNTER_COUNT)) b.counters[i] = 0u;
         if (i < params.tilesX * params.tilesY) b.tileBins[i] = 0u;
-        if (i >= params.width * params.height) return;
+        if (i >= params.samplePlane * params.sampleCount) return;
         b.visibility[i] = ~0ull;
         if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) b.hitCount[i] = 0u;
     }

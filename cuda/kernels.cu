@@ -2,6 +2,8 @@
 // stage, each taking the frame parameters and the buffer table by value (kernel parameter space).
 #include "kernels.h"
 
+#include <type_traits>
+
 #include "bin.cuh"
 #include "bin_count.cuh"
 #include "bin_fill.cuh"
@@ -49,15 +51,33 @@ __global__ void __launch_bounds__(GROUP_SIZE) binFillKernel(const RasterParams p
 {
     binFillStage(params, b);
 }
-template <bool kMaterials>
+// raster_tiles and shade also come in one build per sample count (RasterParams.sampleCount), which
+// sizes each thread's array of visibility keys or ids at compile time so that they stay in registers.
+template <bool kMaterials, uint kSamples>
 __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesKernel(const RasterParams params, const Buffers b)
 {
-    rasterTilesStage<kMaterials>(params, b);
+    rasterTilesStage<kMaterials, kSamples>(params, b);
 }
+
+template <uint kSamples>
 __global__ void __launch_bounds__(GROUP_SIZE) shadeKernel(const RasterParams params, const Buffers b)
 {
-    shadeStage(params, b);
+    shadeStage<kSamples>(params, b);
+}
+
+// Calls launch(std::integral_constant<uint, S>{}) with S the frame's sample count: the builds of
+// raster_tiles and shade for it.
+template <typename Launch>
+void forSampleCount(uint samples, Launch launch)
+{
+    switch (samples) {
+    case 2: launch(std::integral_constant<uint, 2>{}); break;
+    case 4: launch(std::integral_constant<uint, 4>{}); break;
+    case 8: launch(std::integral_constant<uint, 8>{}); break;
+    case 16: launch(std::integral_constant<uint, 16>{}); break;
+    default: launch(std::integral_constant<uint, 1>{}); break;
+    }
 }
 
 uint stageBlockSize(uint stage)
@@ -89,12 +109,20 @@ cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterPar
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_BIN_FILL: binFillKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_RASTER_TILES:
-        if (alphaTest)
-            rasterTilesKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
-        else
-            rasterTilesKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);
+        forSampleCount(params.sampleCount, [&](auto samples) {
+            if (alphaTest)
+                rasterTilesKernel<true, decltype(samples)::value>
+                    <<<blocks, threads, 0, stream>>>(params, buffers);
+            else
+                rasterTilesKernel<false, decltype(samples)::value>
+                    <<<blocks, threads, 0, stream>>>(params, buffers);
+        });
         break;
-    case STAGE_SHADE: shadeKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_SHADE:
+        forSampleCount(params.sampleCount, [&](auto samples) {
+            shadeKernel<decltype(samples)::value><<<blocks, threads, 0, stream>>>(params, buffers);
+        });
+        break;
     default: return cudaErrorInvalidValue;
     }
     return cudaGetLastError();

@@ -6,14 +6,14 @@
 // One thread per triangle; blocks = ceil(triangleCount / GROUP_SIZE).
 namespace sr {
 
-// Rasterizes a small triangle (every pixel centre of its bbox) or appends a big one's pieces. A full
+// Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
 template <bool kMaterials>
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
                                     bool clipped)
 {
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height);
+    ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
@@ -21,9 +21,22 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
             kMaterials && params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
-                float depth;
-                if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(params, b, id, x, y)))
-                    mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
+                uint pixel = uint(y) * params.width + uint(x);
+                if (params.sampleCount == 1u) {
+                    float depth;
+                    if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(params, b, id, x, y)))
+                        mergeFragment(params, b, pixel, depth, id);
+                    continue;
+                }
+                // MSAA: the alpha test runs once per pixel, at its centre, as hardware shades a pixel.
+                uint mask = pixelCoverage(t, params.sampleCount, x, y);
+                if (mask == 0u || (masked && !alphaMaskCovers(params, b, id, x, y))) continue;
+                for (uint s = 0u; s < params.sampleCount; ++s) {
+                    float depth;
+                    if ((mask & (1u << s)) != 0u &&
+                        rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
+                        mergeFragment(params, b, s * params.samplePlane + pixel, depth, id);
+                }
             }
         }
         return;
@@ -75,7 +88,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, t)) {
+                          params.height, params.sampleBounds, t)) {
             emitTriangle<kMaterials>(params, b, t, kind == PREPARE_CLIPPED);
             ++emitted;
         }

@@ -27,9 +27,9 @@ std::vector<int> coveredPixels(vec2 a, vec2 b, vec2 c)
     TriSetup t;
     std::vector<int> pixels;
     if (!setupTriangle(atWindow(a.x, a.y), atWindow(b.x, b.y), atWindow(c.x, c.y), 0, true, CULL_NONE, kSize,
-                       kSize, t))
+                       kSize, PIXEL_CENTER_BOUNDS, t))
         return pixels;
-    ivec4 bounds = setupPixelBounds(t, kSize, kSize);
+    ivec4 bounds = setupPixelBounds(t, kSize, kSize, PIXEL_CENTER_BOUNDS);
     for (int y = bounds.y; y <= bounds.w; ++y)
         for (int x = bounds.x; x <= bounds.z; ++x) {
             float depth;
@@ -152,25 +152,26 @@ TEST(SharedMath, ZeroAreaAndFacingCulling)
 {
     TriSetup t;
     // Collinear after snapping.
-    EXPECT_FALSE(
-        setupTriangle(atWindow(1, 1), atWindow(5, 5), atWindow(9, 9), 0, false, CULL_NONE, kSize, kSize, t));
+    EXPECT_FALSE(setupTriangle(atWindow(1, 1), atWindow(5, 5), atWindow(9, 9), 0, false, CULL_NONE, kSize,
+                               kSize, PIXEL_CENTER_BOUNDS, t));
     // Counter-clockwise on screen (front face): (0,0) -> (0,8) -> (8,0) in y-down.
     vec4 a = atWindow(0, 0), b = atWindow(0, 8), c = atWindow(8, 0);
-    EXPECT_TRUE(setupTriangle(a, b, c, 0, false, CULL_BACK, kSize, kSize, t));
-    EXPECT_FALSE(setupTriangle(a, b, c, 0, false, CULL_FRONT, kSize, kSize, t));
-    EXPECT_FALSE(setupTriangle(a, c, b, 0, false, CULL_BACK, kSize, kSize, t));
-    EXPECT_TRUE(setupTriangle(a, c, b, 0, false, CULL_FRONT, kSize, kSize, t));
-    EXPECT_TRUE(setupTriangle(a, c, b, 0, true, CULL_BACK, kSize, kSize, t));  // double-sided
+    EXPECT_TRUE(setupTriangle(a, b, c, 0, false, CULL_BACK, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
+    EXPECT_FALSE(setupTriangle(a, b, c, 0, false, CULL_FRONT, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
+    EXPECT_FALSE(setupTriangle(a, c, b, 0, false, CULL_BACK, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
+    EXPECT_TRUE(setupTriangle(a, c, b, 0, false, CULL_FRONT, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
+    EXPECT_TRUE(
+        setupTriangle(a, c, b, 0, true, CULL_BACK, kSize, kSize, PIXEL_CENTER_BOUNDS, t));  // double-sided
     // Between pixel centres: a sliver inside one pixel covers no centre.
     EXPECT_FALSE(setupTriangle(atWindow(3.1f, 3.1f), atWindow(3.2f, 3.1f), atWindow(3.1f, 3.2f), 0, true,
-                               CULL_NONE, kSize, kSize, t));
+                               CULL_NONE, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
 }
 
 TEST(SharedMath, DepthIsLinearInScreenSpace)
 {
     TriSetup t;
     ASSERT_TRUE(setupTriangle(atWindow(0, 0, 0.2f), atWindow(64, 0, 0.6f), atWindow(0, 64, 0.4f), 0, true,
-                              CULL_NONE, kSize, kSize, t));
+                              CULL_NONE, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
     for (int y = 0; y < 60; y += 7)
         for (int x = 0; x < 60 - y; x += 5) {
             float depth;
@@ -281,9 +282,10 @@ TEST(SharedMath, MinDepthBoundHoldsAtEveryCoveredPixel)
         for (vec4& v : c) v = atWindow(pos(rng), pos(rng), depth(rng));
         if (i % 4 == 0) c[2] = atWindow(pos(rng), pos(rng), 0.0f);  // touching the near plane
         TriSetup t;
-        if (!setupTriangle(c[0], c[1], c[2], 0, true, CULL_NONE, kSize, kSize, t)) continue;
+        if (!setupTriangle(c[0], c[1], c[2], 0, true, CULL_NONE, kSize, kSize, PIXEL_CENTER_BOUNDS, t))
+            continue;
         uint bound = triangleMinDepthBits(t);
-        ivec4 b = setupPixelBounds(t, kSize, kSize);
+        ivec4 b = setupPixelBounds(t, kSize, kSize, PIXEL_CENTER_BOUNDS);
         for (int y = b.y; y <= b.w; ++y)
             for (int x = b.x; x <= b.z; ++x) {
                 float d;
@@ -306,9 +308,10 @@ TEST(SharedMath, TileTestKeepsEveryCoveredTileAndDropsTilesOutsideAnEdge)
     for (int i = 0; i < 300; ++i) {
         TriSetup t;
         if (!setupTriangle(atWindow(pos(rng), pos(rng)), atWindow(pos(rng), pos(rng)),
-                           atWindow(pos(rng), pos(rng)), 0, true, CULL_NONE, kSize, kSize, t))
+                           atWindow(pos(rng), pos(rng)), 0, true, CULL_NONE, kSize, kSize,
+                           PIXEL_CENTER_BOUNDS, t))
             continue;
-        ivec4 b = setupPixelBounds(t, kSize, kSize);
+        ivec4 b = setupPixelBounds(t, kSize, kSize, PIXEL_CENTER_BOUNDS);
         ivec4 r = tileRect(b);
         EXPECT_EQ(tileCount(b), uint(r.z - r.x + 1) * uint(r.w - r.y + 1));
         for (int ty = r.y; ty <= r.w; ++ty)
@@ -320,7 +323,7 @@ TEST(SharedMath, TileTestKeepsEveryCoveredTileAndDropsTilesOutsideAnEdge)
                         float d;
                         covered = covered || rasterPixel(t, x, y, d);
                     }
-                bool kept = triangleTouchesTile(t, b, tx, ty);
+                bool kept = triangleTouchesTile(t, b, tx, ty, PIXEL_CENTER_BOUNDS);
                 if (covered) {
                     ASSERT_TRUE(kept) << "triangle " << i << " tile " << tx << "," << ty;
                 }

@@ -200,6 +200,8 @@ TEST_F(VulkanDeviceTest, ClearEmptiesVisibilityAndCounters)
     RasterParams params{};
     params.width = width;
     params.height = height;
+    params.sampleCount = 1;
+    params.samplePlane = width * height;
     const uint32_t groups = uint32_t((pixels + GROUP_SIZE - 1) / GROUP_SIZE);
     std::vector<double> gpuMs;
     Status status = device_->run(params, {{STAGE_CLEAR, groups}}, gpuMs);

@@ -7,14 +7,58 @@
 
 SR_NAMESPACE_BEGIN
 
-// Coverage of pixel (px, py) and, when covered, its window depth. Depth is linear in screen space
-// (Vulkan's rule) and evaluated from the exact edge functions with correctly rounded float steps, so
-// CUDA and GLSL produce the same bits.
-SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
+// Vulkan's standard sample locations (the spec's "Standard sample locations" table, D3D's patterns),
+// sample s of a `count`-sample pixel, in 1/16 pixel from the pixel's top-left corner. Every location is
+// a multiple of 1/16 pixel, so on the 1/256 pixel grid of the snapped vertices the edge functions at the
+// samples are exact integers and the top-left rule applies per sample exactly as at pixel centres.
+// Packed one byte per sample, x | y << 4, four samples per word, sample 0 in the low byte:
+//   1x: (8, 8)
+//   2x: (12, 12) (4, 4)
+//   4x: (6, 2) (14, 6) (2, 10) (10, 14)
+//   8x: (9, 5) (7, 11) (13, 9) (5, 3) (3, 13) (1, 7) (11, 15) (15, 1)
+//  16x: (9, 9) (7, 5) (5, 10) (12, 7) (3, 6) (10, 13) (13, 11) (11, 3) (6, 14) (8, 1) (4, 2) (2, 12)
+//       (0, 8) (15, 4) (14, 15) (1, 0)
+SR_FN ivec2 standardSample(uint count, uint s)
+{
+    uint word = 0x88u;
+    if (count == 2u) word = 0x44CCu;
+    if (count == 4u) word = 0xEAA26E26u;
+    if (count == 8u) word = s < 4u ? 0x359DB759u : 0x1FFB71D3u;
+    if (count == 16u) {
+        word = s < 4u ? 0x7CA55799u : s < 8u ? 0x3BBDDA63u : s < 12u ? 0xC22418E6u : 0x01FE4F80u;
+    }
+    uint b = (word >> (8u * (s & 3u))) & 255u;
+    return ivec2(int(b & 15u), int(b >> 4));
+}
+
+// Position of sample s of pixel (px, py) in subpixels (1/256 pixel).
+SR_FN ivec2 samplePosition(uint count, uint s, int px, int py)
+{
+    ivec2 o = standardSample(count, s);
+    return ivec2(px * SUBPIXEL_SCALE + o.x * 16, py * SUBPIXEL_SCALE + o.y * 16);
+}
+
+// Extent of a sample pattern within the pixel, in subpixels: minX | minY << 8 | maxX << 16 | maxY << 24
+// over its samples (RasterParams.sampleBounds; PIXEL_CENTER_BOUNDS for one sample). Bounds the pixels a
+// triangle's samples can fall in (sampleSpan) and the tiles it can touch (triangleTouchesPixels).
+SR_FN uint sampleBoundsOf(uint count)
+{
+    ivec2 lo = ivec2(SUBPIXEL_SCALE, SUBPIXEL_SCALE), hi = ivec2(0, 0);
+    for (uint s = 0u; s < count; ++s) {
+        ivec2 o = standardSample(count, s);
+        lo = min(lo, o * 16);
+        hi = max(hi, o * 16);
+    }
+    return uint(lo.x) | (uint(lo.y) << 8) | (uint(hi.x) << 16) | (uint(hi.y) << 24);
+}
+
+// Coverage of the sample at subpixel position p and, when covered, its window depth. Depth is linear in
+// screen space (Vulkan's rule) and evaluated from the exact edge functions with correctly rounded float
+// steps, so CUDA and GLSL produce the same bits.
+SR_FN bool rasterSample(TriSetup t, ivec2 p, SR_OUT(float) depth)
 {
     depth = 1.0f;
     ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
-    ivec2 p = ivec2(px * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, py * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
     int64_t e0 = edgeFunction(v1, v2, p);  // weight of v0
     int64_t e1 = edgeFunction(v2, v0, p);  // weight of v1
     int64_t e2 = edgeFunction(v0, v1, p);  // weight of v2
@@ -29,11 +73,33 @@ SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
     return true;
 }
 
-// A lower bound, as float bits, on the depth rasterPixel returns at any pixel the triangle covers, for
-// the per-pixel early depth test in raster_tiles: a pixel whose key already holds a smaller depth cannot
-// be won by this triangle, whatever its id. At a covered pixel centre the barycentrics e_i / area are
-// exact and non-negative, so the exact interpolated depth is a convex combination of the vertex depths.
-// rasterPixel's float steps differ from it by relative errors of about 2^-22 (float(e), the truncated
+// The samples of pixel (px, py) the triangle covers, as a bit mask (bit s: sample s of the `count`-
+// sample pattern); the same edge tests as rasterSample, without the depth.
+SR_FN uint pixelCoverage(TriSetup t, uint count, int px, int py)
+{
+    ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
+    int64_t bias0 = edgeBias(v1, v2), bias1 = edgeBias(v2, v0), bias2 = edgeBias(v0, v1);
+    uint mask = 0u;
+    for (uint s = 0u; s < count; ++s) {
+        ivec2 p = samplePosition(count, s, px, py);
+        if (edgeFunction(v1, v2, p) - bias0 >= int64_t(0) && edgeFunction(v2, v0, p) - bias1 >= int64_t(0) &&
+            edgeFunction(v0, v1, p) - bias2 >= int64_t(0))
+            mask |= 1u << s;
+    }
+    return mask;
+}
+
+// Coverage and depth at the centre of pixel (px, py): the one-sample pattern.
+SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
+{
+    return rasterSample(t, samplePosition(1u, 0u, px, py), depth);
+}
+
+// A lower bound, as float bits, on the depth rasterSample returns at any sample the triangle covers,
+// for the early depth test in raster_tiles: a sample whose key already holds a smaller depth cannot be
+// won by this triangle, whatever its id. At a covered sample the barycentrics e_i / area are exact and
+// non-negative, so the exact interpolated depth is a convex combination of the vertex depths.
+// rasterSample's float steps differ from it by relative errors of about 2^-22 (float(e), the truncated
 // 1 / area, the products) on terms whose magnitudes sum to at most 1, plus a few roundings of 2^-24:
 // under 2^-20 in all, a quarter of the margin of 2^-18 taken here.
 SR_FN uint triangleMinDepthBits(TriSetup t)

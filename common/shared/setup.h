@@ -62,13 +62,35 @@ SR_FN int64_t edgeBias(ivec2 a, ivec2 b)
     return isTopLeftEdge(a, b) ? int64_t(0) : int64_t(1);
 }
 
-// First and last pixel index whose centre (256 i + 128 subpixels) lies in [lo, hi], clamped to
-// [0, size - 1]. Empty when first > last. Arithmetic shift is floor division for negative values.
+// First and last pixel index that has a sample of the pattern with extent `bounds` (sampleBoundsOf;
+// PIXEL_CENTER_BOUNDS for the pixel centres, 256 i + 128 subpixels) in [lo, hi] along one axis, clamped
+// to [0, size - 1]: a sample of pixel i lies at 256 i + o with o between the pattern's smallest and
+// largest offset on that axis (`offsets`: smallest in the low byte, largest in the next). Empty when
+// first > last. Arithmetic shift is floor division for negative values.
+SR_FN ivec2 sampleSpan(int lo, int hi, uint size, uint offsets)
+{
+    int oLo = int(offsets & 255u);
+    int oHi = int((offsets >> 8) & 255u);
+    int first = (lo - oHi + SUBPIXEL_SCALE - 1) >> SUBPIXEL_BITS;
+    int last = (hi - oLo) >> SUBPIXEL_BITS;
+    return ivec2(max(first, 0), min(last, int(size) - 1));
+}
+
+// The x and y halves of a sampleBounds word (minX | minY << 8 | maxX << 16 | maxY << 24) in the form
+// sampleSpan takes.
+SR_FN uint boundsX(uint bounds)
+{
+    return (bounds & 255u) | (((bounds >> 16) & 255u) << 8);
+}
+SR_FN uint boundsY(uint bounds)
+{
+    return ((bounds >> 8) & 255u) | (((bounds >> 24) & 255u) << 8);
+}
+
+// Pixel centres only: the one-sample span.
 SR_FN ivec2 pixelSpan(int lo, int hi, uint size)
 {
-    int first = (lo - SUBPIXEL_SCALE / 2 + SUBPIXEL_SCALE - 1) >> SUBPIXEL_BITS;
-    int last = (hi - SUBPIXEL_SCALE / 2) >> SUBPIXEL_BITS;
-    return ivec2(max(first, 0), min(last, int(size) - 1));
+    return sampleSpan(lo, hi, size, 128u | (128u << 8));
 }
 
 // Deterministic 1 / area for a positive int64 area: floor(2^p / area) is an exact integer quotient
@@ -85,9 +107,10 @@ SR_FN float recipArea(int64_t area)
 }
 
 // Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
-// snapped triangle has zero area, faces the culled way, or covers no pixel centre of the viewport.
+// snapped triangle has zero area, faces the culled way, or its bbox holds no sample of the viewport
+// (samples of the pattern with extent `bounds`, RasterParams.sampleBounds).
 SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
-                         uint height, SR_OUT(TriSetup) t)
+                         uint height, uint bounds, SR_OUT(TriSetup) t)
 {
     ivec2 v0, v1, v2;
     float z0, z1, z2;
@@ -108,8 +131,8 @@ SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided
         z2 = tz;
         area = -area;
     }
-    ivec2 spanX = pixelSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width);
-    ivec2 spanY = pixelSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height);
+    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
+    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
     if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
     t.xy01 = ivec4(v0.x, v0.y, v1.x, v1.y);
     t.xy2Id = ivec4(v2.x, v2.y, int(triId), spanX.x | (spanY.x << 16));
@@ -136,12 +159,13 @@ SR_FN uint setupTriId(TriSetup t)
     return uint(t.xy2Id.z);
 }
 
-// Inclusive pixel bbox (minX, minY, maxX, maxY), already clamped to the viewport.
-SR_FN ivec4 setupPixelBounds(TriSetup t, uint width, uint height)
+// Inclusive pixel bbox (minX, minY, maxX, maxY) of the pixels with a sample of the pattern with extent
+// `bounds` inside the triangle's bbox, already clamped to the viewport.
+SR_FN ivec4 setupPixelBounds(TriSetup t, uint width, uint height, uint bounds)
 {
     ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
-    int maxX = pixelSpan(0, max(v0.x, max(v1.x, v2.x)), width).y;
-    int maxY = pixelSpan(0, max(v0.y, max(v1.y, v2.y)), height).y;
+    int maxX = sampleSpan(-SUBPIXEL_SCALE, max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds)).y;
+    int maxY = sampleSpan(-SUBPIXEL_SCALE, max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds)).y;
     return ivec4(t.xy2Id.w & 0xffff, (t.xy2Id.w >> 16) & 0xffff, maxX, maxY);
 }
 
@@ -187,23 +211,31 @@ SR_FN int64_t edgeMaxOverRect(ivec2 a, ivec2 b, ivec2 lo, ivec2 hi)
     return edgeFunction(a, b, p);
 }
 
-// Whether the triangle may cover a pixel centre of screen tile (tx, ty) inside its bbox. Exact for the
-// rectangle of those pixel centres: false only when one edge function, with its fill-rule bias, is
-// negative at every one of them, so no pixel that rasterPixel would cover is ever dropped; a tile that
-// only the rectangle's corner region reaches costs one empty walk in raster_tiles.
-SR_FN bool triangleTouchesTile(TriSetup t, ivec4 bounds, int tx, int ty)
+// Whether the triangle may cover a sample of the pixels x0..x1, y0..y1 (inclusive), for a pattern with
+// extent `sampleBounds`. Exact for the rectangle spanned by those samples: false only when one edge
+// function, with its fill-rule bias, is negative at every point of it, so no sample that rasterSample
+// would cover is ever dropped.
+SR_FN bool triangleTouchesPixels(TriSetup t, int x0, int y0, int x1, int y1, uint sampleBounds)
 {
-    int x0 = max(tx * TILE_SIZE, bounds.x);
-    int y0 = max(ty * TILE_SIZE, bounds.y);
-    int x1 = min(tx * TILE_SIZE + TILE_SIZE - 1, bounds.z);
-    int y1 = min(ty * TILE_SIZE + TILE_SIZE - 1, bounds.w);
-    ivec2 lo = ivec2(x0 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, y0 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
-    ivec2 hi = ivec2(x1 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2, y1 * SUBPIXEL_SCALE + SUBPIXEL_SCALE / 2);
+    ivec2 lo = ivec2(x0 * SUBPIXEL_SCALE + int(sampleBounds & 255u),
+                     y0 * SUBPIXEL_SCALE + int((sampleBounds >> 8) & 255u));
+    ivec2 hi = ivec2(x1 * SUBPIXEL_SCALE + int((sampleBounds >> 16) & 255u),
+                     y1 * SUBPIXEL_SCALE + int((sampleBounds >> 24) & 255u));
     ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
     if (edgeMaxOverRect(v1, v2, lo, hi) - edgeBias(v1, v2) < int64_t(0)) return false;
     if (edgeMaxOverRect(v2, v0, lo, hi) - edgeBias(v2, v0) < int64_t(0)) return false;
     if (edgeMaxOverRect(v0, v1, lo, hi) - edgeBias(v0, v1) < int64_t(0)) return false;
     return true;
+}
+
+// Whether the triangle may cover a sample of screen tile (tx, ty) inside its bbox (triangleTouchesPixels
+// over the tile's part of the bbox); a tile that only the rectangle's corner region reaches costs one
+// empty walk in raster_tiles.
+SR_FN bool triangleTouchesTile(TriSetup t, ivec4 bounds, int tx, int ty, uint sampleBounds)
+{
+    return triangleTouchesPixels(t, max(tx * TILE_SIZE, bounds.x), max(ty * TILE_SIZE, bounds.y),
+                                 min(tx * TILE_SIZE + TILE_SIZE - 1, bounds.z),
+                                 min(ty * TILE_SIZE + TILE_SIZE - 1, bounds.w), sampleBounds);
 }
 
 SR_NAMESPACE_END

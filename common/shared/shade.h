@@ -15,9 +15,12 @@ SR_NAMESPACE_BEGIN
 // they are affine in ndc: their XY terms cancel, so da_i / dndc is a constant. Screen-space (affine)
 // barycentrics are a_i w_i normalised the same way. `weights` (1, 1, 1) gives the perspective-correct
 // set, (w0, w1, w2) the affine one; derivatives are per NDC unit. Works for vertices with w <= 0
-// because the covered point itself always has w > 0.
-SR_FN vec3 clipBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc, vec3 weights, SR_OUT(vec3) dX,
-                            SR_OUT(vec3) dY)
+// because the covered point itself always has w > 0. A point inside the triangle gets barycentrics
+// clamped to [0, 1] against rounding at grazing angles; with `extrapolate` (an MSAA pixel whose centre
+// may lie outside the triangle, shaded there as hardware does without centroid interpolation) they
+// are the plane's values, negative outside.
+SR_FN vec3 clipBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc, vec3 weights, bool extrapolate,
+                            SR_OUT(vec3) dX, SR_OUT(vec3) dY)
 {
     // Every step is `precise` and the one division goes through recipDet, so that the texture
     // coordinates and their derivatives, and with them the texel and level a lookup picks, have the
@@ -45,13 +48,13 @@ SR_FN vec3 clipBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc, vec3 weights, S
     SR_PRECISE vec3 by = (ay - b * sy) * inv;
     dX = bx;
     dY = by;
-    return clamp(b, vec3(0.0f), vec3(1.0f));  // clamped against rounding at grazing angles
+    return extrapolate ? b : clamp(b, vec3(0.0f), vec3(1.0f));
 }
 
 SR_FN vec3 perspectiveBarycentrics(vec4 c0, vec4 c1, vec4 c2, vec2 ndc)
 {
     vec3 dX, dY;
-    return clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), dX, dY);
+    return clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), false, dX, dY);
 }
 
 // NDC of the centre of pixel (px, py).
@@ -170,9 +173,11 @@ SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec
     vec2 ndc = pixelCenterNdc(px, py, params.width, params.height);
     SurfacePoint s;
     vec3 dX, dY;
-    s.bary = clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), dX, dY);
+    // With one sample the pixel centre is covered; with several it may be any of the samples.
+    bool extrapolate = params.sampleCount > 1u;
+    s.bary = clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), extrapolate, dX, dY);
     if (params.uvInterpolation == UV_AFFINE)
-        s.uvBary = clipBarycentrics(c0, c1, c2, ndc, vec3(c0.w, c1.w, c2.w), dX, dY);
+        s.uvBary = clipBarycentrics(c0, c1, c2, ndc, vec3(c0.w, c1.w, c2.w), extrapolate, dX, dY);
     else
         s.uvBary = s.bary;
     // One pixel is 2 / width NDC units along x and 2 / height along y.

@@ -228,48 +228,54 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
         auto scenes = buildScenes(o, w, h);
         if (!scenes) return scenes.error();
         for (const BenchScene& s : *scenes) {
-            for (const std::string& backend : o.backends) {
-                if (tty)
-                    fmt::print(stderr, "\r\033[Kbench: {} {}x{} on {} ({} triangles)", s.name, w, h, backend,
-                               s.scene.triangleCount());
-                RenderSettings r;
-                r.width = w;
-                r.height = h;
-                r.warmup = o.warmup;
-                r.repeat = o.repeat;
-                r.cullMode = CULL_BACK;
-                r.shadingMode = SHADING_LAMBERT;
-                r.textureFilter = s.textureFilter;
-                auto out = renderOn(backend, o.device, s, r);
-                if (!out) return out.error();
-                double ms = out->total.medianMs;
-                // Visibility time: the whole frame less deferred shading (the graphics baseline has none).
-                double shadeMs = 0.0;
-                for (const StageTiming& t : out->stages)
-                    if (t.name == "shade") shadeMs = t.medianMs;
-                double pixels = double(w) * h;
-                size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
-                                     ? out->peakDeviceBytes - sceneBytes(s.scene)
-                                     : 0;
-                runs.push_back(
-                    {{"scene", s.name},
-                     {"resolution", {w, h}},
-                     {"backend", backend},
-                     {"device", out->device.name},
-                     {"driver", out->device.driver},
-                     {"triangles", s.scene.triangleCount()},
-                     {"triangle_area_px", s.triangleArea},
-                     {"rasterized", out->stats.rasterized},
-                     {"stages_ms", stagesJson(out->stages)},
-                     {"gpu_total_ms", timingJson(out->total)},
-                     {"visibility_ms", ms - shadeMs},
-                     {"triangles_per_s", ms > 0 ? double(s.scene.triangleCount()) / (ms * 1e-3) : 0.0},
-                     {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
-                     {"peak_device_bytes", out->peakDeviceBytes},
-                     {"scene_bytes", sceneBytes(s.scene)},
-                     {"working_bytes", working},
-                     {"working_budget_bytes", 40.0 * double(s.scene.triangleCount()) + 16.0 * pixels},
-                     {"redraws", out->stats.redraws}});
+            for (uint32_t msaa : o.msaa) {
+                for (const std::string& backend : o.backends) {
+                    if (tty)
+                        fmt::print(stderr, "\r\033[Kbench: {} {}x{} {}x MSAA on {} ({} triangles)", s.name, w,
+                                   h, msaa, backend, s.scene.triangleCount());
+                    RenderSettings r;
+                    r.msaa = msaa;
+                    r.width = w;
+                    r.height = h;
+                    r.warmup = o.warmup;
+                    r.repeat = o.repeat;
+                    r.cullMode = CULL_BACK;
+                    r.shadingMode = SHADING_LAMBERT;
+                    r.textureFilter = s.textureFilter;
+                    auto out = renderOn(backend, o.device, s, r);
+                    if (!out) return out.error();
+                    double ms = out->total.medianMs;
+                    // Visibility time: the whole frame less deferred shading (the graphics baseline has
+                    // none).
+                    double shadeMs = 0.0;
+                    for (const StageTiming& t : out->stages)
+                        if (t.name == "shade") shadeMs = t.medianMs;
+                    double pixels = double(w) * h;
+                    size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
+                                         ? out->peakDeviceBytes - sceneBytes(s.scene)
+                                         : 0;
+                    runs.push_back(
+                        {{"scene", s.name},
+                         {"resolution", {w, h}},
+                         {"msaa", msaa},
+                         {"backend", backend},
+                         {"device", out->device.name},
+                         {"driver", out->device.driver},
+                         {"triangles", s.scene.triangleCount()},
+                         {"triangle_area_px", s.triangleArea},
+                         {"rasterized", out->stats.rasterized},
+                         {"stages_ms", stagesJson(out->stages)},
+                         {"gpu_total_ms", timingJson(out->total)},
+                         {"visibility_ms", ms - shadeMs},
+                         {"triangles_per_s", ms > 0 ? double(s.scene.triangleCount()) / (ms * 1e-3) : 0.0},
+                         {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
+                         {"peak_device_bytes", out->peakDeviceBytes},
+                         {"scene_bytes", sceneBytes(s.scene)},
+                         {"working_bytes", working},
+                         {"working_budget_bytes",
+                          40.0 * double(s.scene.triangleCount()) + 8.0 * pixels + 8.0 * pixels * msaa},
+                         {"redraws", out->stats.redraws}});
+                }
             }
         }
     }
@@ -282,16 +288,16 @@ std::string benchMarkdown(const nlohmann::json& bench)
     // Hardware visibility time per (scene, resolution), for the ratio column.
     std::map<std::string, double> hardware;
     auto key = [](const nlohmann::json& r) {
-        return fmt::format("{} {}x{}", r["scene"].get<std::string>(), r["resolution"][0].get<int>(),
-                           r["resolution"][1].get<int>());
+        return fmt::format("{} {}x{} {}", r["scene"].get<std::string>(), r["resolution"][0].get<int>(),
+                           r["resolution"][1].get<int>(), r.value("msaa", 1));
     };
     for (const auto& r : bench["runs"])
         if (r["backend"] == "vulkan-graphics") hardware[key(r)] = r["visibility_ms"].get<double>();
     std::string md =
-        "| scene | resolution | backend | triangles | median ms | min ms | max ms | visibility ms | x "
+        "| scene | resolution | msaa | backend | triangles | median ms | min ms | max ms | visibility ms | x "
         "hardware | "
         "Mtri/s | Gpix/s | peak MiB | working B/tri | budget B/tri |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : bench["runs"]) {
         double ms = r["gpu_total_ms"]["median"].get<double>();
         double visibilityMs = r["visibility_ms"].get<double>();
@@ -300,10 +306,10 @@ std::string benchMarkdown(const nlohmann::json& bench)
         std::string ratio =
             hw != hardware.end() && hw->second > 0 ? fmt::format("{:.2f}", visibilityMs / hw->second) : "-";
         md += fmt::format(
-            "| {} | {}x{} | {} | {} | {:.4f} | {:.4f} | {:.4f} | {:.4f} | {} | {:.1f} | {:.2f} | "
+            "| {} | {}x{} | {} | {} | {} | {:.4f} | {:.4f} | {:.4f} | {:.4f} | {} | {:.1f} | {:.2f} | "
             "{:.1f} | {:.1f} | {:.1f} |\n",
             r["scene"].get<std::string>(), r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
-            r["backend"].get<std::string>(), r["triangles"].get<uint64_t>(), ms,
+            r.value("msaa", 1), r["backend"].get<std::string>(), r["triangles"].get<uint64_t>(), ms,
             r["gpu_total_ms"]["min"].get<double>(), r["gpu_total_ms"]["max"].get<double>(), visibilityMs,
             ratio, r["triangles_per_s"].get<double>() * 1e-6, r["pixels_per_s"].get<double>() * 1e-9,
             r["peak_device_bytes"].get<double>() / (1 << 20), r["working_bytes"].get<double>() / tris,

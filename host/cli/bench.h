@@ -4,11 +4,11 @@
 // random depths), 16 overlapping full-screen layers in random depth order, the Stanford bunny, a dense
 // tessellated sphere and the built-in scene; then textured scenes next to untextured twins: a
 // full-screen grazing checkerboard plane per texture filter and a textured sphere of about 1M triangles.
-// Every (scene, resolution) is run on every backend back to back, so their ratios come from the same machine
-// in the same minute. Reported per run: min/median/max of each stage's GPU time over the timed repeats, total
-// GPU ms, visibility ms (the frame less deferred shading; for vulkan-graphics its depth + id pass, the
-// hardware baseline), triangles/s, pixels/s, peak and working device memory (peak less the scene's own
-// buffers) against 40 B/triangle + 16 B/pixel.
+// Every (scene, resolution, sample count) is run on every backend back to back, so their ratios come from the
+// same machine in the same minute. Reported per run: min/median/max of each stage's GPU time over the timed
+// repeats, total GPU ms, visibility ms (the frame less deferred shading; for vulkan-graphics its depth + id
+// pass, the hardware baseline), triangles/s, pixels/s, peak and working device memory (peak less the scene's
+// own buffers) against 40 B/triangle + 8 B/pixel + 8 B/sample.
 #ifndef RASTER_BENCH_H
 #define RASTER_BENCH_H
 
@@ -26,6 +26,7 @@ struct BenchOptions {
     std::vector<std::string> backends{"cuda", "vulkan", "vulkan-graphics"};
     std::vector<std::pair<uint32_t, uint32_t>> resolutions{{1920, 1080}};
     std::vector<std::string> scenes;     // empty: all
+    std::vector<uint32_t> msaa{1};       // sample counts, each a run of every scene and backend
     uint32_t sweepTriangles = 1u << 20;  // per sweep scene
     int denseRings = 1600;               // tessellated sphere: ~4 rings^2 triangles (10.2M)
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";

@@ -5,10 +5,12 @@
 //                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
 //                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
 //                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
+//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
-//                [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N] [--json F]
+//                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
+//                [--json F]
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -23,6 +25,7 @@
 #include "io/compare.h"
 #include "render/compute_device.h"
 #include "io/image_io.h"
+#include "render/aov.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "cli/stats_json.h"
@@ -47,6 +50,9 @@ struct RenderCommand {
     bool quiet = false;
     RenderSettings settings;
 };
+
+// Most samples per pixel --aov-samples writes (two EXR channels each).
+constexpr uint32_t kMaxAovSamples = 64;
 
 const std::map<std::string, uint32_t> kCullModes = {
     {"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}};
@@ -110,6 +116,12 @@ Status runRender(RenderCommand& cmd)
 
     // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();
+    if (s.aovSamples && cmd.aovPath.empty())
+        return makeError(ExitCode::Usage, "--aov-samples needs --aov FILE");
+    if (s.aovSamples && s.ssaa * s.ssaa * s.msaa > kMaxAovSamples)
+        return makeError(ExitCode::Usage,
+                         "--aov-samples writes at most {} samples per pixel, not {} (--ssaa {} --msaa {})",
+                         kMaxAovSamples, s.ssaa * s.ssaa * s.msaa, s.ssaa, s.msaa);
 
     auto cameraSpec = parseCameraSpec(cmd.camera);
     if (!cameraSpec) return cameraSpec.error();
@@ -128,6 +140,7 @@ Status runRender(RenderCommand& cmd)
     if (!out) return out.error();
 
     SR_TRY(writePng(cmd.output, out->color));
+    if (s.aovSamples) fillSampleAovs(out->samples, s.ssaa, out->aov);
     if (!cmd.aovPath.empty()) SR_TRY(writeAovExr(cmd.aovPath, out->aov));
     std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
     if (!cmd.statsPath.empty()) SR_TRY(writeJson(cmd.statsPath, statsJson(*out, s, sceneName)));
@@ -162,6 +175,7 @@ struct BenchCommand {
     std::string backends = "cuda,vulkan,vulkan-graphics";
     std::string resolutions = "1920x1080";
     std::string scenes;
+    std::string msaa;
     std::string jsonPath;
     BenchOptions options;
 };
@@ -190,6 +204,14 @@ Status runBenchCommand(BenchCommand& cmd)
             return makeError(ExitCode::Usage, "invalid --resolutions entry '{}': expected WxH up to {}", r,
                              MAX_FRAMEBUFFER_DIM);
         o.resolutions.push_back({w, h});
+    }
+    if (!cmd.msaa.empty()) {
+        o.msaa.clear();
+        for (const std::string& m : splitList(cmd.msaa)) {
+            if (m != "1" && m != "2" && m != "4" && m != "8" && m != "16")
+                return makeError(ExitCode::Usage, "invalid --msaa entry '{}': expected 1, 2, 4, 8 or 16", m);
+            o.msaa.push_back(uint32_t(std::stoul(m)));
+        }
     }
     auto bench = runBench(o);
     if (!bench) return bench.error();
@@ -248,6 +270,18 @@ int main(int argc, char** argv)
         ->add_option("--uv-interpolation", cmd.uvInterpolation,
                      "perspective (correct) or affine (screen-linear, to show the difference)")
         ->check(CLI::IsMember({"perspective", "affine"}));
+    render
+        ->add_option("--msaa", cmd.settings.msaa,
+                     "samples per pixel at Vulkan's standard locations (1, 2, 4, 8, 16), shaded once per "
+                     "pixel and triangle, resolved in linear space")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    render
+        ->add_option("--ssaa", cmd.settings.ssaa,
+                     "supersampling: N x N pixels per output pixel, each shaded, box-filtered; combines "
+                     "with --msaa")
+        ->check(CLI::Range(1, MAX_SSAA));
+    render->add_flag("--aov-samples", cmd.settings.aovSamples,
+                     "with --aov: also every sample's id and depth as channels id.s<k>, Z.s<k>");
     render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
     render->add_option("--light-color", cmd.lightColor, "R,G,B linear light colour");
     render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));
@@ -276,6 +310,8 @@ int main(int argc, char** argv)
         "--scenes", bench.scenes,
         "comma-separated subset of sweep-0.5px, sweep-2px, sweep-8px, sweep-32px, sweep-128px, "
         "layers-16, bunny, dense, builtin (default: all)");
+    benchApp->add_option("--msaa", bench.msaa,
+                         "comma-separated sample counts, each run on every scene (default 1)");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")

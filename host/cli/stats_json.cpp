@@ -30,6 +30,8 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
         {"driver", out.device.driver},
         {"scene", scene},
         {"resolution", {settings.width, settings.height}},
+        {"msaa", settings.msaa},
+        {"ssaa", settings.ssaa},
         {"clip_from_world", clip},
         {"triangles",
          {{"in", s.trianglesIn},

@@ -167,8 +167,32 @@ Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const Com
         }
     }
 
+    // Sample channels (--aov-samples): every sample of every pixel, with the id and depth criteria.
+    if (a.sampleId.size() != b.sampleId.size())
+        return makeError(ExitCode::Usage, "AOVs differ in samples per pixel: {} vs {}", a.sampleId.size(),
+                         b.sampleId.size());
+    r.samplesPerPixel = uint32_t(a.sampleId.size());
+    for (size_t k = 0; k < a.sampleId.size(); ++k) {
+        const size_t n = size_t(a.width) * a.height;
+        if (a.sampleId[k].size() != n || b.sampleId[k].size() != n || a.sampleDepth[k].size() != n ||
+            b.sampleDepth[k].size() != n)
+            return makeError(ExitCode::Usage, "AOV sample channel {} has the wrong size for {}x{}", k,
+                             a.width, a.height);
+        for (size_t i = 0; i < n; ++i) {
+            if (a.sampleId[k][i] != b.sampleId[k][i]) {
+                ++r.sampleIdMismatches;
+                r.heatmap.pixels[i] = heat(0.66);
+            } else if (a.sampleId[k][i] != 0xFFFFFFFFu &&
+                       floatDiff(a.sampleDepth[k][i], b.sampleDepth[k][i]) > tol.depthTolerance) {
+                ++r.sampleDepthOverTolerance;
+                if (r.heatmap.pixels[i] == heat(0.0)) r.heatmap.pixels[i] = heat(0.33);
+            }
+        }
+    }
+
     r.pass = r.coverageMismatches + r.idMismatches <= tol.maxIdMismatches && r.pixelsOverTolerance == 0 &&
-             r.surfaceOverTolerance == 0;
+             r.surfaceOverTolerance == 0 && r.sampleIdMismatches <= tol.maxIdMismatches &&
+             r.sampleDepthOverTolerance == 0;
     return r;
 }
 
@@ -214,6 +238,10 @@ std::string formatReport(const CompareReport& r, const CompareTolerance& tol)
         if (tol.surfaceTolerance >= 0.0)
             s += fmt::format("  {} pixels ({:.4f}%) over surface tolerance {:g}\n", r.surfaceOverTolerance,
                              pct(r.surfaceOverTolerance), tol.surfaceTolerance);
+        if (r.samplesPerPixel > 0)
+            s += fmt::format(
+                "  Samples ({} per pixel): {} differ in id or coverage, {} over depth tolerance\n",
+                r.samplesPerPixel, r.sampleIdMismatches, r.sampleDepthOverTolerance);
     } else {
         s += fmt::format("  Mean error = {:.6f} (8-bit units)\n", r.meanError);
         s += fmt::format("  RMS error = {:.6f}\n", r.rmsError);

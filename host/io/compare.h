@@ -34,6 +34,12 @@ struct CompareReport {
     // the group's channels and the pixels covered by the same triangle in both; -1: not compared.
     double maxBaryDiff = -1.0, maxUvDiff = -1.0, maxNormalDiff = -1.0;
     uint64_t surfaceOverTolerance = 0;  // such pixels over surfaceTolerance (when it is set)
+    // Sample channels (AovImage::sampleId, both files must have the same number): samples whose id or
+    // coverage differs (allowed: maxIdMismatches), and samples of the same triangle whose depth differs by
+    // more than depthTolerance.
+    uint32_t samplesPerPixel = 0;
+    uint64_t sampleIdMismatches = 0;
+    uint64_t sampleDepthOverTolerance = 0;
     bool isAov = false;
     bool pass = false;
     RgbaImage heatmap;  // per-pixel difference, black (none) through red and yellow to white

@@ -129,6 +129,19 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
             planes.push_back({group.names[c], TINYEXR_PIXELTYPE_FLOAT, plane.data()});
         }
     }
+    if (aov.sampleId.size() != aov.sampleDepth.size())
+        return makeError(ExitCode::Usage, "cannot write '{}': {} sample id planes for {} depth planes", path,
+                         aov.sampleId.size(), aov.sampleDepth.size());
+    std::vector<std::string> sampleNames;  // the planes point into it: sized once, never reallocated
+    sampleNames.reserve(2 * aov.sampleId.size());
+    for (size_t k = 0; k < aov.sampleId.size(); ++k) {
+        SR_TRY(checkSize(path, aov.width, aov.height, aov.sampleId[k].size(), "a sample id channel"));
+        SR_TRY(checkSize(path, aov.width, aov.height, aov.sampleDepth[k].size(), "a sample depth channel"));
+        sampleNames.push_back(fmt::format("{}.s{}", kIdChannel, k));
+        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_UINT, aov.sampleId[k].data()});
+        sampleNames.push_back(fmt::format("{}.s{}", kDepthChannel, k));
+        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_FLOAT, aov.sampleDepth[k].data()});
+    }
     // OpenEXR wants channels sorted by name (bytewise: "N.x" < "Z" < "bary.u" < "id" < "uv.u"). ZIP is
     // lossless, so ids and float bits survive exactly.
     std::sort(planes.begin(), planes.end(),
@@ -232,6 +245,18 @@ Result<AovImage> readAovExr(const std::string& path)
                                     missing, group.label));
     }
 
+    // Sample channels: id.s0 / Z.s0, id.s1 / Z.s1, ... up to the first k without both.
+    std::vector<std::pair<int, int>> sampleChannels;
+    for (size_t k = 0;; ++k) {
+        int id = channelIndex(fmt::format("{}.s{}", kIdChannel, k).c_str());
+        int depth = channelIndex(fmt::format("{}.s{}", kDepthChannel, k).c_str());
+        if (id < 0 || depth < 0) break;
+        if (header.pixel_types[id] != TINYEXR_PIXELTYPE_UINT ||
+            header.pixel_types[depth] == TINYEXR_PIXELTYPE_UINT)
+            return fail(fmt::format("sample channels id.s{0} / Z.s{0} are not of types UINT / FLOAT", k));
+        sampleChannels.push_back({id, depth});
+    }
+
     EXRImage image;
     InitEXRImage(&image);
     rc = LoadEXRImageFromFile(&image, &header, path.c_str(), &err);
@@ -257,6 +282,12 @@ Result<AovImage> readAovExr(const std::string& path)
             plane.resize(count);
             std::memcpy(plane.data(), image.images[index], count * sizeof(float));
         }
+    }
+    for (auto [id, depth] : sampleChannels) {
+        aov.sampleId.emplace_back(count);
+        aov.sampleDepth.emplace_back(count);
+        std::memcpy(aov.sampleId.back().data(), image.images[id], count * sizeof(uint32_t));
+        std::memcpy(aov.sampleDepth.back().data(), image.images[depth], count * sizeof(float));
     }
     return aov;
 }

@@ -3,7 +3,8 @@
 // PNG: 8-bit RGBA through stb (Debian's libstb). EXR: through tinyexr, with a UINT channel `id`
 // (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window depth, 1.0 background),
 // plus, when the renderer was asked for them (RenderSettings::surfaceAovs), the FLOAT surface channels
-// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background).
+// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background), and with
+// anti-aliasing and --aov-samples every sample's `id.s<k>` and `Z.s<k>`.
 #ifndef RASTER_IMAGE_IO_H
 #define RASTER_IMAGE_IO_H
 
@@ -35,6 +36,12 @@ struct AovImage {
     std::vector<float> uvU, uvV;
     // EXR `N.x`, `N.y`, `N.z`: unit view-space shading normal, facing the viewer.
     std::vector<float> normalX, normalY, normalZ;
+
+    // EXR `id.s<k>` (UINT) and `Z.s<k>` (FLOAT), written only when asked for (--aov-samples): the id and
+    // depth of every sample of the pixel, k = (j * ssaa + i) * msaa + s for sample s of raster pixel
+    // (i, j) of the pixel's ssaa x ssaa block. One plane per k; empty when not written.
+    std::vector<std::vector<uint32_t>> sampleId;
+    std::vector<std::vector<float>> sampleDepth;
 
     bool hasBary() const { return !baryU.empty(); }
     bool hasUv() const { return !uvU.empty(); }

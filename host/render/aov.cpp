@@ -76,4 +76,24 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
     }
 }
 
+void fillSampleAovs(const SampleAovs& samples, uint32_t ssaa, AovImage& aov)
+{
+    const uint32_t perPixel = ssaa * ssaa * samples.samples;
+    const uint64_t plane = uint64_t(samples.rasterWidth) * samples.rasterHeight;
+    aov.sampleId.assign(perPixel, std::vector<uint32_t>(size_t(aov.width) * aov.height, EMPTY_ID));
+    aov.sampleDepth.assign(perPixel, std::vector<float>(size_t(aov.width) * aov.height, 1.0f));
+    for (uint32_t y = 0; y < aov.height; ++y)
+        for (uint32_t x = 0; x < aov.width; ++x)
+            for (uint32_t j = 0; j < ssaa; ++j)
+                for (uint32_t i = 0; i < ssaa; ++i)
+                    for (uint32_t s = 0; s < samples.samples; ++s) {
+                        const uint64_t src =
+                            s * plane + uint64_t(y * ssaa + j) * samples.rasterWidth + x * ssaa + i;
+                        const size_t k = (size_t(j) * ssaa + i) * samples.samples + s;
+                        if (src >= samples.id.size()) continue;
+                        aov.sampleId[k][size_t(y) * aov.width + x] = samples.id[src];
+                        aov.sampleDepth[k][size_t(y) * aov.width + x] = samples.depth[src];
+                    }
+}
+
 }  // namespace sr

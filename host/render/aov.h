@@ -7,6 +7,7 @@
 #define RASTER_AOV_H
 
 #include "io/image_io.h"
+#include "render/renderer.h"
 #include "raster_shared.h"
 #include "scene/scene.h"
 
@@ -17,6 +18,10 @@ namespace sr {
 // params.width x params.height and aov.id one id per pixel. Background pixels, and ids outside the
 // scene (which no backend writes), get 0 in every channel.
 void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov);
+
+// Fills aov's per-sample channels (AovImage::sampleId, sampleDepth) from every sample of the frame, for
+// an output of aov.width x aov.height pixels rendered with SSAA factor `ssaa`.
+void fillSampleAovs(const SampleAovs& samples, uint32_t ssaa, AovImage& aov);
 
 }  // namespace sr
 

@@ -67,12 +67,14 @@ uint64_t grownCapacity(uint64_t counted)
 
 std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& work)
 {
-    uint64_t pixels = uint64_t(p.width) * p.height;
+    uint64_t samples = uint64_t(p.samplePlane) * p.sampleCount;
+    uint64_t outputPixels = uint64_t(p.width / p.ssaa) * (p.height / p.ssaa);
     uint64_t tiles = uint64_t(p.tilesX) * p.tilesY;
     uint32_t scanGroups = groupsFor(tiles, SCAN_GROUP_SIZE);
 
     std::vector<Dispatch> dispatches = {
-        {STAGE_CLEAR, groupsFor(std::max<uint64_t>({pixels, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
+        {STAGE_CLEAR,
+         groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
         {STAGE_BIN_COUNT, work.binBig && work.countSplit ? p.binGroups : 0u},
@@ -80,7 +82,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
         {STAGE_BIN_FILL, work.binBig ? p.binGroups : 0u},
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
-        {STAGE_SHADE, groupsFor(pixels, GROUP_SIZE)},
+        {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE)},
     };
     for (Dispatch& d : dispatches)
         d.alphaTest = work.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES);
@@ -122,10 +124,11 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.lightColor = glm::vec4(s.lightColor, s.ambient);
     p.background = glm::vec4(s.background, 1.0f);
     p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, 0.0f);
-    p.guardBand = glm::vec4(float(GUARD_BAND_PX) / (0.5f * float(s.width)),
-                            float(GUARD_BAND_PX) / (0.5f * float(s.height)), 0.0f, 0.0f);
-    p.width = s.width;
-    p.height = s.height;
+    // The raster grid: the output resolution times the SSAA factor per side.
+    p.width = s.width * s.ssaa;
+    p.height = s.height * s.ssaa;
+    p.guardBand = glm::vec4(float(GUARD_BAND_PX) / (0.5f * float(p.width)),
+                            float(GUARD_BAND_PX) / (0.5f * float(p.height)), 0.0f, 0.0f);
     p.vertexCount = uint32_t(scene.vertexCount());
     p.triangleCount = uint32_t(scene.triangleCount());
     p.cullMode = s.cullMode;
@@ -134,7 +137,7 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.setupCapacity = capacities.records;
     p.pieceCapacity = capacities.pieces;
     p.binCapacity = capacities.binEntries;
-    glm::uvec2 grid = tileGrid(s.width, s.height);
+    glm::uvec2 grid = tileGrid(p.width, p.height);
     p.tilesX = grid.x;
     p.tilesY = grid.y;
     p.rasterGroups = std::clamp(groups.raster, 1u, p.tilesX * p.tilesY);
@@ -145,6 +148,24 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.textureFilter = s.textureFilter;
     p.uvInterpolation = s.uvInterpolation;
     p.textureCount = uint32_t(scene.textures.size());
+    p.sampleCount = s.msaa;
+    p.sampleBounds = sampleBoundsOf(s.msaa);
+    p.ssaa = s.ssaa;
+    p.samplePlane = p.width * p.height;
+    return p;
+}
+
+RasterParams outputParams(const RasterParams& params)
+{
+    RasterParams p = params;
+    p.width /= params.ssaa;
+    p.height /= params.ssaa;
+    p.ssaa = 1;
+    p.samplePlane = p.width * p.height;
+    // Every sample of the output pixel: more than one means its centre need not be covered by the
+    // triangle a sample shows, and surfaceAt extrapolates the triangle's plane there.
+    p.sampleCount = params.sampleCount * params.ssaa * params.ssaa;
+    p.sampleBounds = 0u;
     return p;
 }
 
@@ -161,6 +182,21 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
         settings.height > MAX_FRAMEBUFFER_DIM)
         return makeError(ExitCode::Usage, "resolution {}x{} is outside 1..{} per side", settings.width,
                          settings.height, MAX_FRAMEBUFFER_DIM);
+    if (settings.msaa != 1 && settings.msaa != 2 && settings.msaa != 4 && settings.msaa != 8 &&
+        settings.msaa != 16)
+        return makeError(ExitCode::Usage, "--msaa {} is not one of 1, 2, 4, 8, 16", settings.msaa);
+    if (settings.ssaa < 1 || settings.ssaa > MAX_SSAA)
+        return makeError(ExitCode::Usage, "--ssaa {} is outside 1..{}", settings.ssaa, MAX_SSAA);
+    if (uint64_t(settings.width) * settings.ssaa > MAX_FRAMEBUFFER_DIM ||
+        uint64_t(settings.height) * settings.ssaa > MAX_FRAMEBUFFER_DIM)
+        return makeError(ExitCode::Usage,
+                         "resolution {}x{} with --ssaa {} makes a raster grid over {} per side",
+                         settings.width, settings.height, settings.ssaa, MAX_FRAMEBUFFER_DIM);
+    // Sample indices (s * samplePlane + pixel) are 32-bit on the devices.
+    if (uint64_t(settings.width) * settings.height * settings.ssaa * settings.ssaa * settings.msaa >=
+        (uint64_t(1) << 31))
+        return makeError(ExitCode::Usage, "{}x{} with --ssaa {} and --msaa {} is over 2^31 samples",
+                         settings.width, settings.height, settings.ssaa, settings.msaa);
     if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
     if (scene.triangleCount() == 0) return makeError(ExitCode::Usage, "the scene has no triangles");
     // Triangle ids share 32 bits with EMPTY_ID and index math runs in uint.
@@ -178,8 +214,10 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
 {
     SR_TRY(checkRenderInputs(scene, settings));
 
-    const uint64_t pixels = uint64_t(settings.width) * settings.height;
-    const glm::uvec2 grid = tileGrid(settings.width, settings.height);
+    const uint64_t pixels = uint64_t(settings.width) * settings.height;  // output pixels
+    const uint64_t rasterPixels = pixels * settings.ssaa * settings.ssaa;
+    const uint64_t samples = rasterPixels * settings.msaa;
+    const glm::uvec2 grid = tileGrid(settings.width * settings.ssaa, settings.height * settings.ssaa);
     const uint64_t tiles = uint64_t(grid.x) * grid.y;
     const uint64_t tris = scene.triangleCount();
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
@@ -206,10 +244,11 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(
         device.resize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
     SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
-    SR_TRY(device.resize(BUF_VISIBILITY, pixels * sizeof(uint64_t)));
+    // One key per sample: memory grows with the sample count asked for, and 1x has no sample buffers.
+    SR_TRY(device.resize(BUF_VISIBILITY, samples * sizeof(uint64_t)));
     SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
     // The debug counter costs memory only when it is asked for.
-    SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? pixels * sizeof(uint32_t) : 16));
+    SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? samples * sizeof(uint32_t) : 16));
     SR_TRY(device.resize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
     SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
@@ -302,18 +341,34 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     out.color.pixels.resize(pixels);
     SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
     if (countsHits(settings)) {
-        out.hitCount.resize(pixels);
-        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), pixels * sizeof(uint32_t)));
+        out.hitCount.resize(samples);
+        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), samples * sizeof(uint32_t)));
     }
-    std::vector<uint64_t> visibility(pixels);
-    SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), pixels * sizeof(uint64_t)));
+    // The AOVs read sample 0 of the raster grid, the first plane; every plane only when asked for.
+    std::vector<uint64_t> visibility(settings.aovSamples ? samples : rasterPixels);
+    SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
     out.aov.id.resize(pixels);
     out.aov.depth.resize(pixels);
-    for (uint64_t i = 0; i < pixels; ++i) {
-        out.aov.id[i] = visibilityId(visibility[i]);
-        out.aov.depth[i] = visibilityDepth(visibility[i]);
+    for (uint32_t y = 0; y < settings.height; ++y) {
+        for (uint32_t x = 0; x < settings.width; ++x) {
+            uint64_t key = visibility[aovSampleIndex(x, y, params.width, settings.ssaa)];
+            out.aov.id[uint64_t(y) * settings.width + x] = visibilityId(key);
+            out.aov.depth[uint64_t(y) * settings.width + x] = visibilityDepth(key);
+        }
     }
-    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
+    if (settings.aovSamples) {
+        SampleAovs& all = out.samples;
+        all.rasterWidth = params.width;
+        all.rasterHeight = params.height;
+        all.samples = settings.msaa;
+        all.id.resize(samples);
+        all.depth.resize(samples);
+        for (uint64_t i = 0; i < samples; ++i) {
+            all.id[i] = visibilityId(visibility[i]);
+            all.depth[i] = visibilityDepth(visibility[i]);
+        }
+    }
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
     return out;
 }
 

@@ -40,6 +40,12 @@ struct RenderSettings {
     uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_*: AUTO follows each texture's sampler
     uint32_t uvInterpolation = UV_PERSPECTIVE;     // UV_PERSPECTIVE or UV_AFFINE
     bool surfaceAovs = false;  // fill RenderOutput.aov's bary, uv and N channels (fillSurfaceAovs)
+    // Anti-aliasing. msaa: coverage and depth samples per pixel at Vulkan's standard sample locations
+    // (1, 2, 4, 8 or 16), shaded once per pixel and triangle. ssaa: N renders N x N pixels per output
+    // pixel (the raster grid is N times the resolution per side), box-filtered; both combine.
+    uint32_t msaa = 1;
+    uint32_t ssaa = 1;
+    bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
 };
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
@@ -85,10 +91,31 @@ struct RenderStats {
     ListCapacities capacities;  // final capacities of the lists
 };
 
+// Every sample of a frame (RenderSettings::aovSamples). The raster grid is rasterWidth x rasterHeight
+// pixels (the output resolution times RenderSettings::ssaa per side), each with `samples` samples
+// (RenderSettings::msaa) in Vulkan's standard order; sample s of raster pixel p is at index
+// s * rasterWidth * rasterHeight + p.
+struct SampleAovs {
+    uint32_t rasterWidth = 0, rasterHeight = 0, samples = 0;
+    std::vector<uint32_t> id;  // triangle id, EMPTY_ID where no triangle covers the sample
+    std::vector<float> depth;  // window depth, 1.0 where empty
+};
+
+// The sample an output pixel's id and Z AOVs report: sample 0 (Vulkan's first standard location) of
+// the raster pixel nearest the output pixel's centre, (ssaa / 2, ssaa / 2) within its ssaa x ssaa
+// block. Index as in SampleAovs.
+inline uint64_t aovSampleIndex(uint32_t x, uint32_t y, uint32_t rasterWidth, uint32_t ssaa)
+{
+    return uint64_t(y * ssaa + ssaa / 2) * rasterWidth + uint64_t(x) * ssaa + ssaa / 2;
+}
+
 struct RenderOutput {
-    RgbaImage color;
-    AovImage aov;
-    std::vector<uint32_t> hitCount;  // per pixel, only when counting hits (SHADING_HIT_COUNT or countHits)
+    RgbaImage color;  // resolved: the mean linear colour of every sample of the pixel, then sRGB
+    AovImage aov;     // id and Z of aovSampleIndex's sample; surface channels at the pixel centre
+    SampleAovs samples;
+    // Covering triangles per sample of the raster grid (indexed as SampleAovs), only when counting hits
+    // (SHADING_HIT_COUNT or countHits).
+    std::vector<uint32_t> hitCount;
     RenderStats stats;
     std::vector<StageTiming> stages;  // in dispatch order
     StageTiming total;                // GPU time of the whole frame
@@ -108,6 +135,11 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
 // pipeline's list capacities and the group counts of its list-walking stages.
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
                          const ListCapacities& capacities, const GroupCounts& groups);
+
+// `params` for evaluating surfaces at output pixel centres (the surface AOVs): width and height divided
+// by the SSAA factor, ssaa 1, and sampleCount the output pixel's samples (msaa x ssaa^2), so that a
+// surface whose triangle covers only some of them extrapolates to the centre. Not for rasterizing.
+RasterParams outputParams(const RasterParams& params);
 
 // Median of a non-empty list (mean of the two middle values for even sizes).
 double median(std::vector<double> values);

@@ -15,8 +15,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "render/compute_device.h"
@@ -118,6 +120,10 @@ private:
     }
 
     Status createPipelines();
+    Status createPipeline(uint32_t stage, bool materials, uint32_t samples, VkPipeline& pipeline);
+    // The pipeline dispatch `d` runs in a frame of `samples` samples per pixel, created on first use for
+    // a multisampled raster_tiles.
+    Result<VkPipeline> pipeline(const Dispatch& d, uint32_t samples);
     Status ensureBindings();
     Status checkTransfer(const char* what, uint32_t buffer, size_t bytes) const;
     Status resizeBuffer(uint32_t buffer, size_t bytes);
@@ -134,6 +140,9 @@ private:
     // dispatches that ask for it (Dispatch::alphaTest); pipelines_ has them without it. Null for the
     // other stages.
     VkPipeline materialPipelines_[STAGE_COUNT] = {};
+    // raster_tiles (without and with the alpha test) and shade for more than one sample per pixel, by
+    // (stage, alpha test, samples); made when a frame first asks for them.
+    std::map<std::tuple<uint32_t, bool, uint32_t>, VkPipeline> sampledPipelines_;
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
     bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
@@ -146,6 +155,8 @@ VulkanDevice::~VulkanDevice()
     for (GpuBuffer& b : buffers_) context_.destroyBuffer(b);
     for (VkPipeline pipeline : pipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
     for (VkPipeline pipeline : materialPipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
+    for (auto& [variant, pipeline] : sampledPipelines_)
+        vkDestroyPipeline(context_.device(), pipeline, nullptr);
 }
 
 Status VulkanDevice::init(int index)
@@ -167,56 +178,75 @@ Status VulkanDevice::init(int index)
 
 Status VulkanDevice::createPipelines()
 {
+    // All the one-sample builds at construction: a shader the driver rejects is reported before any
+    // work is done, and lazy creation would only move the compile time into the first frame. The
+    // multisampled builds of raster_tiles and shade are made when a frame first asks for them
+    // (pipeline()), so that a device nobody asks for MSAA does not compile twelve more shaders.
+    for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
+        bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
+        SR_TRY(createPipeline(stage, false, 1, pipelines_[stage]));
+        if (variants) SR_TRY(createPipeline(stage, true, 1, materialPipelines_[stage]));
+    }
+    return okStatus();
+}
+
+Status VulkanDevice::createPipeline(uint32_t stage, bool materials, uint32_t samples, VkPipeline& pipeline)
+{
     // Specialization constant 0, the invocations of a raster_tiles group: one per tile pixel on a GPU;
     // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
     // coroutine, one SIMD-wide bundle that walks several pixels each (compute_glsl/raster_tiles.comp).
     // Specialization constant SPEC_MATERIALS of setup and raster_tiles: whether the alpha test of MASK
     // materials is compiled in. Each is built both ways, so that scenes without MASK triangles run code
     // without the test's surface, material and texture lookups (fewer registers on a GPU; on a CPU, where
-    // both sides of a per-pixel branch run, none of the test's work).
-    const uint32_t rasterLanes = info_.isCpu ? MIN_RASTER_LANES : TILE_SIZE * TILE_SIZE;
+    // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of raster_tiles and
+    // shade: the sample count, which sizes each invocation's array of keys or ids.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
-    } constants[2] = {{rasterLanes, VK_FALSE}, {rasterLanes, VK_TRUE}};
-    const VkSpecializationMapEntry entries[2] = {
+        uint32_t samples;
+    } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
+                   materials ? VK_TRUE : VK_FALSE, samples};
+    const VkSpecializationMapEntry entries[3] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
-        {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)}};
-    // All at construction: a shader the driver rejects is reported before any work is done, and
-    // lazy creation would only move the compile time into the first frame's timings.
-    for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
-        bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
-        for (int withMaterials = 0; withMaterials <= (variants ? 1 : 0); ++withMaterials) {
-            Result<VkShaderModule> module =
-                context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
-            if (!module.ok()) return module.error();
-            VkSpecializationInfo specialization{};
-            specialization.mapEntryCount = 2;
-            specialization.pMapEntries = entries;
-            specialization.dataSize = sizeof(Constants);
-            specialization.pData = &constants[withMaterials];
+        {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
+        {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)}};
+    bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
+    Result<VkShaderModule> module =
+        context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
+    if (!module.ok()) return module.error();
+    VkSpecializationInfo specialization{};
+    specialization.mapEntryCount = 3;  // a shader ignores the constants it does not declare
+    specialization.pMapEntries = entries;
+    specialization.dataSize = sizeof(Constants);
+    specialization.pData = &constants;
 
-            VkComputePipelineCreateInfo info{};
-            info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-            info.flags =
-                VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // large dispatches are split, see runDispatches
-            info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-            info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-            info.stage.module = *module;
-            info.stage.pName = "main";
-            info.stage.pSpecializationInfo = variants ? &specialization : nullptr;
-            info.layout = context_.pipelineLayout();
-            VkPipeline& pipeline = withMaterials ? materialPipelines_[stage] : pipelines_[stage];
-            VkResult result =
-                vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
-            // The pipeline keeps what it needs of the module.
-            vkDestroyShaderModule(context_.device(), *module, nullptr);
-            if (result != VK_SUCCESS)
-                return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)),
-                               __FILE__, __LINE__);
-        }
-    }
+    VkComputePipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+    info.flags = VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // large dispatches are split, see runDispatches
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = *module;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = variants ? &specialization : nullptr;
+    info.layout = context_.pipelineLayout();
+    VkResult result =
+        vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    // The pipeline keeps what it needs of the module.
+    vkDestroyShaderModule(context_.device(), *module, nullptr);
+    if (result != VK_SUCCESS)
+        return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)), __FILE__,
+                       __LINE__);
     return okStatus();
+}
+
+Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, uint32_t samples)
+{
+    bool alphaTest = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
+    if ((d.stage != STAGE_RASTER_TILES && d.stage != STAGE_SHADE) || samples == 1)
+        return alphaTest ? materialPipelines_[d.stage] : pipelines_[d.stage];
+    VkPipeline& p = sampledPipelines_[{d.stage, alphaTest, samples}];
+    if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, alphaTest, samples, p));
+    return p;
 }
 
 Status VulkanDevice::ensureBindings()
@@ -308,6 +338,12 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
                              stageName(d.stage), d.groups, MAX_DISPATCH_GROUPS);
     }
     if (dispatches.empty()) return okStatus();
+    std::vector<VkPipeline> bound(dispatches.size());
+    for (size_t i = 0; i < dispatches.size(); ++i) {
+        Result<VkPipeline> p = pipeline(dispatches[i], params.sampleCount);
+        if (!p.ok()) return p.error();
+        bound[i] = *p;
+    }
 
     const uint32_t pairs = static_cast<uint32_t>(dispatches.size());
     SR_TRY(context_.ensureQueryPool(2 * pairs));
@@ -326,9 +362,7 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     for (size_t i = 0; i < dispatches.size(); ++i) {
         const Dispatch& d = dispatches[i];
         const uint32_t first = static_cast<uint32_t>(2 * i);
-        bool alphaTest = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          alphaTest ? materialPipelines_[d.stage] : pipelines_[d.stage]);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound[i]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
         // An empty stage still gets its two timestamps, so gpuMs keeps one entry per dispatch.
         // More groups than the device takes in one dispatch (lavapipe: 65,535) run as several

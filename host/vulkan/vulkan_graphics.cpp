@@ -6,6 +6,14 @@
 // subpass, one framebuffer and one pipeline. Each frame is one submission holding the render pass
 // between two timestamps; after the last frame the attachments are copied into the context's staging
 // buffer and read on the host.
+//
+// Anti-aliasing (RenderSettings::msaa and ssaa) draws the raster grid of the params (the output
+// resolution times the SSAA factor per side) with params.sampleCount rasterization samples at the
+// standard sample locations and no sample shading, so the fragment shader runs once per pixel and
+// triangle at the pixel centre and its outputs go to every covered sample that passes the depth test.
+// The attachments are then floats (reference_aa.frag says why); multisampled ones cannot be copied to a
+// buffer, so a compute pass (reference_samples.comp) reads every sample. The host averages the linear
+// colours of each output pixel's samples and takes the ids and depths per sample.
 #include "vulkan/vulkan_graphics.h"
 
 #include <vulkan/vulkan.h>
@@ -13,7 +21,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "render/aov.h"
@@ -23,13 +33,26 @@
 namespace sr {
 namespace {
 
-// The generated headers define `const uint32_t kSpv_reference_vert[]` and `kSpv_reference_frag[]`.
+// The generated headers define one `const uint32_t kSpv_<shader>[]` each, e.g. kSpv_reference_vert.
+#include "reference_aa_frag.spv.h"
 #include "reference_frag.spv.h"
+#include "reference_samples_comp.spv.h"
+#include "reference_visibility_aa_frag.spv.h"
 #include "reference_visibility_frag.spv.h"
 #include "reference_vert.spv.h"
 
-constexpr VkFormat kWordFormat = VK_FORMAT_R32_UINT;  // colour and id attachments
+constexpr VkFormat kWordFormat = VK_FORMAT_R32_UINT;  // colour and id attachments without anti-aliasing
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+// With anti-aliasing: 32-bit float colour keeps the shading's linear value unrounded until the host
+// averages it, as the compute pipeline averages it; ids are exact floats below 2^24, and the id
+// attachment's clear value decodes to EMPTY_ID.
+constexpr VkFormat kLinearColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kFloatIdFormat = VK_FORMAT_R32_SFLOAT;
+constexpr uint64_t kMaxFloatIds = uint64_t(1) << 24;
+constexpr float kEmptyFloatId = -1.0f;
+
+// Invocations per side of one reference_samples.comp group (its local_size_x and local_size_y).
+constexpr uint32_t kReadGroupSide = 8;
 
 // Texture formats: the hardware decodes sRGB texels to linear before filtering, as the compute path's
 // decode table does.
@@ -40,10 +63,12 @@ constexpr VkFormatFeatureFlags kTextureFeatures = VK_FORMAT_FEATURE_SAMPLED_IMAG
                                                   VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
 
 // Specialization constant ids: the visibility shader's background word, the vertex shader's
-// texcoords switch and the fragment shader's texture array size.
+// texcoords switch, the fragment shader's texture array size and the anti-aliased visibility shader's
+// linear background (three ids from this one).
 constexpr uint32_t kBackgroundConstant = 0;
 constexpr uint32_t kHasTexcoordsConstant = 1;
 constexpr uint32_t kTextureSlotsConstant = 2;
+constexpr uint32_t kBackgroundRgbConstant = 3;
 
 // Attachment indices of the render pass and the framebuffer.
 constexpr uint32_t kColorAttachment = 0;
@@ -63,6 +88,18 @@ constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTAC
                                                    VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
 constexpr VkAccessFlags kAttachmentWrites =
     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+
+// A sample count as the flag bit Vulkan takes: VK_SAMPLE_COUNT_n_BIT has the value n.
+VkSampleCountFlagBits sampleCountBit(uint32_t samples)
+{
+    return static_cast<VkSampleCountFlagBits>(samples);
+}
+
+// An id read back from a float id attachment.
+uint32_t decodeFloatId(float value)
+{
+    return value < 0.0f ? EMPTY_ID : static_cast<uint32_t>(value);
+}
 
 // Texels a full level chain of `levels` levels from width x height holds.
 uint64_t chainTexels(uint32_t width, uint32_t height, uint32_t levels)
@@ -153,6 +190,32 @@ VkSamplerCreateInfo samplerInfo(const TextureSampler& sampler, uint32_t levels, 
     return info;
 }
 
+// Optimal-tiling features of the attachments that are copied to the host.
+constexpr VkFormatFeatureFlags kCopyableColor =
+    VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT;
+constexpr VkFormatFeatureFlags kCopyableDepth =
+    VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT;
+
+// A format, the optimal-tiling features an attachment of it needs, and how an error names that use.
+struct FormatNeed {
+    VkFormat format;
+    VkFormatFeatureFlags features;
+    const char* name;
+};
+
+// A one-line Usage error for the first need the context's device does not meet.
+Status checkFormats(const VulkanContext& ctx, std::initializer_list<FormatNeed> needs)
+{
+    for (const FormatNeed& need : needs) {
+        VkFormatProperties properties{};
+        vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), need.format, &properties);
+        if ((properties.optimalTilingFeatures & need.features) != need.features)
+            return makeError(ExitCode::Usage, "vulkan-graphics: {} does not support {}",
+                             ctx.properties().deviceName, need.name);
+    }
+    return okStatus();
+}
+
 // The objects of one render on top of a context; the destructor releases them.
 class GraphicsRender {
 public:
@@ -161,31 +224,58 @@ public:
     GraphicsRender& operator=(const GraphicsRender&) = delete;
     ~GraphicsRender();
 
-    // Uploads the scene and `params` and creates the attachments and the pipeline. `backgroundWord`
-    // is what the colour attachment is cleared to. `visibilityOnly` asks for the depth + id pass with
-    // the cheapest fragment shader; it is honoured when the pipeline can cull (no triangle is
-    // double-sided, or nothing is culled), else the full pass runs.
-    Status init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord, bool visibilityOnly);
+    // Uploads the scene and `params` and creates the attachments and the pipeline, anti-aliased when
+    // params asks for more than one sample per pixel or an SSAA factor above 1. `visibilityOnly` asks
+    // for the depth + id pass with the cheapest fragment shader; it is honoured when the pipeline can
+    // cull (no triangle is double-sided, or nothing is culled), else the full pass runs.
+    Status init(const Scene& scene, const RasterParams& params, bool visibilityOnly);
     // Draws one frame and returns the GPU time of its render pass.
     Status drawFrame(double& ms);
-    // Copies the attachments of the last frame into `color` and `aov`.
-    Status readBack(RgbaImage& color, AovImage& aov);
+    // Reads the attachments of the last frame into out.color and out.aov's id and depth (resolved to
+    // the output resolution), and with `allSamples` every sample into out.samples.
+    Status readBack(RenderOutput& out, bool allSamples);
+    // Device memory this render allocated outside the context's accounting (multisampled attachments).
+    size_t ownDeviceBytes() const { return size_t(targetBytes_); }
 
 private:
+    // Every sample of an anti-aliased frame: per raster pixel the mean linear colour of its samples,
+    // per sample the id and depth in planes of one sample per raster pixel, sample 0 first (as
+    // SampleAovs); `planes` of them (1: sample 0 only).
+    struct SampleFrame {
+        std::vector<glm::vec4> pixelColor;
+        std::vector<uint32_t> id;
+        std::vector<float> depth;
+        uint32_t planes = 0;
+    };
+
     Status checkDevice(const Scene& scene) const;
+    Status checkAntialiasing(const Scene& scene) const;
+    bool offersSamples(uint32_t samples) const;
     Status uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
                              VkBufferUsageFlags extraUsage);
     Status uploadScene(const Scene& scene);
     Status uploadTexture(const SceneTexture& texture, GpuImage& image);
     Status createTextures(const Scene& scene);
     Status createTargets();
+    Status allocateMultisampled(GpuImage& image, VkFormat format, VkImageAspectFlags aspect,
+                                VkImageUsageFlags usage);
     Status createRenderPass();
     Status createFramebuffer();
     Status createPipeline();
+    Status createSampleReadback();
+    Status readWords(RenderOutput& out, bool allSamples);
+    Status readSingleSamples(SampleFrame& frame);
+    Status readSamples(SampleFrame& frame, bool allSamples);
+    void resolve(SampleFrame& frame, RenderOutput& out, bool allSamples) const;
 
     VulkanContext& ctx_;
     RasterParams params_{};
-    uint32_t backgroundWord_ = 0;
+    uint32_t backgroundWord_ = 0;  // the colour attachment's clear value without anti-aliasing
+    // With anti-aliasing: clamped to [0, 1] as reference_aa.frag clamps the shading, so that every
+    // sample enters the mean as the image shows it.
+    glm::vec3 linearBackground_{0.0f};
+    uint32_t samples_ = 1;      // rasterization samples per pixel (params.sampleCount)
+    bool antialiased_ = false;  // float attachments and the host resolve: MSAA, SSAA or both
     uint32_t indexCount_ = 0;
     bool visibilityOnly_ = false;
     VkBool32 hasTexcoords_ = VK_FALSE;  // BUF_TEXCOORDS holds the scene's texcoords
@@ -201,9 +291,19 @@ private:
     VkDescriptorSet textureSet_ = VK_NULL_HANDLE;       // freed with texturePool_
     VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;  // the context's set 0, then the texture set
     GpuImage color_, id_, depth_;
+    VkDeviceSize targetBytes_ = 0;  // memory of the multisampled attachments
     VkRenderPass renderPass_ = VK_NULL_HANDLE;
     VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;
+    // The readback of multisampled attachments (reference_samples.comp): its own set of the three
+    // attachments and three output buffers, sized for bands of bandRows_ rows.
+    VkDescriptorSetLayout readSetLayout_ = VK_NULL_HANDLE;
+    VkDescriptorPool readPool_ = VK_NULL_HANDLE;
+    VkDescriptorSet readSet_ = VK_NULL_HANDLE;  // freed with readPool_
+    VkPipelineLayout readLayout_ = VK_NULL_HANDLE;
+    VkPipeline readPipeline_ = VK_NULL_HANDLE;
+    GpuBuffer readColors_, readIds_, readDepths_;
+    uint32_t bandRows_ = 0;
 };
 
 GraphicsRender::~GraphicsRender()
@@ -211,6 +311,11 @@ GraphicsRender::~GraphicsRender()
     VkDevice device = ctx_.device();
     if (device == VK_NULL_HANDLE) return;
     ctx_.waitIdle();
+    vkDestroyPipeline(device, readPipeline_, nullptr);
+    vkDestroyPipelineLayout(device, readLayout_, nullptr);
+    vkDestroyDescriptorPool(device, readPool_, nullptr);
+    vkDestroyDescriptorSetLayout(device, readSetLayout_, nullptr);
+    for (GpuBuffer* b : {&readColors_, &readIds_, &readDepths_}) ctx_.destroyBuffer(*b);
     vkDestroyPipeline(device, pipeline_, nullptr);
     vkDestroyFramebuffer(device, framebuffer_, nullptr);
     vkDestroyRenderPass(device, renderPass_, nullptr);
@@ -224,8 +329,7 @@ GraphicsRender::~GraphicsRender()
     ctx_.destroyBuffer(placeholder_);
 }
 
-Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint32_t backgroundWord,
-                            bool visibilityOnly)
+Status GraphicsRender::init(const Scene& scene, const RasterParams& params, bool visibilityOnly)
 {
     bool anyDoubleSided = std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
                                       [](uint32_t f) { return (f & TRI_FLAG_DOUBLE_SIDED) != 0u; });
@@ -236,7 +340,10 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint
                                                 [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
     visibilityOnly_ = visibilityOnly && (!anyDoubleSided || params.cullMode == CULL_NONE) && !anyMasked;
     params_ = params;
-    backgroundWord_ = backgroundWord;
+    backgroundWord_ = packRgba8(glm::vec3(params.background));
+    linearBackground_ = glm::clamp(glm::vec3(params.background), glm::vec3(0.0f), glm::vec3(1.0f));
+    samples_ = params.sampleCount;
+    antialiased_ = params.sampleCount > 1 || params.ssaa > 1;
     indexCount_ = static_cast<uint32_t>(scene.indices.size());
     SR_TRY(checkDevice(scene));
     SR_TRY(uploadScene(scene));
@@ -245,6 +352,7 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, uint
     SR_TRY(createRenderPass());
     SR_TRY(createFramebuffer());
     SR_TRY(createPipeline());
+    if (samples_ > 1) SR_TRY(createSampleReadback());
     SR_TRY(ctx_.ensureQueryPool(2));
     return ctx_.validationStatus();
 }
@@ -267,24 +375,12 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
                          "vulkan-graphics: {} vertices exceed the device's index limit of {}",
                          scene.vertexCount(), uint64_t(limits.maxDrawIndexedIndexValue) + 1);
 
-    struct FormatNeed {
-        VkFormat format;
-        VkFormatFeatureFlags features;
-        const char* name;
-    };
-    const FormatNeed needs[] = {
-        {kWordFormat, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT,
-         "VK_FORMAT_R32_UINT colour attachments"},
-        {kDepthFormat, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT,
-         "VK_FORMAT_D32_SFLOAT depth attachments"},
-    };
-    for (const FormatNeed& need : needs) {
-        VkFormatProperties properties{};
-        vkGetPhysicalDeviceFormatProperties(ctx_.physicalDevice(), need.format, &properties);
-        if ((properties.optimalTilingFeatures & need.features) != need.features)
-            return makeError(ExitCode::Usage, "vulkan-graphics: {} does not support copyable {}",
-                             ctx_.properties().deviceName, need.name);
-    }
+    if (antialiased_)
+        SR_TRY(checkAntialiasing(scene));
+    else
+        SR_TRY(checkFormats(
+            ctx_, {{kWordFormat, kCopyableColor, "copyable VK_FORMAT_R32_UINT colour attachments"},
+                   {kDepthFormat, kCopyableDepth, "copyable VK_FORMAT_D32_SFLOAT depth attachments"}}));
 
     // Textures: sampled, linearly filtered, uploaded images of both formats, and as many samplers and
     // sampled images in the fragment stage as there are textures (next to the set 0 buffers and the
@@ -311,6 +407,89 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
                              "vulkan-graphics: texture '{}' ({}x{}) exceeds the device's image limit of {}",
                              t.name, t.width, t.height, limits.maxImageDimension2D);
     return okStatus();
+}
+
+// What anti-aliasing adds: ids exact as floats, the float attachments at the requested sample count,
+// and for the multisampled readback a queue that runs compute work.
+Status GraphicsRender::checkAntialiasing(const Scene& scene) const
+{
+    const char* name = ctx_.properties().deviceName;
+    if (scene.triangleCount() > kMaxFloatIds)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: anti-aliasing stores triangle ids as floats, exact for at most {} "
+                         "triangles; the scene has {}",
+                         kMaxFloatIds, scene.triangleCount());
+    if (samples_ == 1)
+        return checkFormats(
+            ctx_, {{kLinearColorFormat, kCopyableColor,
+                    "copyable VK_FORMAT_R32G32B32A32_SFLOAT colour attachments"},
+                   {kFloatIdFormat, kCopyableColor, "copyable VK_FORMAT_R32_SFLOAT colour attachments"},
+                   {kDepthFormat, kCopyableDepth, "copyable VK_FORMAT_D32_SFLOAT depth attachments"}});
+    if (!offersSamples(samples_)) {
+        std::string offered = "1x";
+        for (uint32_t count = 2; count <= MAX_SAMPLES; count *= 2)
+            if (offersSamples(count)) offered += fmt::format(", {}x", count);
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} does not offer {}x MSAA for float colour and depth attachments "
+                         "read by a shader at {}x{}; it offers {}",
+                         name, samples_, params_.width, params_.height, offered);
+    }
+    // The readback runs on the context's queue, which the context picked for graphics: refuse a device
+    // where that kind of queue need not run compute work.
+    uint32_t familyCount = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx_.physicalDevice(), &familyCount, nullptr);
+    std::vector<VkQueueFamilyProperties> families(familyCount);
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx_.physicalDevice(), &familyCount, families.data());
+    for (const VkQueueFamilyProperties& family : families)
+        if ((family.queueFlags & VK_QUEUE_GRAPHICS_BIT) && !(family.queueFlags & VK_QUEUE_COMPUTE_BIT))
+            return makeError(ExitCode::Usage,
+                             "vulkan-graphics: {} has a graphics queue without compute, which MSAA needs to "
+                             "read its samples back",
+                             name);
+    return okStatus();
+}
+
+// Whether the device can rasterize `samples` samples per pixel into the anti-aliased attachments at
+// this size and sample them in reference_samples.comp: the framebuffer and sampled-image limits, and
+// each format's features and sample counts for that use.
+bool GraphicsRender::offersSamples(uint32_t samples) const
+{
+    const VkPhysicalDeviceLimits& limits = ctx_.properties().limits;
+    const VkSampleCountFlags bit = sampleCountBit(samples);
+    const VkSampleCountFlags limited =
+        limits.framebufferColorSampleCounts & limits.framebufferDepthSampleCounts &
+        limits.sampledImageColorSampleCounts & limits.sampledImageDepthSampleCounts;
+    if ((limited & bit) == 0) return false;
+    struct Use {
+        VkFormat format;
+        VkImageUsageFlags usage;
+        VkFormatFeatureFlags features;
+    };
+    const VkImageUsageFlags color = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    const VkFormatFeatureFlags colorFeatures =
+        VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+    const Use uses[] = {
+        {kLinearColorFormat, color, colorFeatures},
+        {kFloatIdFormat, color, colorFeatures},
+        {kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+         VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT},
+    };
+    for (const Use& use : uses) {
+        VkFormatProperties features{};
+        vkGetPhysicalDeviceFormatProperties(ctx_.physicalDevice(), use.format, &features);
+        if ((features.optimalTilingFeatures & use.features) != use.features) return false;
+        // Any result but VK_SUCCESS (VK_ERROR_FORMAT_NOT_SUPPORTED above all) means the combination
+        // is not offered.
+        VkImageFormatProperties properties{};
+        if (vkGetPhysicalDeviceImageFormatProperties(ctx_.physicalDevice(), use.format, VK_IMAGE_TYPE_2D,
+                                                     VK_IMAGE_TILING_OPTIMAL, use.usage, 0,
+                                                     &properties) != VK_SUCCESS)
+            return false;
+        if ((properties.sampleCounts & bit) == 0 || properties.maxExtent.width < params_.width ||
+            properties.maxExtent.height < params_.height)
+            return false;
+    }
+    return true;
 }
 
 // Creates buffers_[binding] and fills it with `bytes` bytes of `data`.
@@ -503,29 +682,100 @@ Status GraphicsRender::createTextures(const Scene& scene)
 
 Status GraphicsRender::createTargets()
 {
-    const VkImageUsageFlags wordUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    SR_TRY(ctx_.allocateImage(color_, kWordFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
-                              wordUsage));
-    SR_TRY(ctx_.allocateImage(id_, kWordFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
-                              wordUsage));
+    const VkFormat colorFormat = antialiased_ ? kLinearColorFormat : kWordFormat;
+    const VkFormat idFormat = antialiased_ ? kFloatIdFormat : kWordFormat;
+    // Multisampled attachments are read by reference_samples.comp, single-sample ones copied.
+    if (samples_ > 1) {
+        const VkImageUsageFlags colorUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        SR_TRY(allocateMultisampled(color_, colorFormat, VK_IMAGE_ASPECT_COLOR_BIT, colorUsage));
+        SR_TRY(allocateMultisampled(id_, idFormat, VK_IMAGE_ASPECT_COLOR_BIT, colorUsage));
+        return allocateMultisampled(depth_, kDepthFormat, VK_IMAGE_ASPECT_DEPTH_BIT,
+                                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+    }
+    const VkImageUsageFlags colorUsage =
+        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    SR_TRY(ctx_.allocateImage(color_, colorFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
+                              colorUsage));
+    SR_TRY(ctx_.allocateImage(id_, idFormat, VK_IMAGE_ASPECT_COLOR_BIT, params_.width, params_.height,
+                              colorUsage));
     return ctx_.allocateImage(depth_, kDepthFormat, VK_IMAGE_ASPECT_DEPTH_BIT, params_.width, params_.height,
                               VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
 }
 
+// A params_.width x params_.height attachment of samples_ samples per pixel with its own device-local
+// memory and a view of it: VulkanContext::allocateImage makes single-sample images only. The memory is
+// counted in targetBytes_ (image.allocated stays 0), and ctx_.destroyImage releases it all.
+Status GraphicsRender::allocateMultisampled(GpuImage& image, VkFormat format, VkImageAspectFlags aspect,
+                                            VkImageUsageFlags usage)
+{
+    VkImageCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent = {params_.width, params_.height, 1};
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = sampleCountBit(samples_);
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    SR_VK_CHECK(vkCreateImage(ctx_.device(), &info, nullptr, &image.image));
+
+    VkMemoryRequirements requirements{};
+    vkGetImageMemoryRequirements(ctx_.device(), image.image, &requirements);
+    VkPhysicalDeviceMemoryProperties memory{};
+    vkGetPhysicalDeviceMemoryProperties(ctx_.physicalDevice(), &memory);
+    uint32_t type = 0;
+    while (type < memory.memoryTypeCount &&
+           !((requirements.memoryTypeBits & (1u << type)) &&
+             (memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)))
+        ++type;
+    if (type == memory.memoryTypeCount)
+        return makeError(
+            ExitCode::Runtime,
+            "vulkan-graphics: no device-local memory type for a multisampled attachment of {} bytes",
+            requirements.size);
+    VkMemoryAllocateInfo allocation{};
+    allocation.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    allocation.allocationSize = requirements.size;
+    allocation.memoryTypeIndex = type;
+    SR_VK_CHECK(vkAllocateMemory(ctx_.device(), &allocation, nullptr, &image.memory));
+    targetBytes_ += requirements.size;
+    SR_VK_CHECK(vkBindImageMemory(ctx_.device(), image.image, image.memory, 0));
+
+    VkImageViewCreateInfo viewInfo{};
+    viewInfo.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+    viewInfo.image = image.image;
+    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = format;
+    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
+    SR_VK_CHECK(vkCreateImageView(ctx_.device(), &viewInfo, nullptr, &image.view));
+    return okStatus();
+}
+
 Status GraphicsRender::createRenderPass()
 {
-    // Every attachment is cleared, kept, and left ready for the copy to the host. Each frame starts
-    // from UNDEFINED: the previous frame's contents are never needed.
+    // Every attachment is cleared, kept, and left ready for the copy to the host, or, multisampled,
+    // for reference_samples.comp. Each frame starts from UNDEFINED: the previous frame's contents are
+    // never needed.
+    const bool sampled = samples_ > 1;
+    const VkImageLayout readyLayout =
+        sampled ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    const VkPipelineStageFlags readerStage =
+        sampled ? VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_TRANSFER_BIT;
+    const VkFormat formats[kAttachmentCount] = {antialiased_ ? kLinearColorFormat : kWordFormat,
+                                                antialiased_ ? kFloatIdFormat : kWordFormat, kDepthFormat};
     VkAttachmentDescription attachments[kAttachmentCount]{};
     for (uint32_t i = 0; i < kAttachmentCount; ++i) {
-        attachments[i].format = i == kDepthAttachment ? kDepthFormat : kWordFormat;
-        attachments[i].samples = VK_SAMPLE_COUNT_1_BIT;
+        attachments[i].format = formats[i];
+        attachments[i].samples = sampleCountBit(samples_);
         attachments[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         attachments[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
         attachments[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
         attachments[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
         attachments[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        attachments[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        attachments[i].finalLayout = readyLayout;
     }
     const VkAttachmentReference colorRefs[2] = {{kColorAttachment, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
                                                 {kIdAttachment, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
@@ -537,13 +787,13 @@ Status GraphicsRender::createRenderPass()
     subpass.pColorAttachments = colorRefs;
     subpass.pDepthStencilAttachment = &depthRef;
 
-    // In: the previous frame's attachment writes and its copy to the host (a read, so only its
-    // execution is waited for) complete before this frame's layout transitions and clears.
-    // Out: this frame's writes are visible to the copy that may follow.
+    // In: the previous frame's attachment writes and its readback (a read, so only its execution is
+    // waited for) complete before this frame's layout transitions and clears.
+    // Out: this frame's writes are visible to the readback that may follow.
     VkSubpassDependency dependencies[2]{};
     dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
     dependencies[0].dstSubpass = 0;
-    dependencies[0].srcStageMask = kAttachmentStages | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dependencies[0].srcStageMask = kAttachmentStages | readerStage;
     dependencies[0].srcAccessMask = kAttachmentWrites;
     dependencies[0].dstStageMask = kAttachmentStages;
     dependencies[0].dstAccessMask = kAttachmentWrites | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
@@ -551,8 +801,8 @@ Status GraphicsRender::createRenderPass()
     dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
     dependencies[1].srcStageMask = kAttachmentStages;
     dependencies[1].srcAccessMask = kAttachmentWrites;
-    dependencies[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    dependencies[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    dependencies[1].dstStageMask = readerStage;
+    dependencies[1].dstAccessMask = sampled ? VK_ACCESS_SHADER_READ_BIT : VK_ACCESS_TRANSFER_READ_BIT;
 
     VkRenderPassCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
@@ -589,9 +839,12 @@ Status GraphicsRender::createPipeline()
     Result<VkShaderModule> vertex = ctx_.createShaderModule(kSpv_reference_vert, sizeof kSpv_reference_vert);
     if (!vertex.ok()) return vertex.error();
     Result<VkShaderModule> fragment =
-        visibilityOnly_
+        visibilityOnly_ && antialiased_ ? ctx_.createShaderModule(kSpv_reference_visibility_aa_frag,
+                                                                  sizeof kSpv_reference_visibility_aa_frag)
+        : visibilityOnly_
             ? ctx_.createShaderModule(kSpv_reference_visibility_frag, sizeof kSpv_reference_visibility_frag)
-            : ctx_.createShaderModule(kSpv_reference_frag, sizeof kSpv_reference_frag);
+        : antialiased_ ? ctx_.createShaderModule(kSpv_reference_aa_frag, sizeof kSpv_reference_aa_frag)
+                       : ctx_.createShaderModule(kSpv_reference_frag, sizeof kSpv_reference_frag);
     if (!fragment.ok()) {
         vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
         return fragment.error();
@@ -601,13 +854,22 @@ Status GraphicsRender::createPipeline()
         stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         stage.pName = "main";
     }
-    // The visibility shader writes the background word; the full one sizes its texture array; the
-    // vertex shader fetches texcoords only where the scene has them.
+    // The visibility shader writes the background word (anti-aliased: the linear background); the
+    // full one sizes its texture array; the vertex shader fetches texcoords only where the scene has
+    // them.
     VkSpecializationMapEntry backgroundEntry{kBackgroundConstant, 0, sizeof(uint32_t)};
     VkSpecializationInfo background{1, &backgroundEntry, sizeof(uint32_t), &backgroundWord_};
+    const float backgroundRgb[3] = {linearBackground_.x, linearBackground_.y, linearBackground_.z};
+    const VkSpecializationMapEntry backgroundRgbEntries[3] = {
+        {kBackgroundRgbConstant, 0, sizeof(float)},
+        {kBackgroundRgbConstant + 1, sizeof(float), sizeof(float)},
+        {kBackgroundRgbConstant + 2, 2 * sizeof(float), sizeof(float)}};
+    VkSpecializationInfo linearBackground{3, backgroundRgbEntries, sizeof backgroundRgb, backgroundRgb};
     VkSpecializationMapEntry slotsEntry{kTextureSlotsConstant, 0, sizeof(uint32_t)};
     VkSpecializationInfo slots{1, &slotsEntry, sizeof(uint32_t), &textureSlots_};
-    stages[1].pSpecializationInfo = visibilityOnly_ ? &background : &slots;
+    stages[1].pSpecializationInfo = !visibilityOnly_ ? &slots
+                                    : antialiased_   ? &linearBackground
+                                                     : &background;
     VkSpecializationMapEntry texcoordsEntry{kHasTexcoordsConstant, 0, sizeof(VkBool32)};
     VkSpecializationInfo texcoords{1, &texcoordsEntry, sizeof(VkBool32), &hasTexcoords_};
     stages[0].pSpecializationInfo = &texcoords;
@@ -649,9 +911,12 @@ Status GraphicsRender::createPipeline()
     rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     rasterization.lineWidth = 1.0f;
 
+    // The standard sample locations (RasterParams.sampleCount of them) and no sample shading: one
+    // fragment shader invocation per pixel and triangle, its outputs written to every covered sample.
     VkPipelineMultisampleStateCreateInfo multisample{};
     multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    multisample.rasterizationSamples = sampleCountBit(samples_);
+    multisample.sampleShadingEnable = VK_FALSE;
 
     // LESS keeps the first of equal depths, and primitives are drawn in order, so a tie resolves to
     // the lowest triangle id, as the compute pipeline's visibility key does.
@@ -700,8 +965,16 @@ Status GraphicsRender::drawFrame(double& ms)
     vkCmdResetQueryPool(cmd, queryPool, 0, 2);
 
     VkClearValue clears[kAttachmentCount]{};
-    clears[kColorAttachment].color.uint32[0] = backgroundWord_;
-    clears[kIdAttachment].color.uint32[0] = EMPTY_ID;
+    if (antialiased_) {
+        clears[kColorAttachment].color.float32[0] = linearBackground_.x;
+        clears[kColorAttachment].color.float32[1] = linearBackground_.y;
+        clears[kColorAttachment].color.float32[2] = linearBackground_.z;
+        clears[kColorAttachment].color.float32[3] = 1.0f;
+        clears[kIdAttachment].color.float32[0] = kEmptyFloatId;
+    } else {
+        clears[kColorAttachment].color.uint32[0] = backgroundWord_;
+        clears[kIdAttachment].color.uint32[0] = EMPTY_ID;
+    }
     clears[kDepthAttachment].depthStencil.depth = 1.0f;
     VkRenderPassBeginInfo begin{};
     begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
@@ -730,8 +1003,20 @@ Status GraphicsRender::drawFrame(double& ms)
     return okStatus();
 }
 
-Status GraphicsRender::readBack(RgbaImage& color, AovImage& aov)
+Status GraphicsRender::readBack(RenderOutput& out, bool allSamples)
 {
+    if (!antialiased_) return readWords(out, allSamples);
+    SampleFrame frame;
+    SR_TRY(samples_ > 1 ? readSamples(frame, allSamples) : readSingleSamples(frame));
+    resolve(frame, out, allSamples);
+    return okStatus();
+}
+
+// Without anti-aliasing the attachments are the images: one sample per output pixel.
+Status GraphicsRender::readWords(RenderOutput& out, bool allSamples)
+{
+    RgbaImage& color = out.color;
+    AovImage& aov = out.aov;
     const size_t pixels = size_t(params_.width) * params_.height;
     const VkDeviceSize planeBytes = pixels * sizeof(uint32_t);  // every attachment has 4-byte texels
     SR_TRY(ctx_.ensureStaging(kAttachmentCount * planeBytes));
@@ -762,7 +1047,214 @@ Status GraphicsRender::readBack(RgbaImage& color, AovImage& aov)
     std::memcpy(color.pixels.data(), planes + kColorAttachment * planeBytes, planeBytes);
     std::memcpy(aov.id.data(), planes + kIdAttachment * planeBytes, planeBytes);
     std::memcpy(aov.depth.data(), planes + kDepthAttachment * planeBytes, planeBytes);
+    if (allSamples) out.samples = SampleAovs{params_.width, params_.height, 1, aov.id, aov.depth};
     return okStatus();
+}
+
+// SSAA alone: single-sample float attachments, copied to the host. A pixel's colour is its one sample.
+Status GraphicsRender::readSingleSamples(SampleFrame& frame)
+{
+    const size_t pixels = size_t(params_.width) * params_.height;
+    const VkDeviceSize colorBytes = pixels * sizeof(glm::vec4), planeBytes = pixels * sizeof(float);
+    const VkDeviceSize offsets[kAttachmentCount] = {0, colorBytes, colorBytes + planeBytes};
+    SR_TRY(ctx_.ensureStaging(colorBytes + 2 * planeBytes));
+
+    SR_TRY(ctx_.beginCommands());
+    VkCommandBuffer cmd = ctx_.commandBuffer();
+    const GpuImage* images[kAttachmentCount] = {&color_, &id_, &depth_};
+    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = offsets[i];
+        region.imageSubresource.aspectMask =
+            i == kDepthAttachment ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+        region.imageSubresource.layerCount = 1;
+        region.imageExtent = {params_.width, params_.height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[i]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               ctx_.staging().buffer, 1, &region);
+    }
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    SR_TRY(ctx_.submitAndWait());
+
+    const auto* staged = static_cast<const uint8_t*>(ctx_.staging().mapped);
+    frame.planes = 1;
+    frame.pixelColor.resize(pixels);
+    frame.id.resize(pixels);
+    frame.depth.resize(pixels);
+    std::memcpy(frame.pixelColor.data(), staged + offsets[kColorAttachment], colorBytes);
+    std::vector<float> ids(pixels);
+    std::memcpy(ids.data(), staged + offsets[kIdAttachment], planeBytes);
+    std::transform(ids.begin(), ids.end(), frame.id.begin(), decodeFloatId);
+    std::memcpy(frame.depth.data(), staged + offsets[kDepthAttachment], planeBytes);
+    return okStatus();
+}
+
+// The compute pipeline of reference_samples.comp with its set (the three attachments and three
+// storage buffers), and the buffers sized for bands of as many rows as the device's storage buffer
+// range allows.
+Status GraphicsRender::createSampleReadback()
+{
+    const VkDeviceSize maxBytes = ctx_.maxStorageBytes() / kMinBufferBytes * kMinBufferBytes;
+    const VkDeviceSize rowBytes =
+        VkDeviceSize(params_.width) * std::max<VkDeviceSize>(sizeof(glm::vec4), samples_ * sizeof(float));
+    bandRows_ = uint32_t(std::clamp<VkDeviceSize>(maxBytes / rowBytes, 1, params_.height));
+    const VkDeviceSize bandPixels = VkDeviceSize(params_.width) * bandRows_;
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    SR_TRY(ctx_.allocateBuffer(readColors_, roundUp(bandPixels * sizeof(glm::vec4), kMinBufferBytes), usage,
+                               {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+    for (GpuBuffer* b : {&readIds_, &readDepths_})
+        SR_TRY(ctx_.allocateBuffer(*b, roundUp(bandPixels * samples_ * sizeof(float), kMinBufferBytes), usage,
+                                   {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+
+    VkDescriptorSetLayoutBinding bindings[6]{};
+    for (uint32_t i = 0; i < 6; ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType =
+            i < 3 ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo setInfo{};
+    setInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    setInfo.bindingCount = 6;
+    setInfo.pBindings = bindings;
+    SR_VK_CHECK(vkCreateDescriptorSetLayout(ctx_.device(), &setInfo, nullptr, &readSetLayout_));
+    // The band: its first row and its number of rows.
+    const VkPushConstantRange band{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(uint32_t)};
+    VkPipelineLayoutCreateInfo layoutInfo{};
+    layoutInfo.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    layoutInfo.setLayoutCount = 1;
+    layoutInfo.pSetLayouts = &readSetLayout_;
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &band;
+    SR_VK_CHECK(vkCreatePipelineLayout(ctx_.device(), &layoutInfo, nullptr, &readLayout_));
+
+    const VkDescriptorPoolSize poolSizes[2] = {{VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 3},
+                                               {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 2;
+    poolInfo.pPoolSizes = poolSizes;
+    SR_VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &poolInfo, nullptr, &readPool_));
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = readPool_;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &readSetLayout_;
+    SR_VK_CHECK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &readSet_));
+    const VkDescriptorImageInfo images[3] = {
+        {VK_NULL_HANDLE, color_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {VK_NULL_HANDLE, id_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {VK_NULL_HANDLE, depth_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+    const VkDescriptorBufferInfo buffers[3] = {{readColors_.buffer, 0, VK_WHOLE_SIZE},
+                                               {readIds_.buffer, 0, VK_WHOLE_SIZE},
+                                               {readDepths_.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[2]{};
+    for (VkWriteDescriptorSet& write : writes) {
+        write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        write.dstSet = readSet_;
+        write.descriptorCount = 3;
+    }
+    writes[0].dstBinding = 0;
+    writes[0].descriptorType = VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    writes[0].pImageInfo = images;
+    writes[1].dstBinding = 3;
+    writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[1].pBufferInfo = buffers;
+    vkUpdateDescriptorSets(ctx_.device(), 2, writes, 0, nullptr);
+
+    Result<VkShaderModule> module =
+        ctx_.createShaderModule(kSpv_reference_samples_comp, sizeof kSpv_reference_samples_comp);
+    if (!module.ok()) return module.error();
+    VkComputePipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = *module;
+    info.stage.pName = "main";
+    info.layout = readLayout_;
+    VkResult result =
+        vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &readPipeline_);
+    vkDestroyShaderModule(ctx_.device(), *module, nullptr);  // the pipeline keeps what it needs
+    SR_VK_CHECK(result);
+    return okStatus();
+}
+
+// MSAA: reference_samples.comp reads every sample, one band of rows per submission, and each band's
+// buffers are downloaded into the frame (only sample 0's ids and depths without `allSamples`).
+Status GraphicsRender::readSamples(SampleFrame& frame, bool allSamples)
+{
+    const size_t pixels = size_t(params_.width) * params_.height;
+    frame.planes = allSamples ? samples_ : 1;
+    frame.pixelColor.resize(pixels);
+    frame.id.resize(pixels * frame.planes);
+    frame.depth.resize(pixels * frame.planes);
+    std::vector<float> bandIds, bandDepths;
+    for (uint32_t firstRow = 0; firstRow < params_.height; firstRow += bandRows_) {
+        const uint32_t band[2] = {firstRow, std::min(bandRows_, params_.height - firstRow)};
+        SR_TRY(ctx_.beginCommands());
+        VkCommandBuffer cmd = ctx_.commandBuffer();
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, readPipeline_);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, readLayout_, 0, 1, &readSet_, 0,
+                                nullptr);
+        vkCmdPushConstants(cmd, readLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof band, band);
+        vkCmdDispatch(cmd, (params_.width + kReadGroupSide - 1) / kReadGroupSide,
+                      (band[1] + kReadGroupSide - 1) / kReadGroupSide, 1);
+        // Barriers order against later submissions too: the downloads' copies see the writes.
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        SR_TRY(ctx_.submitAndWait());
+
+        // Sample-major within the band: the first `planes` planes are the buffers' first bytes.
+        const size_t bandPixels = size_t(params_.width) * band[1];
+        const size_t rowOffset = size_t(firstRow) * params_.width;
+        SR_TRY(ctx_.download(readColors_.buffer, frame.pixelColor.data() + rowOffset,
+                             bandPixels * sizeof(glm::vec4)));
+        bandIds.resize(bandPixels * frame.planes);
+        bandDepths.resize(bandPixels * frame.planes);
+        SR_TRY(ctx_.download(readIds_.buffer, bandIds.data(), bandIds.size() * sizeof(float)));
+        SR_TRY(ctx_.download(readDepths_.buffer, bandDepths.data(), bandDepths.size() * sizeof(float)));
+        for (uint32_t s = 0; s < frame.planes; ++s) {
+            const auto ids = bandIds.begin() + std::ptrdiff_t(s * bandPixels);
+            const auto depths = bandDepths.begin() + std::ptrdiff_t(s * bandPixels);
+            std::transform(ids, ids + std::ptrdiff_t(bandPixels),
+                           frame.id.begin() + std::ptrdiff_t(s * pixels + rowOffset), decodeFloatId);
+            std::copy(depths, depths + std::ptrdiff_t(bandPixels),
+                      frame.depth.begin() + std::ptrdiff_t(s * pixels + rowOffset));
+        }
+    }
+    return okStatus();
+}
+
+// The output images from the raster grid's samples: each output pixel's colour is the mean linear colour
+// of the samples of its ssaa x ssaa raster pixels (each pixelColor already the mean of its pixel's
+// samples, all of equal count), sRGB-encoded as the compute shade stage encodes it; its id and depth are
+// those of aovSampleIndex's sample.
+void GraphicsRender::resolve(SampleFrame& frame, RenderOutput& out, bool allSamples) const
+{
+    const uint32_t n = params_.ssaa, width = params_.width / n, height = params_.height / n;
+    const float blockPixels = float(n * n);
+    out.color.width = out.aov.width = width;
+    out.color.height = out.aov.height = height;
+    out.color.pixels.resize(size_t(width) * height);
+    out.aov.id.resize(size_t(width) * height);
+    out.aov.depth.resize(size_t(width) * height);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            glm::vec3 sum(0.0f);
+            for (uint32_t dy = 0; dy < n; ++dy)
+                for (uint32_t dx = 0; dx < n; ++dx)
+                    sum += glm::vec3(frame.pixelColor[size_t(y * n + dy) * params_.width + x * n + dx]);
+            const size_t i = size_t(y) * width + x;
+            out.color.pixels[i] = packRgba8(sum / blockPixels);
+            const uint64_t sample = aovSampleIndex(x, y, params_.width, n);
+            out.aov.id[i] = frame.id[sample];
+            out.aov.depth[i] = frame.depth[sample];
+        }
+    if (allSamples)
+        out.samples =
+            SampleAovs{params_.width, params_.height, samples_, std::move(frame.id), std::move(frame.depth)};
 }
 
 Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scene,
@@ -775,15 +1267,16 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.device = context.deviceInfo("vulkan-graphics");
 
     GraphicsRender render(context);
-    SR_TRY(render.init(scene, out.params, packRgba8(settings.background), settings.visibilityOnly));
+    SR_TRY(render.init(scene, out.params, settings.visibilityOnly));
     std::vector<double> drawMs;
     for (uint32_t frame = 0; frame < settings.warmup + settings.repeat; ++frame) {
         double ms = 0.0;
         SR_TRY(render.drawFrame(ms));
         if (frame >= settings.warmup) drawMs.push_back(ms);
     }
-    SR_TRY(render.readBack(out.color, out.aov));
-    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
+    SR_TRY(render.readBack(out, settings.aovSamples));
+    // The surface channels describe output pixel centres, whatever the raster grid.
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
 
     StageTiming draw;
     draw.name = "draw";
@@ -794,7 +1287,8 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.total = draw;
     out.total.name = "total";
     out.stats.trianglesIn = scene.triangleCount();
-    out.peakDeviceBytes = context.peakAllocatedBytes();
+    // No device memory is freed before the render ends, so the render's own adds to the context's peak.
+    out.peakDeviceBytes = context.peakAllocatedBytes() + render.ownDeviceBytes();
     return out;
 }
 

@@ -8,6 +8,15 @@
 // shader so that glTF doubleSided triangles are never culled within the single draw. Base colour
 // textures are real images (all mip levels, sRGB or UNORM) sampled through real samplers with the
 // hardware's derivatives, so the compute path's software sampling is checked against the hardware's.
+//
+// Anti-aliasing (RenderSettings::msaa, ssaa) draws the raster grid (the output size times ssaa per
+// side) with msaa rasterization samples at the standard sample locations, without sample shading: the
+// fragment shader runs once per pixel and triangle, at the pixel centre, as the compute pipeline
+// shades. The attachments are then R32G32B32A32_SFLOAT linear colour (clamped to [0, 1]), R32_SFLOAT
+// id (exact below 2^24 triangles; larger scenes are refused) and D32_SFLOAT depth, multisampled ones
+// read back sample by sample by a compute shader; the host averages each output pixel's samples in
+// linear space and sRGB-encodes the mean. A sample count the device does not offer for these
+// attachments (lavapipe: only 1 and 4) is a one-line Usage error naming the counts it offers.
 #ifndef RASTER_VULKAN_GRAPHICS_H
 #define RASTER_VULKAN_GRAPHICS_H
 
@@ -20,7 +29,8 @@ namespace sr {
 
 // Renders `settings.warmup + settings.repeat` frames on Vulkan device `deviceIndex` (same ordering and
 // validation rules as makeVulkanDevice) and returns the last one. stages holds one entry, "draw"
-// (GPU time of the render pass); stats has trianglesIn only.
+// (GPU time of the render pass; the readback is not timed); stats has trianglesIn only; samples is
+// filled when settings.aovSamples asks for it; hitCount stays empty.
 Result<RenderOutput> renderVulkanGraphics(const Scene& scene, const CameraMatrices& camera,
                                           const RenderSettings& settings, int deviceIndex);
 
