@@ -142,7 +142,11 @@ SR_NAMESPACE_BEGIN
 #define SPEC_MATERIALS 1
 // Specialization constant (Vulkan) / template argument (CUDA) of raster_tiles and shade: the sample
 // count they are built for (RasterParams.sampleCount), which sizes each invocation's array of keys or ids.
+// Vulkan's setup takes it too, so that a one-sample build holds only the one-sample loop.
 #define SPEC_SAMPLES 2
+// Specialization constant of shade (Vulkan): false builds only the one-sample-per-pixel path, the build
+// a frame without MSAA and SSAA runs (a CPU device would otherwise run the resolve loops too, masked).
+#define SPEC_RESOLVE 3
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u

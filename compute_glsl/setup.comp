@@ -13,6 +13,8 @@
 layout(local_size_x = GROUP_SIZE) in;
 // Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
+// Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): the one-sample build has no MSAA loop.
+layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
@@ -24,22 +26,26 @@ void emitTriangle(TriSetup t, bool clipped)
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
         bool masked = MATERIALS && params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
-        for (int y = bounds.y; y <= bounds.w; ++y) {
-            for (int x = bounds.x; x <= bounds.z; ++x) {
-                uint pixel = uint(y) * params.width + uint(x);
-                if (params.sampleCount == 1u) {
+        if (SAMPLES == 1u) {
+            for (int y = bounds.y; y <= bounds.w; ++y) {
+                for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
                     if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
-                        mergeFragment(pixel, depth, id);
-                    continue;
+                        mergeFragment(uint(y) * params.width + uint(x), depth, id);
                 }
-                // MSAA: the alpha test runs once per pixel, at its centre, as hardware shades a pixel.
-                uint mask = pixelCoverage(t, params.sampleCount, x, y);
+            }
+            return;
+        }
+        // MSAA, in a build of its own so that the one-sample loop compiles as it did without it: the alpha
+        // test runs once per pixel, at its centre, as hardware shades a pixel.
+        for (int y = bounds.y; y <= bounds.w; ++y) {
+            for (int x = bounds.x; x <= bounds.z; ++x) {
+                uint mask = pixelCoverage(t, SAMPLES, x, y);
                 if (mask == 0u || (masked && !alphaMaskCovers(id, x, y))) continue;
-                for (uint s = 0u; s < params.sampleCount; ++s) {
+                uint pixel = uint(y) * params.width + uint(x);
+                for (uint s = 0u; s < SAMPLES; ++s) {
                     float depth;
-                    if ((mask & (1u << s)) != 0u &&
-                        rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
+                    if ((mask & (1u << s)) != 0u && rasterSample(t, samplePosition(SAMPLES, s, x, y), depth))
                         mergeFragment(s * params.samplePlane + pixel, depth, id);
                 }
             }

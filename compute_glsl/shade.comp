@@ -14,6 +14,8 @@ layout(local_size_x = GROUP_SIZE) in;
 // Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): one build per count, so that a raster
 // pixel's ids sit in registers while its distinct triangles are found.
 layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
+// Whether output pixels have several samples, MSAA or SSAA (SPEC_RESOLVE).
+layout(constant_id = SPEC_RESOLVE) const bool RESOLVE = false;
 
 // Colour of triangle `id` at the centre of raster pixel (x, y).
 vec3 shadeTriangle(uint id, int x, int y)
@@ -32,10 +34,21 @@ vec3 shadeTriangle(uint id, int x, int y)
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    uint outWidth = params.width / params.ssaa;
-    if (i >= outWidth * (params.height / params.ssaa)) return;
     vec3 background = vec3(params.background.x, params.background.y, params.background.z);
     uint n = params.ssaa;
+    if (!RESOLVE) {  // one sample per pixel
+        if (i >= params.width * params.height) return;
+        uint id = visibilityId(visibility[i]);
+        vec3 color = background;
+        if (params.shadingMode == SHADING_HIT_COUNT)
+            color = hitCountColor(hitCount[i], color);
+        else if (id != EMPTY_ID)
+            color = shadeTriangle(id, int(i % params.width), int(i / params.width));
+        framebuffer[i] = packRgba8(color);
+        return;
+    }
+    uint outWidth = params.width / n;
+    if (i >= outWidth * (params.height / n)) return;
     precise vec3 sum = vec3(0.0f);
     for (uint sy = 0u; sy < n; ++sy) {
         for (uint sx = 0u; sx < n; ++sx) {
@@ -67,5 +80,5 @@ void main()
             }
         }
     }
-    framebuffer[i] = packRgba8(sum * recipDet(float(n * n * SAMPLES)));
+    framebuffer[i] = packRgba8(sum * sampleWeight(n * n * SAMPLES));
 }

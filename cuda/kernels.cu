@@ -28,11 +28,12 @@ __global__ void __launch_bounds__(GROUP_SIZE) vertexKernel(const RasterParams pa
 }
 // setup and raster_tiles come in two builds: with the alpha test of MASK materials, launched when the
 // scene has MASK triangles (Dispatch::alphaTest), and without, so that the test's code (surface,
-// material and texture lookups) costs every other scene neither registers nor instructions.
-template <bool kMaterials>
+// material and texture lookups) costs every other scene neither registers nor instructions. setup also
+// has a build with MSAA's per-sample loop and one without, for the same reason.
+template <bool kMaterials, bool kMultisample>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
-    setupStage<kMaterials>(params, b);
+    setupStage<kMaterials, kMultisample>(params, b);
 }
 __global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams params, const Buffers b)
 {
@@ -52,7 +53,8 @@ __global__ void __launch_bounds__(GROUP_SIZE) binFillKernel(const RasterParams p
     binFillStage(params, b);
 }
 // raster_tiles and shade also come in one build per sample count (RasterParams.sampleCount), which
-// sizes each thread's array of visibility keys or ids at compile time so that they stay in registers.
+// sizes each thread's array of visibility keys or ids at compile time so that they stay in registers;
+// shade's one-sample build without the resolve (kResolve) runs frames without MSAA and SSAA.
 template <bool kMaterials, uint kSamples>
 __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesKernel(const RasterParams params, const Buffers b)
@@ -60,10 +62,10 @@ __global__ void __launch_bounds__(TILE_SIZE* TILE_SIZE)
     rasterTilesStage<kMaterials, kSamples>(params, b);
 }
 
-template <uint kSamples>
+template <uint kSamples, bool kResolve>
 __global__ void __launch_bounds__(GROUP_SIZE) shadeKernel(const RasterParams params, const Buffers b)
 {
-    shadeStage<kSamples>(params, b);
+    shadeStage<kSamples, kResolve>(params, b);
 }
 
 // Calls launch(std::integral_constant<uint, S>{}) with S the frame's sample count: the builds of
@@ -99,10 +101,17 @@ cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterPar
     case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SETUP:
-        if (alphaTest)
-            setupKernel<true><<<blocks, threads, 0, stream>>>(params, buffers);
-        else
-            setupKernel<false><<<blocks, threads, 0, stream>>>(params, buffers);
+        if (params.sampleCount > 1u) {
+            if (alphaTest)
+                setupKernel<true, true><<<blocks, threads, 0, stream>>>(params, buffers);
+            else
+                setupKernel<false, true><<<blocks, threads, 0, stream>>>(params, buffers);
+        } else {
+            if (alphaTest)
+                setupKernel<true, false><<<blocks, threads, 0, stream>>>(params, buffers);
+            else
+                setupKernel<false, false><<<blocks, threads, 0, stream>>>(params, buffers);
+        }
         break;
     case STAGE_BIN_COUNT: binCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
@@ -119,9 +128,12 @@ cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterPar
         });
         break;
     case STAGE_SHADE:
-        forSampleCount(params.sampleCount, [&](auto samples) {
-            shadeKernel<decltype(samples)::value><<<blocks, threads, 0, stream>>>(params, buffers);
-        });
+        if (params.sampleCount == 1u && params.ssaa == 1u)
+            shadeKernel<1, false><<<blocks, threads, 0, stream>>>(params, buffers);
+        else
+            forSampleCount(params.sampleCount, [&](auto samples) {
+                shadeKernel<decltype(samples)::value, true><<<blocks, threads, 0, stream>>>(params, buffers);
+            });
         break;
     default: return cudaErrorInvalidValue;
     }

@@ -9,7 +9,7 @@ namespace sr {
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
-template <bool kMaterials>
+template <bool kMaterials, bool kMultisample>
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
                                     bool clipped)
 {
@@ -19,23 +19,28 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
         bool masked =
             kMaterials && params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
-        for (int y = bounds.y; y <= bounds.w; ++y) {
-            for (int x = bounds.x; x <= bounds.z; ++x) {
-                uint pixel = uint(y) * params.width + uint(x);
-                if (params.sampleCount == 1u) {
+        if (!kMultisample) {
+            for (int y = bounds.y; y <= bounds.w; ++y) {
+                for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
                     if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(params, b, id, x, y)))
-                        mergeFragment(params, b, pixel, depth, id);
-                    continue;
+                        mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
                 }
-                // MSAA: the alpha test runs once per pixel, at its centre, as hardware shades a pixel.
-                uint mask = pixelCoverage(t, params.sampleCount, x, y);
-                if (mask == 0u || (masked && !alphaMaskCovers(params, b, id, x, y))) continue;
-                for (uint s = 0u; s < params.sampleCount; ++s) {
-                    float depth;
-                    if ((mask & (1u << s)) != 0u &&
-                        rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
-                        mergeFragment(params, b, s * params.samplePlane + pixel, depth, id);
+            }
+        } else {
+            // MSAA, in a build of its own so that the one-sample loop compiles as it did without it: the
+            // alpha test runs once per pixel, at its centre, as hardware shades a pixel.
+            for (int y = bounds.y; y <= bounds.w; ++y) {
+                for (int x = bounds.x; x <= bounds.z; ++x) {
+                    uint mask = pixelCoverage(t, params.sampleCount, x, y);
+                    if (mask == 0u || (masked && !alphaMaskCovers(params, b, id, x, y))) continue;
+                    uint pixel = uint(y) * params.width + uint(x);
+                    for (uint s = 0u; s < params.sampleCount; ++s) {
+                        float depth;
+                        if ((mask & (1u << s)) != 0u &&
+                            rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
+                            mergeFragment(params, b, s * params.samplePlane + pixel, depth, id);
+                    }
                 }
             }
         }
@@ -65,7 +70,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
-template <bool kMaterials>
+template <bool kMaterials, bool kMultisample>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
     uint tri = globalThreadId();
@@ -89,7 +94,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         TriSetup t;
         if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                           params.height, params.sampleBounds, t)) {
-            emitTriangle<kMaterials>(params, b, t, kind == PREPARE_CLIPPED);
+            emitTriangle<kMaterials, kMultisample>(params, b, t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }

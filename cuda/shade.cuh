@@ -22,15 +22,27 @@ __device__ inline vec3 shadeTriangle(const RasterParams& params, const Buffers& 
 }
 
 // One build per sample count (RasterParams.sampleCount), so that a raster pixel's ids sit in registers
-// while its distinct triangles are found.
-template <uint kSamples>
+// while its distinct triangles are found; kResolve (SPEC_RESOLVE): whether output pixels have several
+// samples (MSAA or SSAA); the build without holds only the one-sample path.
+template <uint kSamples, bool kResolve>
 __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
 {
     uint i = globalThreadId();
-    uint outWidth = params.width / params.ssaa;
-    if (i >= outWidth * (params.height / params.ssaa)) return;
     vec3 background = vec3(params.background.x, params.background.y, params.background.z);
     uint n = params.ssaa;
+    if (!kResolve) {  // one sample per pixel
+        if (i >= params.width * params.height) return;
+        uint id = visibilityId(b.visibility[i]);
+        vec3 color = background;
+        if (params.shadingMode == SHADING_HIT_COUNT)
+            color = hitCountColor(b.hitCount[i], color);
+        else if (id != EMPTY_ID)
+            color = shadeTriangle(params, b, id, int(i % params.width), int(i / params.width));
+        b.framebuffer[i] = packRgba8(color);
+        return;
+    }
+    uint outWidth = params.width / n;
+    if (i >= outWidth * (params.height / n)) return;
     vec3 sum = vec3(0.0f);
     for (uint sy = 0u; sy < n; ++sy) {
         for (uint sx = 0u; sx < n; ++sx) {
@@ -62,7 +74,7 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
             }
         }
     }
-    b.framebuffer[i] = packRgba8(sum * recipDet(float(n * n * kSamples)));
+    b.framebuffer[i] = packRgba8(sum * sampleWeight(n * n * kSamples));
 }
 
 }  // namespace sr

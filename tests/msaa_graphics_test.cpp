@@ -33,23 +33,6 @@ glm::vec4 atPixel(double x, double y, uint32_t width, uint32_t height, float z =
     return glm::vec4(float(2.0 * x / width - 1.0), float(2.0 * y / height - 1.0), z, 1.0f);
 }
 
-// Two triangles forming an axis-aligned rectangle in NDC at depth z (as in render_test.cpp).
-std::vector<glm::vec4> quad(float x0, float y0, float x1, float y1, float z)
-{
-    return {{x0, y0, z, 1}, {x1, y0, z, 1}, {x1, y1, z, 1}, {x0, y0, z, 1}, {x1, y1, z, 1}, {x0, y1, z, 1}};
-}
-
-// Lambert with ambient 1 and no directional light: a covered sample's colour is its base colour, white
-// without vertex colours.
-RenderSettings unlitSettings(uint32_t width, uint32_t height)
-{
-    RenderSettings s = testSettings(width, height);
-    s.shadingMode = SHADING_LAMBERT;
-    s.ambient = 1.0f;
-    s.lightColor = glm::vec3(0.0f);
-    return s;
-}
-
 double srgbToLinear(double c)
 {
     return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
@@ -301,7 +284,7 @@ TEST_F(MsaaGraphicsTest, SampleAovsOnlyWhenAskedAndConsistentWithTheAovs)
 // may accept some of them, which then must render.
 TEST_F(MsaaGraphicsTest, UnofferedSampleCountIsAOneLineUsageError)
 {
-    const Scene scene = clipSpaceScene(quad(-1, -1, 1, 1, 0.5f));
+    const Scene scene = clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f));
     std::string deviceName;
     for (uint32_t msaa : {2u, 8u, 16u}) {
         RenderSettings s = testSettings(8, 8);

@@ -170,21 +170,8 @@ TEST_F(MsaaOracleTest, EdgesThroughSampleLocationsFollowTheFillRule)
     std::uniform_int_distribution<int> jitter(-20, 20);  // sixteenths of a pixel
     const int n = 7;
     const double step = 8.0, origin = 4.0;
-    std::vector<std::vector<glm::dvec2>> grid(n + 1, std::vector<glm::dvec2>(n + 1));
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            bool inner = i > 0 && i < n && j > 0 && j < n;
-            grid[j][i] = {origin + i * step + (inner ? jitter(rng) / 16.0 : 0.0),
-                          origin + j * step + (inner ? jitter(rng) / 16.0 : 0.0)};
-        }
-    std::vector<glm::vec4> corners;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
-            std::vector<glm::dvec2> order = (i + j) % 2 ? std::vector<glm::dvec2>{a, b, d, b, c, d}
-                                                        : std::vector<glm::dvec2>{a, b, c, a, c, d};
-            for (glm::dvec2 p : order) corners.push_back(win(p.x, p.y, 0.5f));
-        }
+    auto grid = jitteredGrid(n, origin, step, [&] { return jitter(rng) / 16.0; });
+    std::vector<glm::vec4> corners = windowQuadMesh(grid, kSize, kSize, true);
     RenderSettings s = testSettings(kSize, kSize);
     s.shadingMode = SHADING_PRIMITIVE_ID;
     forOfferedCounts(clipSpaceScene(corners), s, identityCamera(),

@@ -88,16 +88,17 @@ TEST(MsaaPattern, SampleBoundsAreThePatternsExtent)
     }
 }
 
-class MsaaTest : public BackendTest {
-protected:
-    RenderOutput render(const Scene& scene, const RenderSettings& settings,
-                        const CameraMatrices& camera = identityCamera())
-    {
-        auto out = renderScene(*device_, scene, camera, settings);
-        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
-        return out.ok() ? std::move(*out) : RenderOutput{};
+TEST(MsaaPattern, SampleWeightIsTheReciprocal)
+{
+    for (uint32_t count = 1; count <= 1024; ++count) {
+        if ((count & (count - 1)) == 0)
+            EXPECT_EQ(sampleWeight(count), 1.0f / float(count)) << count;  // exact for powers of two
+        else
+            EXPECT_NEAR(sampleWeight(count), 1.0 / count, std::ldexp(1.0, -23) / count) << count;  // < 1 ulp
     }
-};
+}
+
+class MsaaTest : public BackendTest {};
 
 // Window position (x, y) in pixels of a size x size viewport (a power of two, so the conversion to NDC
 // is exact), at depth z, as a clip-space vertex with w = 1.
@@ -278,23 +279,10 @@ TEST_P(MsaaTest, ClosedMeshCoversEverySampleOnce)
     std::uniform_real_distribution<double> jitter(-2.2, 2.2);
     const int n = 8;
     const double step = 7.0, origin = 4.0;
-    std::vector<std::vector<glm::dvec2>> grid(n + 1, std::vector<glm::dvec2>(n + 1));
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            bool inner = i > 0 && i < n && j > 0 && j < n;
-            grid[j][i] = {onGrid(origin + i * step + (inner ? jitter(rng) : 0.0)),
-                          onGrid(origin + j * step + (inner ? jitter(rng) : 0.0))};
-        }
+    auto grid = jitteredGrid(n, origin, step, [&] { return onGrid(jitter(rng)); });
     // The mesh's cells are small triangles (setup's path); the same outline as two big triangles runs the
     // tiled path.
-    std::vector<glm::vec4> corners;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
-            std::vector<glm::dvec2> order = (i + j) % 2 ? std::vector<glm::dvec2>{a, b, d, b, c, d}
-                                                        : std::vector<glm::dvec2>{a, b, c, a, c, d};
-            for (glm::dvec2 p : order) corners.push_back(win(size, p.x, p.y, 0.5f));
-        }
+    std::vector<glm::vec4> corners = windowQuadMesh(grid, size, size, true);
     const double lo = origin, hi = origin + n * step;
     for (glm::dvec2 p : {glm::dvec2(lo, lo), glm::dvec2(hi, lo), glm::dvec2(hi, hi), glm::dvec2(lo, lo),
                          glm::dvec2(hi, hi), glm::dvec2(lo, hi)})

@@ -94,20 +94,9 @@ double onGrid(double v)
     return std::round(v * 256.0) / 256.0;
 }
 
-// Two triangles per cell of a grid of window positions (grid[j][i]); with `alternate`, neighbouring
-// cells split along opposite diagonals, so shared edges occur in both orientations.
 std::vector<glm::vec4> quadMesh(const std::vector<std::vector<glm::dvec2>>& grid, bool alternate)
 {
-    std::vector<glm::vec4> corners;
-    for (size_t j = 0; j + 1 < grid.size(); ++j)
-        for (size_t i = 0; i + 1 < grid[j].size(); ++i) {
-            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
-            if (alternate && (i + j) % 2 == 0)
-                for (glm::dvec2 p : {a, b, d, b, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
-            else
-                for (glm::dvec2 p : {a, b, c, a, c, d}) corners.push_back(win(p.x, p.y, 0.5f));
-        }
-    return corners;
+    return windowQuadMesh(grid, kSize, kSize, alternate);
 }
 
 // Triangles of each power-of-two size with random vertices on the 1/256 grid, each at its own

@@ -13,22 +13,7 @@
 namespace sr::test {
 namespace {
 
-class RenderTest : public BackendTest {
-protected:
-    RenderOutput render(const Scene& scene, const RenderSettings& settings,
-                        const CameraMatrices& camera = identityCamera())
-    {
-        auto out = renderScene(*device_, scene, camera, settings);
-        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
-        return out.ok() ? std::move(*out) : RenderOutput{};
-    }
-};
-
-// Two triangles forming an axis-aligned rectangle in NDC at depth z.
-std::vector<glm::vec4> quad(float x0, float y0, float x1, float y1, float z)
-{
-    return {{x0, y0, z, 1}, {x1, y0, z, 1}, {x1, y1, z, 1}, {x0, y0, z, 1}, {x1, y1, z, 1}, {x0, y1, z, 1}};
-}
+class RenderTest : public BackendTest {};
 
 template <typename T>
 std::vector<T> concat(std::vector<T> a, const std::vector<T>& b)
@@ -40,7 +25,7 @@ std::vector<T> concat(std::vector<T> a, const std::vector<T>& b)
 TEST_P(RenderTest, QuadCoversExactlyTheLeftHalf)
 {
     const uint32_t w = 64, h = 48;
-    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 0, 1, 0.5f)), testSettings(w, h));
+    RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 0, 1, 0.5f)), testSettings(w, h));
     ASSERT_EQ(out.aov.id.size(), size_t(w) * h);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
@@ -61,7 +46,7 @@ TEST_P(RenderTest, NearerSurfaceWinsWhateverTheOrder)
 {
     const uint32_t w = 40, h = 40;
     for (bool nearFirst : {true, false}) {
-        auto nearQuad = quad(-1, -1, 1, 1, 0.3f), farQuad = quad(-0.5f, -1, 1, 0.5f, 0.7f);
+        auto nearQuad = clipQuad(-1, -1, 1, 1, 0.3f), farQuad = clipQuad(-0.5f, -1, 1, 0.5f, 0.7f);
         Scene scene = clipSpaceScene(nearFirst ? concat(nearQuad, farQuad) : concat(farQuad, nearQuad));
         RenderOutput out = render(scene, testSettings(w, h));
         uint32_t nearBase = nearFirst ? 0 : 2;
@@ -74,7 +59,7 @@ TEST_P(RenderTest, NearerSurfaceWinsWhateverTheOrder)
 
 TEST_P(RenderTest, EqualDepthsResolveToTheLowestTriangleId)
 {
-    Scene scene = clipSpaceScene(concat(quad(-1, -1, 1, 1, 0.5f), quad(-1, -1, 1, 1, 0.5f)));
+    Scene scene = clipSpaceScene(concat(clipQuad(-1, -1, 1, 1, 0.5f), clipQuad(-1, -1, 1, 1, 0.5f)));
     RenderOutput out = render(scene, testSettings(32, 32));
     for (uint32_t id : out.aov.id) ASSERT_TRUE(id == 0 || id == 1);
 }
@@ -153,12 +138,12 @@ TEST_P(RenderTest, HugeTriangleCoversEveryPixelOnce)
 
 TEST_P(RenderTest, NonFiniteVerticesAreDroppedAndTheRestDrawn)
 {
-    auto tris = concat(quad(-1, -1, 0, 1, 0.5f), std::vector<glm::vec4>{{NAN, 0, 0.5f, 1},
-                                                                        {1, 0, 0.5f, 1},
-                                                                        {1, 1, 0.5f, 1},
-                                                                        {0, 0, 0.5f, 1},
-                                                                        {INFINITY, 0, 0.5f, 1},
-                                                                        {1, 1, 0.5f, 1}});
+    auto tris = concat(clipQuad(-1, -1, 0, 1, 0.5f), std::vector<glm::vec4>{{NAN, 0, 0.5f, 1},
+                                                                            {1, 0, 0.5f, 1},
+                                                                            {1, 1, 0.5f, 1},
+                                                                            {0, 0, 0.5f, 1},
+                                                                            {INFINITY, 0, 0.5f, 1},
+                                                                            {1, 1, 0.5f, 1}});
     RenderOutput out = render(clipSpaceScene(tris), testSettings(32, 32));
     EXPECT_EQ(out.stats.invalid, 2u);
     EXPECT_EQ(countId(out.aov, 0) + countId(out.aov, 1), 32u * 16u);
@@ -283,7 +268,7 @@ TEST_P(RenderTest, TimingsAndMemoryAreReported)
     RenderSettings s = testSettings(32, 32);
     s.warmup = 1;
     s.repeat = 3;
-    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 1, 1, 0.5f)), s);
+    RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
     ASSERT_EQ(out.stages.size(), size_t(STAGE_COUNT));
     for (const StageTiming& t : out.stages) {
         EXPECT_LE(t.minMs, t.medianMs);

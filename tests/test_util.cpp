@@ -41,6 +41,30 @@ Scene clipSpaceScene(const std::vector<glm::vec4>& corners, const std::vector<ui
     return scene;
 }
 
+std::vector<glm::vec4> clipQuad(float x0, float y0, float x1, float y1, float z)
+{
+    return {{x0, y0, z, 1}, {x1, y0, z, 1}, {x1, y1, z, 1}, {x0, y0, z, 1}, {x1, y1, z, 1}, {x0, y1, z, 1}};
+}
+
+glm::vec4 windowVertex(double x, double y, uint32_t width, uint32_t height, float z)
+{
+    return {float(x * 2.0 / width - 1.0), float(y * 2.0 / height - 1.0), z, 1.0f};
+}
+
+std::vector<glm::vec4> windowQuadMesh(const std::vector<std::vector<glm::dvec2>>& grid, uint32_t width,
+                                      uint32_t height, bool alternate, float z)
+{
+    std::vector<glm::vec4> corners;
+    for (size_t j = 0; j + 1 < grid.size(); ++j)
+        for (size_t i = 0; i + 1 < grid[j].size(); ++i) {
+            glm::dvec2 a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
+            const glm::dvec2 order[2][6] = {{a, b, c, a, c, d}, {a, b, d, b, c, d}};
+            for (glm::dvec2 p : order[alternate && (i + j) % 2 == 0 ? 1 : 0])
+                corners.push_back(windowVertex(p.x, p.y, width, height, z));
+        }
+    return corners;
+}
+
 CameraMatrices identityCamera()
 {
     CameraMatrices camera;
@@ -57,6 +81,15 @@ RenderSettings testSettings(uint32_t width, uint32_t height)
     s.warmup = 0;
     s.repeat = 1;
     s.cullMode = CULL_NONE;
+    return s;
+}
+
+RenderSettings unlitSettings(uint32_t width, uint32_t height)
+{
+    RenderSettings s = testSettings(width, height);
+    s.shadingMode = SHADING_LAMBERT;
+    s.ambient = 1.0f;
+    s.lightColor = glm::vec3(0.0f);
     return s;
 }
 

@@ -20,6 +20,8 @@ namespace sr::test {
 // `skip` is set and the caller must GTEST_SKIP(). Vulkan runs with validation (errors fail the call).
 std::unique_ptr<ComputeDevice> openBackend(const std::string& backend, bool& skip);
 
+CameraMatrices identityCamera();  // clip space is world space (below)
+
 // A test run once per backend (the parameter names it): device_ is open, or the test was skipped under
 // SR_ALLOW_MISSING_BACKENDS, or it failed.
 class BackendTest : public ::testing::TestWithParam<std::string> {
@@ -32,6 +34,15 @@ protected:
         ASSERT_TRUE(device_);
     }
 
+    // The scene rendered on device_, or an empty output after a failure that the test reports.
+    RenderOutput render(const Scene& scene, const RenderSettings& settings,
+                        const CameraMatrices& camera = identityCamera())
+    {
+        auto out = renderScene(*device_, scene, camera, settings);
+        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
+        return out.ok() ? std::move(*out) : RenderOutput{};
+    }
+
     std::unique_ptr<ComputeDevice> device_;
 };
 
@@ -41,6 +52,9 @@ Scene clipSpaceScene(const std::vector<glm::vec4>& corners, const std::vector<ui
 CameraMatrices identityCamera();
 
 RenderSettings testSettings(uint32_t width, uint32_t height);
+// testSettings with Lambert shading, ambient 1 and no directional light: a covered pixel's colour is its
+// base colour itself (white without vertex colours or materials).
+RenderSettings unlitSettings(uint32_t width, uint32_t height);
 
 // The built-in scene under the auto camera at width x height, with back-face culling.
 struct FramedScene {
@@ -49,6 +63,34 @@ struct FramedScene {
     RenderSettings settings;
 };
 FramedScene framedBuiltin(uint32_t width, uint32_t height);
+
+// Two triangles forming an axis-aligned rectangle in NDC at depth z.
+std::vector<glm::vec4> clipQuad(float x0, float y0, float x1, float y1, float z);
+
+// Window position (x, y) in pixels of a width x height viewport at depth z, as a clip-space vertex with
+// w = 1 (exact for power-of-two sizes and positions on the 1/256 grid).
+glm::vec4 windowVertex(double x, double y, uint32_t width, uint32_t height, float z);
+
+// A grid of window positions (grid[j][i]) whose interior vertices move by `jitter` (a draw per
+// coordinate, in pixels) and whose border stays on the regular grid origin + k * step.
+template <typename Jitter>
+std::vector<std::vector<glm::dvec2>> jitteredGrid(int cells, double origin, double step, Jitter jitter)
+{
+    std::vector<std::vector<glm::dvec2>> grid(cells + 1, std::vector<glm::dvec2>(cells + 1));
+    for (int j = 0; j <= cells; ++j)
+        for (int i = 0; i <= cells; ++i) {
+            bool inner = i > 0 && i < cells && j > 0 && j < cells;
+            double dx = inner ? jitter() : 0.0, dy = inner ? jitter() : 0.0;
+            grid[j][i] = {origin + i * step + dx, origin + j * step + dy};
+        }
+    return grid;
+}
+
+// Two triangles per cell of a grid of window positions (grid[j][i]) of a width x height viewport, at
+// depth z; with `alternate`, neighbouring cells split along opposite diagonals, so shared edges occur in
+// both orientations.
+std::vector<glm::vec4> windowQuadMesh(const std::vector<std::vector<glm::dvec2>>& grid, uint32_t width,
+                                      uint32_t height, bool alternate, float z = 0.5f);
 
 // Two triangles in clip space: the left one counter-clockwise on screen (front-facing), the right one
 // clockwise, mirror images of each other. NDC y = -1 is the top row.

@@ -19,12 +19,6 @@
 namespace sr::test {
 namespace {
 
-// Two triangles forming an axis-aligned rectangle in NDC at depth z (as in render_test.cpp).
-std::vector<glm::vec4> quad(float x0, float y0, float x1, float y1, float z)
-{
-    return {{x0, y0, z, 1}, {x1, y0, z, 1}, {x1, y1, z, 1}, {x0, y0, z, 1}, {x1, y1, z, 1}, {x0, y1, z, 1}};
-}
-
 std::vector<glm::vec4> concat(std::vector<glm::vec4> a, const std::vector<glm::vec4>& b)
 {
     a.insert(a.end(), b.begin(), b.end());
@@ -63,7 +57,7 @@ uint32_t checkerWord(int i, int j)
 // u = uvScale * (x + 0.5) / w and v = uvScale * (y + 0.5) / h (NDC y = -1, the top row, is v = 0).
 Scene texturedQuad(const SceneTexture& texture, float uvScale, uint32_t alphaMode = ALPHA_OPAQUE)
 {
-    Scene scene = clipSpaceScene(quad(-1, -1, 1, 1, 0.5f));
+    Scene scene = clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f));
     for (const glm::vec4& p : scene.positions)
         scene.texcoords.push_back(
             glm::vec4((p.x + 1.0f) * 0.5f * uvScale, (p.y + 1.0f) * 0.5f * uvScale, 0, 0));
@@ -77,16 +71,6 @@ Scene texturedQuad(const SceneTexture& texture, float uvScale, uint32_t alphaMod
         for (uint32_t& flags : scene.triFlags) flags |= TRI_FLAG_ALPHA_MASK;
     scene.textures = {texture};
     return scene;
-}
-
-// Lambert with ambient 1 and no directional light: the colour is the base colour itself.
-RenderSettings unlitSettings(uint32_t width, uint32_t height)
-{
-    RenderSettings s = testSettings(width, height);
-    s.shadingMode = SHADING_LAMBERT;
-    s.ambient = 1.0f;
-    s.lightColor = glm::vec3(0.0f);
-    return s;
 }
 
 // Whether coordinate `texels` (u or v times the texture size) lies within 1e-3 texel of a texel border,
@@ -151,7 +135,7 @@ TEST_F(VulkanGraphicsTest, QuadCoversExactlyTheLeftHalf)
 {
     const uint32_t w = 64, h = 48;
     RenderSettings s = testSettings(w, h);
-    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 0, 1, 0.5f)), s);
+    RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 0, 1, 0.5f)), s);
     ASSERT_EQ(out.aov.id.size(), size_t(w) * h);
     ASSERT_EQ(out.color.pixels.size(), size_t(w) * h);
     EXPECT_EQ(out.aov.width, w);
@@ -176,7 +160,7 @@ TEST_F(VulkanGraphicsTest, NearerSurfaceWinsWhateverTheOrder)
 {
     const uint32_t w = 40, h = 40;
     for (bool nearFirst : {true, false}) {
-        auto nearQuad = quad(-1, -1, 1, 1, 0.3f), farQuad = quad(-0.5f, -1, 1, 0.5f, 0.7f);
+        auto nearQuad = clipQuad(-1, -1, 1, 1, 0.3f), farQuad = clipQuad(-0.5f, -1, 1, 0.5f, 0.7f);
         Scene scene = clipSpaceScene(nearFirst ? concat(nearQuad, farQuad) : concat(farQuad, nearQuad));
         RenderOutput out = render(scene, testSettings(w, h));
         ASSERT_EQ(out.aov.id.size(), size_t(w) * h);
@@ -190,7 +174,7 @@ TEST_F(VulkanGraphicsTest, NearerSurfaceWinsWhateverTheOrder)
 
 TEST_F(VulkanGraphicsTest, EqualDepthsResolveToTheFirstTriangleDrawn)
 {
-    Scene scene = clipSpaceScene(concat(quad(-1, -1, 1, 1, 0.5f), quad(-1, -1, 1, 1, 0.5f)));
+    Scene scene = clipSpaceScene(concat(clipQuad(-1, -1, 1, 1, 0.5f), clipQuad(-1, -1, 1, 1, 0.5f)));
     RenderOutput out = render(scene, testSettings(32, 32));
     ASSERT_EQ(out.aov.id.size(), 32u * 32u);
     for (uint32_t id : out.aov.id) ASSERT_TRUE(id == 0 || id == 1) << id;
@@ -389,7 +373,7 @@ TEST_F(VulkanGraphicsTest, ReportsTimingsStatsAndDevice)
     RenderSettings s = testSettings(16, 16);
     s.warmup = 1;
     s.repeat = 3;
-    RenderOutput out = render(clipSpaceScene(quad(-1, -1, 1, 1, 0.5f)), s);
+    RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
     ASSERT_EQ(out.stages.size(), 1u);
     EXPECT_EQ(out.stages[0].name, "draw");
     EXPECT_GE(out.stages[0].minMs, 0.0);
@@ -408,7 +392,7 @@ TEST_F(VulkanGraphicsTest, ReportsTimingsStatsAndDevice)
 
 TEST_F(VulkanGraphicsTest, OutOfRangeDeviceIndexIsAnError)
 {
-    const Scene scene = clipSpaceScene(quad(-1, -1, 1, 1, 0.5f));
+    const Scene scene = clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f));
     for (int index : {1000, -2}) {
         auto out = renderVulkanGraphics(scene, identityCamera(), testSettings(8, 8), index);
         ASSERT_FALSE(out.ok()) << index;
@@ -420,7 +404,7 @@ TEST_F(VulkanGraphicsTest, OutOfRangeDeviceIndexIsAnError)
 
 TEST_F(VulkanGraphicsTest, RejectsWhatRenderSceneRejects)
 {
-    const Scene scene = clipSpaceScene(quad(-1, -1, 1, 1, 0.5f));
+    const Scene scene = clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f));
     RenderSettings noRepeat = testSettings(8, 8);
     noRepeat.repeat = 0;
     RenderSettings tooWide = testSettings(MAX_FRAMEBUFFER_DIM + 1, 8);

@@ -79,6 +79,16 @@ SR_FN uint packRgba8(vec3 linearRgb)
     return r | (g << 8) | (b << 16) | (255u << 24);
 }
 
+// 1 / count, the weight of one of `count` samples in a pixel's mean: exact for a power of two (built
+// from the exponent bits, no division), else the deterministic reciprocal.
+SR_FN float sampleWeight(uint count)
+{
+    if ((count & (count - 1u)) != 0u) return recipDet(float(count));
+    uint log2Count = 0u;
+    while ((1u << log2Count) < count) ++log2Count;
+    return uintBitsToFloat((127u - log2Count) << 23);
+}
+
 // A stable, well-spread colour per triangle id (integer hash, then 3 bytes).
 SR_FN vec3 idColor(uint id)
 {

@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "render/compute_device.h"
@@ -120,10 +121,20 @@ private:
     }
 
     Status createPipelines();
-    Status createPipeline(uint32_t stage, bool materials, uint32_t samples, VkPipeline& pipeline);
-    // The pipeline dispatch `d` runs in a frame of `samples` samples per pixel, created on first use for
-    // a multisampled raster_tiles.
-    Result<VkPipeline> pipeline(const Dispatch& d, uint32_t samples);
+    // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE.
+    struct Build {
+        bool materials = false;
+        uint32_t samples = 1;
+        bool resolve = false;
+        bool operator<(const Build& o) const
+        {
+            return std::tie(materials, samples, resolve) < std::tie(o.materials, o.samples, o.resolve);
+        }
+    };
+    Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
+    // The pipeline dispatch `d` runs in a frame with `params`; a build for MSAA or SSAA is created the
+    // first time a frame asks for it.
+    Result<VkPipeline> pipeline(const Dispatch& d, const RasterParams& params);
     Status ensureBindings();
     Status checkTransfer(const char* what, uint32_t buffer, size_t bytes) const;
     Status resizeBuffer(uint32_t buffer, size_t bytes);
@@ -140,9 +151,9 @@ private:
     // dispatches that ask for it (Dispatch::alphaTest); pipelines_ has them without it. Null for the
     // other stages.
     VkPipeline materialPipelines_[STAGE_COUNT] = {};
-    // raster_tiles (without and with the alpha test) and shade for more than one sample per pixel, by
-    // (stage, alpha test, samples); made when a frame first asks for them.
-    std::map<std::tuple<uint32_t, bool, uint32_t>, VkPipeline> sampledPipelines_;
+    // setup, raster_tiles and shade for MSAA or SSAA, by stage and build; made when a frame first asks for
+    // them.
+    std::map<std::pair<uint32_t, Build>, VkPipeline> sampledPipelines_;
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
     bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
@@ -180,17 +191,17 @@ Status VulkanDevice::createPipelines()
 {
     // All the one-sample builds at construction: a shader the driver rejects is reported before any
     // work is done, and lazy creation would only move the compile time into the first frame. The
-    // multisampled builds of raster_tiles and shade are made when a frame first asks for them
-    // (pipeline()), so that a device nobody asks for MSAA does not compile twelve more shaders.
+    // builds of setup, raster_tiles and shade for MSAA or SSAA are made when a frame first asks for them
+    // (pipeline()), so that a device nobody asks for anti-aliasing compiles no more shaders.
     for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
         bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
-        SR_TRY(createPipeline(stage, false, 1, pipelines_[stage]));
-        if (variants) SR_TRY(createPipeline(stage, true, 1, materialPipelines_[stage]));
+        SR_TRY(createPipeline(stage, Build{}, pipelines_[stage]));
+        if (variants) SR_TRY(createPipeline(stage, Build{true, 1, false}, materialPipelines_[stage]));
     }
     return okStatus();
 }
 
-Status VulkanDevice::createPipeline(uint32_t stage, bool materials, uint32_t samples, VkPipeline& pipeline)
+Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline)
 {
     // Specialization constant 0, the invocations of a raster_tiles group: one per tile pixel on a GPU;
     // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
@@ -198,24 +209,28 @@ Status VulkanDevice::createPipeline(uint32_t stage, bool materials, uint32_t sam
     // Specialization constant SPEC_MATERIALS of setup and raster_tiles: whether the alpha test of MASK
     // materials is compiled in. Each is built both ways, so that scenes without MASK triangles run code
     // without the test's surface, material and texture lookups (fewer registers on a GPU; on a CPU, where
-    // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of raster_tiles and
-    // shade: the sample count, which sizes each invocation's array of keys or ids.
+    // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of setup, raster_tiles
+    // and shade: the sample count, which sizes each invocation's array of keys or ids. SPEC_RESOLVE of
+    // shade: whether output pixels have several samples. The one-sample builds hold none of the
+    // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
         uint32_t samples;
+        VkBool32 resolve;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
-                   materials ? VK_TRUE : VK_FALSE, samples};
-    const VkSpecializationMapEntry entries[3] = {
+                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[4] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
-        {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)}};
+        {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
+        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     Result<VkShaderModule> module =
         context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 3;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 4;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
@@ -239,13 +254,17 @@ Status VulkanDevice::createPipeline(uint32_t stage, bool materials, uint32_t sam
     return okStatus();
 }
 
-Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, uint32_t samples)
+Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams& params)
 {
-    bool alphaTest = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
-    if ((d.stage != STAGE_RASTER_TILES && d.stage != STAGE_SHADE) || samples == 1)
-        return alphaTest ? materialPipelines_[d.stage] : pipelines_[d.stage];
-    VkPipeline& p = sampledPipelines_[{d.stage, alphaTest, samples}];
-    if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, alphaTest, samples, p));
+    Build build;
+    build.materials = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
+    if (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES || d.stage == STAGE_SHADE)
+        build.samples = params.sampleCount;
+    build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
+    if (build.samples == 1 && !build.resolve)
+        return build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
+    VkPipeline& p = sampledPipelines_[{d.stage, build}];
+    if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
     return p;
 }
 
@@ -340,7 +359,7 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     if (dispatches.empty()) return okStatus();
     std::vector<VkPipeline> bound(dispatches.size());
     for (size_t i = 0; i < dispatches.size(); ++i) {
-        Result<VkPipeline> p = pipeline(dispatches[i], params.sampleCount);
+        Result<VkPipeline> p = pipeline(dispatches[i], params);
         if (!p.ok()) return p.error();
         bound[i] = *p;
     }

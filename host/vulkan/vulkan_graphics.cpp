@@ -265,6 +265,7 @@ private:
     Status createSampleReadback();
     Status readWords(RenderOutput& out, bool allSamples);
     Status readSingleSamples(SampleFrame& frame);
+    Status copyAttachments(const VkDeviceSize offsets[kAttachmentCount]);
     Status readSamples(SampleFrame& frame, bool allSamples);
     void resolve(SampleFrame& frame, RenderOutput& out, bool allSamples) const;
 
@@ -1003,6 +1004,28 @@ Status GraphicsRender::drawFrame(double& ms)
     return okStatus();
 }
 
+// Copies the three single-sample attachments into the staging buffer at `offsets` (by attachment
+// index) and waits until the host can read them.
+Status GraphicsRender::copyAttachments(const VkDeviceSize offsets[kAttachmentCount])
+{
+    SR_TRY(ctx_.beginCommands());
+    VkCommandBuffer cmd = ctx_.commandBuffer();
+    const GpuImage* images[kAttachmentCount] = {&color_, &id_, &depth_};
+    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = offsets[i];
+        region.imageSubresource.aspectMask =
+            i == kDepthAttachment ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+        region.imageSubresource.layerCount = 1;
+        region.imageExtent = {params_.width, params_.height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[i]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               ctx_.staging().buffer, 1, &region);
+    }
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    return ctx_.submitAndWait();
+}
+
 Status GraphicsRender::readBack(RenderOutput& out, bool allSamples)
 {
     if (!antialiased_) return readWords(out, allSamples);
@@ -1021,22 +1044,9 @@ Status GraphicsRender::readWords(RenderOutput& out, bool allSamples)
     const VkDeviceSize planeBytes = pixels * sizeof(uint32_t);  // every attachment has 4-byte texels
     SR_TRY(ctx_.ensureStaging(kAttachmentCount * planeBytes));
 
-    SR_TRY(ctx_.beginCommands());
-    VkCommandBuffer cmd = ctx_.commandBuffer();
-    const GpuImage* images[kAttachmentCount] = {&color_, &id_, &depth_};
-    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = i * planeBytes;
-        region.imageSubresource.aspectMask =
-            i == kDepthAttachment ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
-        region.imageSubresource.layerCount = 1;
-        region.imageExtent = {params_.width, params_.height, 1};
-        vkCmdCopyImageToBuffer(cmd, images[i]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               ctx_.staging().buffer, 1, &region);
-    }
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    SR_TRY(ctx_.submitAndWait());
+    const VkDeviceSize offsets[kAttachmentCount] = {kColorAttachment * planeBytes, kIdAttachment * planeBytes,
+                                                    kDepthAttachment * planeBytes};
+    SR_TRY(copyAttachments(offsets));
 
     const auto* planes = static_cast<const uint8_t*>(ctx_.staging().mapped);
     color.width = aov.width = params_.width;
@@ -1059,22 +1069,7 @@ Status GraphicsRender::readSingleSamples(SampleFrame& frame)
     const VkDeviceSize offsets[kAttachmentCount] = {0, colorBytes, colorBytes + planeBytes};
     SR_TRY(ctx_.ensureStaging(colorBytes + 2 * planeBytes));
 
-    SR_TRY(ctx_.beginCommands());
-    VkCommandBuffer cmd = ctx_.commandBuffer();
-    const GpuImage* images[kAttachmentCount] = {&color_, &id_, &depth_};
-    for (uint32_t i = 0; i < kAttachmentCount; ++i) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offsets[i];
-        region.imageSubresource.aspectMask =
-            i == kDepthAttachment ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
-        region.imageSubresource.layerCount = 1;
-        region.imageExtent = {params_.width, params_.height, 1};
-        vkCmdCopyImageToBuffer(cmd, images[i]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               ctx_.staging().buffer, 1, &region);
-    }
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    SR_TRY(ctx_.submitAndWait());
+    SR_TRY(copyAttachments(offsets));
 
     const auto* staged = static_cast<const uint8_t*>(ctx_.staging().mapped);
     frame.planes = 1;
