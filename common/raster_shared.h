@@ -30,30 +30,34 @@ SR_NAMESPACE_BEGIN
 // ---------------------------------------------------------------------------------------------------
 // Buffer bindings. Vulkan: descriptor binding numbers of set 0. CUDA and host: indices of the device
 // buffer table. Same numbers, same names everywhere.
-#define BUF_PARAMS 0          // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
-#define BUF_POSITIONS 1       // vec4 per vertex: world-space position, w = 1
-#define BUF_NORMALS 2         // vec4 per vertex: world-space normal, w = 0
-#define BUF_COLORS 3          // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
-#define BUF_INDICES 4         // uint, 3 per triangle, already validated on the host
-#define BUF_TRI_FLAGS 5       // uint per triangle: TRI_FLAG_* bits
-#define BUF_CLIP_POS 6        // vec4 per vertex: clip-space position (vertex stage output, read by setup)
-#define BUF_SETUP_TRIS 7      // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
-#define BUF_PIECES 8          // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
-#define BUF_TILE_BINS 9       // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
-#define BUF_SCAN_SUMS 10      // uint per scan block of tiles: block total, scanned to its base offset
-#define BUF_BIN_ENTRIES 11    // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
-#define BUF_ACTIVE_TILES 12   // uint: the screen tiles whose bin is not empty, in no particular order
-#define BUF_COUNTERS 13       // uint[COUNTER_COUNT]: list lengths and statistics
-#define BUF_VISIBILITY 14     // uint64 per sample: depth bits << 32 | triangle id, ~0 = empty (samplePlane)
-#define BUF_FRAMEBUFFER 15    // uint per output pixel: RGBA8, sRGB-encoded, resolved colour
-#define BUF_HIT_COUNT 16      // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
-#define BUF_MATERIALS 17      // GpuMaterial per scene material (RasterParams.materialCount of them)
-#define BUF_TRI_MATERIALS 18  // uint per triangle: its material's index (read only when materialCount > 0)
-#define BUF_TEXCOORDS 19      // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
-#define BUF_TEXTURES 20       // GpuTexture per texture
-#define BUF_TEXELS 21         // uint per texel, RGBA8 (R in the low byte): every level of every texture
-#define BUF_SRGB_TABLE 22     // float[256]: the linear value of each sRGB-encoded byte (decode table)
-#define BUF_COUNT 23
+#define BUF_PARAMS 0         // RasterParams (uniform buffer in Vulkan, kernel argument in CUDA)
+#define BUF_POSITIONS 1      // vec4 per vertex: world-space position, w = 1
+#define BUF_NORMALS 2        // vec4 per vertex: world-space normal, w = 0
+#define BUF_COLORS 3         // vec4 per vertex: linear RGBA (only read when RasterParams.hasColors)
+#define BUF_INDICES 4        // uint, 3 per triangle, already validated on the host
+#define BUF_TRI_FLAGS 5      // uint per triangle: TRI_FLAG_* bits
+#define BUF_CLIP_POS 6       // vec4 per vertex: clip-space position (vertex stage output, read by setup)
+#define BUF_SETUP_TRIS 7     // TriSetup per clipped big sub-triangle (BIN_REF_RECORD refs)
+#define BUF_PIECES 8         // uvec2 per piece of a big triangle: bin ref, first tile index in its tile rect
+#define BUF_TILE_BINS 9      // uint per screen tile: bin count -> offset in its scan block -> end (binEnd)
+#define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned to its base offset
+#define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
+#define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
+#define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_VISIBILITY \
+    14  // uint64 per sample, sample s of pixel p at s * samplePlane + p: depth bits << 32 |
+        // primitive id, ~0 = empty
+#define BUF_FRAMEBUFFER 15  // uint per output pixel: RGBA8, sRGB-encoded, resolved colour
+#define BUF_HIT_COUNT 16    // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
+#define BUF_MATERIALS 17    // GpuMaterial per scene material (RasterParams.materialCount of them)
+#define BUF_TRI_MATERIALS \
+    18                     // uint per primitive id (triangles, then points): its material (if materialCount)
+#define BUF_TEXCOORDS 19   // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
+#define BUF_TEXTURES 20    // GpuTexture per texture
+#define BUF_TEXELS 21      // uint per texel, RGBA8 (R in the low byte): every level of every texture
+#define BUF_SRGB_TABLE 22  // float[256]: the linear value of each sRGB-encoded byte (decode table)
+#define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + k)
+#define BUF_COUNT 24
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -68,13 +72,16 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_WORK_OVERFLOW 8  // non-zero when the pieces or bin entries of one frame pass 2^31
 #define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_blocks
 #define COUNTER_SPLIT 10         // big triangles of more than one piece (their pieces need bin_count)
-#define COUNTER_COUNT 11
+#define COUNTER_POINTS 11        // points rasterized (not culled) by setup
+#define COUNTER_COUNT 12
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
-#define STAGE_CLEAR 0        // visibility := empty, counters and tile bins := 0
-#define STAGE_VERTEX 1       // per vertex: clip position
-#define STAGE_SETUP 2        // per triangle: cull, clip, snap; rasterize small ones, cut big ones into pieces
+#define STAGE_CLEAR 0   // visibility := empty, counters and tile bins := 0
+#define STAGE_VERTEX 1  // per vertex: clip position
+#define STAGE_SETUP \
+    2                        // per primitive: cull, clip, snap; rasterize points and small triangles, cut big
+                             // triangles into pieces
 #define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
 #define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
 #define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
@@ -106,6 +113,7 @@ SR_NAMESPACE_BEGIN
 #define GUARD_BAND_PX 16384.0f
 #define MAX_FRAMEBUFFER_DIM 16384  // largest raster grid side (output resolution x ssaa)
 #define MAX_SAMPLES 16             // largest sampleCount
+#define MAX_POINT_SIZE 64.0f       // largest point size in pixels: a point is rasterized by one thread
 #define MAX_SSAA 8                 // largest ssaa factor
 // The 1x sample pattern's sampleBounds: the pixel centre, 128 subpixels from the pixel's corner.
 #define PIXEL_CENTER_BOUNDS 0x80808080u
@@ -201,7 +209,9 @@ struct RasterParams {
     uint sampleCount;       // coverage samples per pixel (MSAA): 1, 2, 4, 8 or 16, at standardSample()
     uint sampleBounds;      // sampleBoundsOf(sampleCount): the pattern's extent within a pixel
     uint ssaa;              // SSAA factor N: width x height is the raster grid, N times the output's per side
-    uint samplePlane;  // width * height: sample s of pixel p has its visibility key at s * samplePlane + p
+    uint samplePlane;       // width * height: the stride of BUF_VISIBILITY's sample planes
+    uint pointCount;        // entries in BUF_POINTS; setup runs triangleCount + pointCount threads
+    float pointSize;        // point side in pixels, 1..MAX_POINT_SIZE
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -239,7 +249,7 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 24 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 26 * 4, "RasterParams must match std140");
 static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");

@@ -31,6 +31,7 @@ layout(std430, set = 0, binding = BUF_TEXCOORDS) readonly buffer TexcoordsBlock 
 layout(std430, set = 0, binding = BUF_TEXTURES) readonly buffer TexturesBlock { GpuTexture textures[]; };
 layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint texels[]; };
 layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock { float srgbTable[]; };
+layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
 // plus the debug hit count. Used by setup for small triangles; raster_tiles owns its pixels and writes
@@ -155,6 +156,16 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
                            t.height);
     return base * sampleTexture(t, uv, lambda);
+}
+
+// Base colour (linear RGBA: vertex colour x material factor; points take no texture) of point primitive
+// `id`.
+vec4 pointBaseColor(uint id)
+{
+    uint v = points[id - params.triangleCount];
+    vec4 base = params.hasColors != 0u ? colors[v] : vec4(1.0f);
+    if (params.materialCount == 0u) return base;
+    return base * materials[min(triMaterials[id], params.materialCount - 1u)].baseColorFactor;
 }
 
 // The alpha test of an alphaMode MASK triangle at pixel (px, py), for the visibility stages: a pixel

@@ -76,10 +76,47 @@ void emitTriangle(TriSetup t, bool clipped)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
+// Rasterizes point k (primitive triangleCount + k) by its invocation: every sample of the pixels its
+// square reaches, merged like a small triangle's. Points are opaque and have no facing.
+void rasterPoint(uint k)
+{
+    uint v = points[k];
+    if (v >= params.vertexCount) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 c = setupClipPosition(params, positions[v], params.transformInSetup == 0u ? clipPos[v] : vec4(0.0f));
+    if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    PointSetup pt;
+    ivec4 r = ivec4(0, 0, -1, -1);
+    if (setupPoint(c, params.pointSize, params.width, params.height, pt))
+        r = pointPixelBounds(pt, params.width, params.height, params.sampleBounds);
+    if (r.x > r.z || r.y > r.w) {
+        atomicAdd(counters[COUNTER_CULLED], 1u);
+        return;
+    }
+    atomicAdd(counters[COUNTER_POINTS], 1u);
+    uint id = params.triangleCount + k;
+    for (int y = r.y; y <= r.w; ++y) {
+        for (int x = r.x; x <= r.z; ++x) {
+            uint pixel = uint(y) * params.width + uint(x);
+            for (uint s = 0u; s < SAMPLES; ++s)
+                if (pointCoversSample(pt, samplePosition(SAMPLES, s, x, y)))
+                    mergeFragment(s * params.samplePlane + pixel, pt.depth, id);
+        }
+    }
+}
+
 void main()
 {
     uint tri = gl_GlobalInvocationID.x;
-    if (tri >= params.triangleCount) return;
+    if (tri >= params.triangleCount) {
+        if (tri < params.triangleCount + params.pointCount) rasterPoint(tri - params.triangleCount);
+        return;
+    }
     vec4 c0, c1, c2;
     if (!loadClipTriangle(tri, c0, c1, c2)) {
         atomicAdd(counters[COUNTER_INVALID], 1u);

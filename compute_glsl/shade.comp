@@ -17,9 +17,11 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 // Whether output pixels have several samples, MSAA or SSAA (SPEC_RESOLVE).
 layout(constant_id = SPEC_RESOLVE) const bool RESOLVE = false;
 
-// Colour of triangle `id` at the centre of raster pixel (x, y).
-vec3 shadeTriangle(uint id, int x, int y)
+// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a
+// point's unlit base colour.
+vec3 shadePrimitive(uint id, int x, int y)
 {
+    if (id >= params.triangleCount) return shadePoint(params, id, pointBaseColor(id));
     uint i0 = indices[3u * id];
     uint i1 = indices[3u * id + 1u];
     uint i2 = indices[3u * id + 2u];
@@ -43,7 +45,7 @@ void main()
         if (params.shadingMode == SHADING_HIT_COUNT)
             color = hitCountColor(hitCount[i], color);
         else if (id != EMPTY_ID)
-            color = shadeTriangle(id, int(i % params.width), int(i / params.width));
+            color = shadePrimitive(id, int(i % params.width), int(i / params.width));
         framebuffer[i] = packRgba8(color);
         return;
     }
@@ -73,7 +75,7 @@ void main()
                     ++owned;
                 }
                 if (!first) continue;
-                vec3 color = id[s] == EMPTY_ID ? background : shadeTriangle(id[s], x, y);
+                vec3 color = id[s] == EMPTY_ID ? background : shadePrimitive(id[s], x, y);
                 // Each sample's colour as the image shows it (clamped to [0, 1], packRgba8's range) before
                 // the mean: a highlight far above 1 must not bleed over the pixel's other samples.
                 sum = sum + clamp(color, vec3(0.0f), vec3(1.0f)) * float(owned);

@@ -31,6 +31,7 @@ struct Buffers {
     const GpuTexture* textures;      // BUF_TEXTURES
     const uint* texels;              // BUF_TEXELS
     const float* srgbTable;          // BUF_SRGB_TABLE
+    const uint* points;              // BUF_POINTS
 };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
@@ -153,6 +154,16 @@ __device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffe
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
                            t.height);
     return base * sampleTexture(params, b, t, uv, lambda);
+}
+
+// Base colour (linear RGBA: vertex colour x material factor; points take no texture) of point primitive
+// `id`.
+__device__ inline vec4 pointBaseColor(const RasterParams& params, const Buffers& b, uint id)
+{
+    uint v = b.points[id - params.triangleCount];
+    vec4 base = params.hasColors != 0u ? b.colors[v] : vec4(1.0f);
+    if (params.materialCount == 0u) return base;
+    return base * b.materials[min(b.triMaterials[id], params.materialCount - 1u)].baseColorFactor;
 }
 
 // The alpha test of an alphaMode MASK triangle at pixel (px, py), for the visibility stages: a pixel

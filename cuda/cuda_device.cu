@@ -156,6 +156,7 @@ private:
         b.textures = as<GpuTexture>(BUF_TEXTURES);
         b.texels = as<uint>(BUF_TEXELS);
         b.srgbTable = as<float>(BUF_SRGB_TABLE);
+        b.points = as<uint>(BUF_POINTS);
         return b;
     }
 

@@ -70,11 +70,52 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
+// Rasterizes point k (primitive triangleCount + k) by its thread: every sample of the pixels its square
+// reaches, merged like a small triangle's. Points are opaque and have no facing.
+template <bool kMultisample>
+__device__ inline void rasterPoint(const RasterParams& params, const Buffers& b, uint k)
+{
+    uint v = b.points[k];
+    if (v >= params.vertexCount) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 c =
+        setupClipPosition(params, b.positions[v], params.transformInSetup == 0u ? b.clipPos[v] : vec4(0.0f));
+    if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    PointSetup pt;
+    ivec4 r = ivec4(0, 0, -1, -1);
+    if (setupPoint(c, params.pointSize, params.width, params.height, pt))
+        r = pointPixelBounds(pt, params.width, params.height, params.sampleBounds);
+    if (r.x > r.z || r.y > r.w) {
+        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+        return;
+    }
+    atomicAdd(&b.counters[COUNTER_POINTS], 1u);
+    uint id = params.triangleCount + k;
+    uint samples = kMultisample ? params.sampleCount : 1u;
+    for (int y = r.y; y <= r.w; ++y) {
+        for (int x = r.x; x <= r.z; ++x) {
+            uint pixel = uint(y) * params.width + uint(x);
+            for (uint s = 0u; s < samples; ++s)
+                if (pointCoversSample(pt, samplePosition(samples, s, x, y)))
+                    mergeFragment(params, b, s * params.samplePlane + pixel, pt.depth, id);
+        }
+    }
+}
+
 template <bool kMaterials, bool kMultisample>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
     uint tri = globalThreadId();
-    if (tri >= params.triangleCount) return;
+    if (tri >= params.triangleCount) {
+        if (tri < params.triangleCount + params.pointCount)
+            rasterPoint<kMultisample>(params, b, tri - params.triangleCount);
+        return;
+    }
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);

@@ -7,9 +7,11 @@
 // One thread per output pixel; blocks = ceil(outputPixels / GROUP_SIZE).
 namespace sr {
 
-// Colour of triangle `id` at the centre of raster pixel (x, y).
-__device__ inline vec3 shadeTriangle(const RasterParams& params, const Buffers& b, uint id, int x, int y)
+// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a
+// point's unlit base colour.
+__device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers& b, uint id, int x, int y)
 {
+    if (id >= params.triangleCount) return shadePoint(params, id, pointBaseColor(params, b, id));
     uint i0 = b.indices[3u * id];
     uint i1 = b.indices[3u * id + 1u];
     uint i2 = b.indices[3u * id + 2u];
@@ -37,7 +39,7 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
         if (params.shadingMode == SHADING_HIT_COUNT)
             color = hitCountColor(b.hitCount[i], color);
         else if (id != EMPTY_ID)
-            color = shadeTriangle(params, b, id, int(i % params.width), int(i / params.width));
+            color = shadePrimitive(params, b, id, int(i % params.width), int(i / params.width));
         b.framebuffer[i] = packRgba8(color);
         return;
     }
@@ -67,7 +69,7 @@ __device__ inline void shadeStage(const RasterParams& params, const Buffers& b)
                     ++owned;
                 }
                 if (!first) continue;
-                vec3 color = id[s] == EMPTY_ID ? background : shadeTriangle(params, b, id[s], x, y);
+                vec3 color = id[s] == EMPTY_ID ? background : shadePrimitive(params, b, id[s], x, y);
                 // Each sample's colour as the image shows it (clamped to [0, 1], packRgba8's range) before
                 // the mean: a highlight far above 1 must not bleed over the pixel's other samples.
                 sum = sum + clamp(color, vec3(0.0f), vec3(1.0f)) * float(owned);

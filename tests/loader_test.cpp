@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,7 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr int kU8 = 5121, kU16 = 5123, kU32 = 5125, kFloat = 5126;
-constexpr int kPoints = 0, kLines = 1, kTriangleStrip = 5, kTriangleFan = 6;
+constexpr int kPoints = 0, kLines = 1, kLineLoop = 2, kLineStrip = 3, kTriangleStrip = 5, kTriangleFan = 6;
 
 void writeFile(const std::string& path, const std::string& bytes)
 {
@@ -633,12 +634,12 @@ TEST(GltfLoader, OutOfRangeIndicesAndNanPositionsAreDropped)
     EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 0)));
 }
 
-TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
+TEST(GltfLoader, LinesAreSkippedWithOneWarningPerMode)
 {
     GltfDoc doc;
     int pos = doc.floats(kTriangle, "VEC3");
     int mesh = doc.addMesh({primitive(pos, -1, -1, kLines), primitive(pos), primitive(pos, -1, -1, kLines),
-                            primitive(pos, -1, -1, kPoints)});
+                            primitive(pos, -1, -1, kLineStrip), primitive(pos, -1, -1, kPoints)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     test::ScratchDir dir("sr_loader");
     std::string path = dir.file("lines.gltf");
@@ -648,11 +649,117 @@ TEST(GltfLoader, LinesAndPointsAreSkippedWithOneWarningPerMode)
     std::string warnings = ::testing::internal::GetCapturedStderr();
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->triangleCount(), 1u);
+    EXPECT_EQ(scene->pointCount(), 3u);
     EXPECT_EQ(warnings, "warning: " + path +
-                            ": skipping 1 primitive(s) with mode POINTS (lines/points not supported yet)\n"
+                            ": skipping 2 primitive(s) with mode LINES (lines are not rendered yet)\n"
                             "warning: " +
                             path +
-                            ": skipping 2 primitive(s) with mode LINES (lines/points not supported yet)\n");
+                            ": skipping 1 primitive(s) with mode LINE_STRIP (lines are not rendered yet)\n");
+
+    // With only lines there is nothing to draw: the warning, then the error.
+    GltfDoc linesOnly;
+    int linePos = linesOnly.floats(kTriangle, "VEC3");
+    linesOnly.setRoots(
+        {linesOnly.addNode({{"mesh", linesOnly.addMesh({primitive(linePos, -1, -1, kLineLoop)})}})});
+    std::string linesPath = dir.file("lines_only.gltf");
+    writeFile(linesPath, linesOnly.text());
+    ::testing::internal::CaptureStderr();
+    Result<Scene> nothing = loadScene(linesPath);
+    warnings = ::testing::internal::GetCapturedStderr();
+    expectLoadError(nothing, linesPath);
+    EXPECT_EQ(nothing.error().message, "cannot load '" + linesPath + "': no triangles or points to draw");
+    EXPECT_EQ(warnings, "warning: " + linesPath +
+                            ": skipping 1 primitive(s) with mode LINE_LOOP (lines are not rendered yet)\n");
+}
+
+// Points after the triangle, in primitive order; every index type; the node's transform on positions
+// and normals; COLOR_0 and materials as triangles get them; zero normals without NORMAL.
+TEST(GltfLoader, PointsWithAndWithoutIndices)
+{
+    GltfDoc doc;
+    int tri = doc.floats(kTriangle, "VEC3");
+    int pos = doc.floats({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, "VEC3");
+    int nrm = doc.floats({1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 1, 0}, "VEC3");
+    int grey = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}}}});
+    Json plain = primitive(pos, -1, -1, kPoints, grey);
+    plain["attributes"]["COLOR_0"] = doc.floats({1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0.5f, 1, 1, 1, 1}, "VEC4");
+    int mesh =
+        doc.addMesh({primitive(tri), plain, primitive(pos, nrm, doc.integers<uint8_t>({3, 0}), kPoints),
+                     primitive(pos, nrm, doc.integers<uint16_t>({1}), kPoints),
+                     primitive(pos, nrm, doc.integers<uint32_t>({2, 2}), kPoints)});
+    // World: x' = 2 x + 10; normals go through the cofactor matrix diag(1, 2, 2).
+    doc.setRoots({doc.addNode({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"scale", {2, 1, 1}}})});
+    test::ScratchDir dir("sr_loader");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadText(dir, "points.gltf", doc.text());
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "");
+    ASSERT_EQ(scene->triangleCount(), 1u);
+    EXPECT_TRUE(triangleIs(*scene, 0, {10, 0, 0}, {12, 0, 0}, {10, 1, 0}));
+    ASSERT_EQ(scene->pointCount(), 9u);
+    EXPECT_EQ(scene->primitiveCount(), 10u);
+    const glm::vec3 expected[9] = {{10, 0, 0}, {12, 0, 0}, {10, 1, 0}, {10, 0, 1}, {10, 0, 1},
+                                   {10, 0, 0}, {12, 0, 0}, {10, 1, 0}, {10, 1, 0}};
+    const float r5 = 1.0f / std::sqrt(5.0f);
+    const glm::vec3 normals[9] = {{0, 0, 0},       {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 1, 0},
+                                  {r5, 2 * r5, 0}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}};
+    for (size_t k = 0; k < 9; ++k) {
+        uint32_t v = scene->points[k];
+        ASSERT_LT(v, scene->vertexCount());
+        EXPECT_EQ(scene->positions[v].w, 1.0f);
+        EXPECT_TRUE(near(glm::vec3(scene->positions[v]), expected[k])) << "point " << k;
+        EXPECT_TRUE(near(scene->normals[v], glm::vec4(normals[k], 0.0f))) << "point " << k;
+    }
+    ASSERT_EQ(scene->colors.size(), scene->positions.size());
+    EXPECT_TRUE(near(scene->colors[scene->points[0]], glm::vec4(1, 0, 0, 1)));
+    EXPECT_TRUE(near(scene->colors[scene->points[2]], glm::vec4(0, 0, 1, 0.5f)));
+    for (size_t k = 4; k < 9; ++k) EXPECT_TRUE(near(scene->colors[scene->points[k]], glm::vec4(1)));
+    // Materials in order of first use: the default (the triangle), then grey.
+    ASSERT_EQ(scene->materials.size(), 2u);
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0}));
+    EXPECT_EQ(scene->pointMaterials, (std::vector<uint32_t>{1, 1, 1, 1, 0, 0, 0, 0, 0}));
+    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(0.5f, 0.5f, 0.5f, 1)));
+    // The bounds take the points in: z reaches 1 only through the point (0, 0, 1).
+    EXPECT_TRUE(near(scene->boundsMin, glm::vec3(10, 0, 0)));
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(12, 1, 1)));
+}
+
+// A file of points only loads; out-of-range indices and non-finite positions are dropped with one
+// warning, keeping the order and the materials of the rest.
+TEST(GltfLoader, PointsOnlyFileDropsBadPoints)
+{
+    GltfDoc doc;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    int pos = doc.floats({0, 0, 0, 1, 0, 0, nan, 0, 0}, "VEC3");
+    int red = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+    int mesh = doc.addMesh({primitive(pos, -1, doc.integers<uint16_t>({1, 7, 2, 0}), kPoints, red),
+                            primitive(pos, -1, -1, kPoints)});
+    doc.setRoots({doc.addNode({{"mesh", mesh}})});
+    test::ScratchDir dir("sr_loader");
+    std::string path = dir.file("bad_points.gltf");
+    writeFile(path, doc.text());
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "warning: " + path +
+                            ": dropped 3 point(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene->triangleCount(), 0u);
+    EXPECT_EQ(scene->droppedPoints, 3u);
+    EXPECT_EQ(scene->droppedTriangles, 0u);
+    ASSERT_EQ(scene->pointCount(), 4u);
+    const float xs[4] = {1, 0, 0, 1};
+    for (size_t k = 0; k < 4; ++k)
+        EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[k]]), glm::vec3(xs[k], 0, 0))) << k;
+    ASSERT_EQ(scene->materials.size(), 2u);
+    EXPECT_EQ(scene->pointMaterials, (std::vector<uint32_t>{0, 0, 1, 1}));
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(1, 0, 0, 1)));
+    EXPECT_TRUE(scene->triMaterials.empty());
+    EXPECT_TRUE(scene->triFlags.empty());
+    // Bounds of the kept points only; the NaN vertex is not among them.
+    EXPECT_TRUE(near(scene->boundsMin, glm::vec3(0, 0, 0)));
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 0, 0)));
 }
 
 TEST(GltfLoader, MalformedInputsAreOneLineErrors)
@@ -1382,7 +1489,7 @@ TEST(FinalizeScene, Errors)
     Scene empty;
     Status noTriangles = finalizeScene(empty, "nothing");
     ASSERT_FALSE(noTriangles.ok());
-    EXPECT_EQ(noTriangles.error().message, "nothing: no triangles to draw");
+    EXPECT_EQ(noTriangles.error().message, "nothing: no triangles or points to draw");
 
     Scene allBad = twoTriangleScene();
     allBad.indices = {0, 1, 7};
@@ -1462,6 +1569,91 @@ TEST(FinalizeScene, MaterialConsistencyErrors)
     Scene malformed = textured;
     malformed.textures[0].texels.clear();
     expectError(malformed, "texture without texels");
+}
+
+TEST(FinalizeScene, PointsOnlySceneDropsBadPointsAndHasBounds)
+{
+    Scene scene;
+    for (glm::vec3 p :
+         {glm::vec3(0, 0, 0), glm::vec3(1, 2, 3), glm::vec3(INFINITY, 0, 0), glm::vec3(-1, 5, 0)}) {
+        scene.positions.emplace_back(p, 1.0f);
+        scene.normals.emplace_back(0.0f);
+    }
+    scene.points = {1, 9, 2, 3, 0};
+    ::testing::internal::CaptureStderr();
+    ASSERT_TRUE(finalizeScene(scene, "cloud").ok());
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+              "warning: cloud: dropped 2 point(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene.points, (std::vector<uint32_t>{1, 3, 0}));
+    EXPECT_EQ(scene.droppedPoints, 2u);
+    EXPECT_EQ(scene.droppedTriangles, 0u);
+    EXPECT_TRUE(scene.triFlags.empty());
+    EXPECT_TRUE(near(scene.boundsMin, glm::vec3(-1, 0, 0)));
+    EXPECT_TRUE(near(scene.boundsMax, glm::vec3(1, 5, 3)));
+
+    Scene allBad = scene;
+    allBad.points = {2, 4};
+    ::testing::internal::CaptureStderr();
+    Status status = finalizeScene(allBad, "cloud");
+    ::testing::internal::GetCapturedStderr();
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().message, "cloud: no triangles or points to draw");
+}
+
+TEST(FinalizeScene, PointMaterials)
+{
+    // Triangles and points together: point materials stay aligned through a drop; bounds cover both.
+    Scene scene = twoTriangleScene();
+    scene.positions.emplace_back(7.0f, 0.0f, 0.0f, 1.0f);
+    scene.normals.emplace_back(0.0f);
+    scene.materials.resize(2);
+    scene.materials[1].baseColorFactor = glm::vec4(1, 0, 0, 1);
+    scene.triMaterials = {0, 1};
+    scene.points = {4, 99, 0};
+    scene.pointMaterials = {1, 0, 0};
+    ::testing::internal::CaptureStderr();
+    ASSERT_TRUE(finalizeScene(scene, "mixed").ok());
+    ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(scene.points, (std::vector<uint32_t>{4, 0}));
+    EXPECT_EQ(scene.pointMaterials, (std::vector<uint32_t>{1, 0}));
+    EXPECT_EQ(scene.triMaterials, (std::vector<uint32_t>{0, 1}));
+    EXPECT_TRUE(near(scene.boundsMax, glm::vec3(7, 3, 4)));
+
+    // Materials that change nothing are dropped with both index lists.
+    Scene plain = twoTriangleScene();
+    plain.materials.resize(2);
+    plain.triMaterials = {0, 1};
+    plain.points = {0, 1};
+    plain.pointMaterials = {1, 1};
+    ASSERT_TRUE(finalizeScene(plain, "plain").ok());
+    EXPECT_TRUE(plain.materials.empty());
+    EXPECT_TRUE(plain.triMaterials.empty());
+    EXPECT_TRUE(plain.pointMaterials.empty());
+
+    // Points only, with materials: no per-triangle indices are needed.
+    Scene cloud;
+    cloud.positions = {glm::vec4(0, 0, 0, 1)};
+    cloud.normals = {glm::vec4(0.0f)};
+    cloud.materials.resize(1);
+    cloud.materials[0].baseColorFactor = glm::vec4(0, 1, 0, 1);
+    cloud.points = {0, 0};
+    cloud.pointMaterials = {0, 0};
+    EXPECT_TRUE(finalizeScene(cloud, "cloud").ok());
+
+    auto expectError = [](Scene s, const std::string& what) {
+        Status status = finalizeScene(s, "scene");
+        ASSERT_FALSE(status.ok()) << what;
+        EXPECT_EQ(status.error().message.rfind("scene: ", 0), 0u) << status.error().message;
+    };
+    Scene shortList = cloud;
+    shortList.pointMaterials.pop_back();
+    expectError(shortList, "one material index per point");
+    Scene badIndex = cloud;
+    badIndex.pointMaterials[1] = 1;
+    expectError(badIndex, "point material index out of range");
+    Scene noMaterials = cloud;
+    noMaterials.materials.clear();
+    expectError(noMaterials, "point materials without materials");
 }
 
 // ---- OBJ ------------------------------------------------------------------------------------
@@ -1654,6 +1846,86 @@ TEST(ObjLoader, OversizedTextureIsAnError)
     EXPECT_NE(scene.error().message.find("huge.png"), std::string::npos) << scene.error().message;
 }
 
+// Every vertex of every `p` statement in file order, each with the `usemtl` in force. tinyobjloader
+// alone would repeat the first two points (after `usemtl green`) and lose `p 4//1` (closed by `o`).
+TEST(ObjLoader, PointsInFileOrderWithMaterials)
+{
+    test::ScratchDir dir("sr_loader");
+    writeFile(dir.file("m.mtl"), "newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n");
+    std::string path = dir.file("points.obj");
+    writeFile(path,
+              "mtllib m.mtl\n"
+              "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 1\n"
+              "vn 0 0 2\n"
+              "usemtl red\np 1 2\n"
+              "usemtl green\np 3 -1\n"
+              "g group\n  p 4//1\r\n"
+              "o object\nf 1 2 3\n"
+              "usemtl red\np 2\n");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "");
+    ASSERT_EQ(scene->triangleCount(), 1u);
+    ASSERT_EQ(scene->pointCount(), 6u);
+    const int vertex[6] = {0, 1, 2, 3, 3, 1};
+    const glm::vec3 place[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const glm::vec4 color[4] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}};
+    const glm::vec4 kd[6] = {{1, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1},
+                             {0, 1, 0, 1}, {0, 1, 0, 1}, {1, 0, 0, 1}};
+    ASSERT_EQ(scene->pointMaterials.size(), 6u);
+    ASSERT_EQ(scene->colors.size(), scene->positions.size());
+    for (size_t k = 0; k < 6; ++k) {
+        uint32_t v = scene->points[k];
+        EXPECT_TRUE(near(glm::vec3(scene->positions[v]), place[vertex[k]])) << k;
+        EXPECT_TRUE(near(scene->colors[v], color[vertex[k]])) << k;
+        EXPECT_TRUE(near(scene->materials[scene->pointMaterials[k]].baseColorFactor, kd[k])) << k;
+        // Only `p 4//1` names a normal; the others get none (points are unlit).
+        EXPECT_TRUE(near(scene->normals[v], k == 4 ? glm::vec4(0, 0, 1, 0) : glm::vec4(0.0f))) << k;
+    }
+    EXPECT_TRUE(near(scene->materials[scene->triMaterials[0]].baseColorFactor, glm::vec4(0, 1, 0, 1)));
+}
+
+TEST(ObjLoader, BadPointsAreDroppedAndLinesSkipped)
+{
+    test::ScratchDir dir("sr_loader");
+    std::string path = dir.file("bad_points.obj");
+    // 1e400 overflows to infinity in tinyobjloader's parser; vertex 9 does not exist.
+    writeFile(path, "v 0 0 0\nv 1e400 0 0\nv 1 1 1\np 1 2 3 9\nl 1 3\n");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "warning: " + path + ": skipping 1 line element(s) (lines are not rendered yet)\n" +
+                            "warning: " + path +
+                            ": dropped 2 point(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene->triangleCount(), 0u);
+    EXPECT_EQ(scene->droppedPoints, 2u);
+    ASSERT_EQ(scene->pointCount(), 2u);
+    EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[0]]), glm::vec3(0, 0, 0)));
+    EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[1]]), glm::vec3(1, 1, 1)));
+    EXPECT_TRUE(scene->materials.empty());
+    EXPECT_TRUE(scene->pointMaterials.empty());
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 1)));
+}
+
+TEST(ObjLoader, BareVertexListIsAPointCloud)
+{
+    test::ScratchDir dir("sr_loader");
+    std::string path = dir.file("cloud.obj");
+    writeFile(path, "vn 0 0 3\nv 1 2 3\nvn 0 4 0\nv 4 5 6\n");
+    Result<Scene> scene = loadScene(path);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(scene->triangleCount(), 0u);
+    ASSERT_EQ(scene->pointCount(), 2u);
+    EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[0]]), glm::vec3(1, 2, 3)));
+    EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[1]]), glm::vec3(4, 5, 6)));
+    // As many normals as vertices: paired in file order.
+    EXPECT_TRUE(near(scene->normals[scene->points[0]], glm::vec4(0, 0, 1, 0)));
+    EXPECT_TRUE(near(scene->normals[scene->points[1]], glm::vec4(0, 1, 0, 0)));
+}
+
 // ---- built-in scene -------------------------------------------------------------------------
 
 TEST(BuiltinScene, SaneGeometry)
@@ -1834,6 +2106,143 @@ TEST(AssimpModels, SpiderObj)
     bool anyNonZero = false;
     for (const glm::vec4& uv : scene->texcoords) anyNonZero = anyNonZero || uv.x != 0.0f || uv.y != 0.0f;
     EXPECT_TRUE(anyNonZero);
+}
+
+// The glTF-Asset-Generator's Mesh_PrimitiveMode set: one primitive per file, its mode and accessors
+// read from the JSON and the .bin here, independently of tinygltf. POINTS (00 without indices, 07
+// with 1024 unsigned int indices) load as one point per element; the line modes (01-03, 08-10) are
+// skipped with a warning, which leaves nothing to draw; the triangle modes load without points.
+TEST(AssimpModels, MeshPrimitiveModePoints)
+{
+    const std::string folder = "glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode/";
+    const char* kModeNames[4] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+    size_t pointFiles = 0;
+    for (int file = 0; file <= 15; ++file) {
+        std::string path = assimpModel(folder + fmt::format("Mesh_PrimitiveMode_{:02}.gltf", file));
+        Json doc = Json::parse(readBytes(path));
+        ASSERT_EQ(doc["meshes"].size(), 1u) << path;
+        ASSERT_EQ(doc["meshes"][0]["primitives"].size(), 1u) << path;
+        ASSERT_FALSE(doc["nodes"][0].contains("matrix") || doc["nodes"][0].contains("translation") ||
+                     doc["nodes"][0].contains("rotation") || doc["nodes"][0].contains("scale"))
+            << path;
+        const Json& prim = doc["meshes"][0]["primitives"][0];
+        int mode = prim.value("mode", 4);
+        // Element `i` of accessor `a` from the .bin, which these files lay out tightly packed.
+        std::string bin =
+            readBytes(path.substr(0, path.rfind('/') + 1) + doc["buffers"][0]["uri"].get<std::string>());
+        auto element = [&](int a, size_t i, size_t size) {
+            const Json& accessor = doc["accessors"][a];
+            const Json& view = doc["bufferViews"][accessor["bufferView"].get<int>()];
+            EXPECT_FALSE(view.contains("byteStride")) << path;
+            size_t offset =
+                view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0)) + i * size;
+            EXPECT_LE(offset + size, bin.size()) << path;
+            return bin.data() + offset;
+        };
+        int position = prim["attributes"]["POSITION"].get<int>();
+        size_t positions = doc["accessors"][position]["count"].get<size_t>();
+
+        ::testing::internal::CaptureStderr();
+        Result<Scene> scene = loadScene(path);
+        std::string warnings = ::testing::internal::GetCapturedStderr();
+        if (mode == kPoints) {
+            ++pointFiles;
+            ASSERT_TRUE(scene.ok()) << scene.error().message;
+            EXPECT_EQ(warnings, "") << path;
+            EXPECT_EQ(scene->triangleCount(), 0u) << path;
+            std::vector<uint32_t> order(positions);
+            for (size_t i = 0; i < positions; ++i) order[i] = uint32_t(i);
+            if (prim.contains("indices")) {
+                int indices = prim["indices"].get<int>();
+                ASSERT_EQ(doc["accessors"][indices]["componentType"].get<int>(), kU32) << path;
+                order.resize(doc["accessors"][indices]["count"].get<size_t>());
+                for (size_t i = 0; i < order.size(); ++i) std::memcpy(&order[i], element(indices, i, 4), 4);
+            }
+            ASSERT_EQ(scene->pointCount(), order.size()) << path;
+            for (size_t k = 0; k < order.size(); ++k) {
+                float p[3];
+                std::memcpy(p, element(position, order[k], 12), 12);
+                ASSERT_EQ(glm::vec3(scene->positions[scene->points[k]]), glm::vec3(p[0], p[1], p[2]))
+                    << path << " point " << k;
+            }
+            // No NORMAL in these files: the points' vertices have zero normals.
+            for (uint32_t v : scene->points) EXPECT_EQ(scene->normals[v], glm::vec4(0.0f)) << path;
+        } else if (mode <= 3) {
+            expectLoadError(scene, path);
+            EXPECT_NE(scene.error().message.find("no triangles or points to draw"), std::string::npos)
+                << scene.error().message;
+            EXPECT_EQ(warnings,
+                      fmt::format("warning: {}: skipping 1 primitive(s) with mode {} (lines are not "
+                                  "rendered yet)\n",
+                                  path, kModeNames[mode]));
+        } else {
+            ASSERT_TRUE(scene.ok()) << scene.error().message;
+            EXPECT_EQ(scene->pointCount(), 0u) << path;
+            EXPECT_EQ(scene->triangleCount(), 2u) << path;  // every triangle file draws the same quad
+        }
+    }
+    EXPECT_EQ(pointFiles, 2u);  // 00 and 07, as the set's README lists them
+}
+
+// assimp-testmodels' OBJ files with `p` and `l`: the expected points are counted in the file text.
+TEST(AssimpModels, ObjPointsLinesAndPointCloud)
+{
+    // "v x y z" lines and the vertex numbers of every `p` statement, read from the text here.
+    auto readObj = [](const std::string& path, std::vector<glm::vec3>& vertices, std::vector<int>& points) {
+        std::istringstream text(readBytes(path));
+        std::string line;
+        while (std::getline(text, line)) {
+            std::istringstream words(line);
+            std::string keyword;
+            words >> keyword;
+            if (keyword == "v") {
+                glm::vec3 v;
+                words >> v.x >> v.y >> v.z;
+                vertices.push_back(v);
+            } else if (keyword == "p") {
+                for (int i; words >> i;) points.push_back(i);
+            }
+        }
+    };
+
+    std::string testpoints = assimpModel("OBJ/testpoints.obj");
+    std::vector<glm::vec3> vertices;
+    std::vector<int> points;
+    readObj(testpoints, vertices, points);
+    EXPECT_EQ(points.size(), 24u);  // six `p` statements of four vertices (the cube's faces)
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(testpoints);
+    ::testing::internal::GetCapturedStderr();  // "usemtl Default" names no .mtl: tinyobjloader warns
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(scene->triangleCount(), 0u);
+    ASSERT_EQ(scene->pointCount(), points.size());
+    for (size_t k = 0; k < points.size(); ++k)
+        EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[k]]), vertices[size_t(points[k] - 1)]))
+            << k;
+
+    // Meshlab's point cloud has no `p` statement at all: every vertex is a point.
+    std::string cloud = assimpModel("OBJ/point_cloud.obj");
+    vertices.clear();
+    points.clear();
+    readObj(cloud, vertices, points);
+    EXPECT_TRUE(points.empty());
+    EXPECT_EQ(vertices.size(), 3u);
+    Result<Scene> cloudScene = loadScene(cloud);
+    ASSERT_TRUE(cloudScene.ok()) << cloudScene.error().message;
+    ASSERT_EQ(cloudScene->pointCount(), vertices.size());
+    for (size_t k = 0; k < vertices.size(); ++k)
+        EXPECT_TRUE(near(glm::vec3(cloudScene->positions[cloudScene->points[k]]), vertices[k])) << k;
+
+    // Lines only: skipped with a warning, which leaves nothing to draw.
+    std::string lines = assimpModel("OBJ/testline.obj");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> lineScene = loadScene(lines);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    expectLoadError(lineScene, lines);
+    EXPECT_NE(
+        warnings.find("warning: " + lines + ": skipping 6 line element(s) (lines are not rendered yet)\n"),
+        std::string::npos)
+        << warnings;
 }
 
 // ---- shipped assets -------------------------------------------------------------------------

@@ -46,41 +46,8 @@ glm::vec3 unpackLinear(uint32_t word)
     return c;
 }
 
-// Largest difference of the R, G, B and A bytes of two packed RGBA8 words.
-int channelDifference(uint32_t a, uint32_t b)
-{
-    int worst = 0;
-    for (int shift = 0; shift < 32; shift += 8)
-        worst = std::max(worst, std::abs(int((a >> shift) & 0xffu) - int((b >> shift) & 0xffu)));
-    return worst;
-}
-
-bool isOneLine(const std::string& message)
-{
-    return !message.empty() && message.find('\n') == std::string::npos;
-}
-
-class MsaaGraphicsTest : public ::testing::Test {
+class MsaaGraphicsTest : public GraphicsTest {
 protected:
-    void SetUp() override
-    {
-        // ctest sets this too; setting it here keeps validation on when the binary is run by hand.
-        setenv("SR_VULKAN_VALIDATION", "1", 1);
-        bool skip = false;
-        const bool present = openBackend("vulkan", skip) != nullptr;
-        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
-        ASSERT_TRUE(present);
-        errorsBefore_ = vulkanValidationErrorCount();
-    }
-
-    // Every render creates and destroys its own device, so leaks would already be reported here.
-    void TearDown() override
-    {
-        if (!IsSkipped()) {
-            EXPECT_EQ(vulkanValidationErrorCount(), errorsBefore_);
-        }
-    }
-
     RenderOutput render(const Scene& scene, const RenderSettings& settings,
                         const CameraMatrices& camera = identityCamera())
     {

@@ -1,6 +1,11 @@
 // test_util.cpp - see test_util.h.
 #include "test_util.h"
 
+#include <algorithm>
+#include <cstdlib>
+
+#include "vulkan/vulkan_device_internal.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -91,6 +96,48 @@ RenderSettings unlitSettings(uint32_t width, uint32_t height)
     s.ambient = 1.0f;
     s.lightColor = glm::vec3(0.0f);
     return s;
+}
+
+Scene windowPointScene(const std::vector<WindowPoint>& points, uint32_t width, uint32_t height,
+                       const std::vector<glm::vec4>& triangles)
+{
+    Scene scene = clipSpaceScene(triangles);
+    for (const WindowPoint& p : points) {
+        scene.points.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(windowVertex(p.x, p.y, width, height, p.z));
+        scene.normals.push_back(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+    }
+    return scene;
+}
+
+int channelDifference(uint32_t a, uint32_t b)
+{
+    int worst = 0;
+    for (int shift = 0; shift < 32; shift += 8)
+        worst = std::max(worst, std::abs(int((a >> shift) & 0xffu) - int((b >> shift) & 0xffu)));
+    return worst;
+}
+
+bool isOneLine(const std::string& message)
+{
+    return !message.empty() && message.find('\n') == std::string::npos;
+}
+
+void GraphicsTest::SetUp()
+{
+    setenv("SR_VULKAN_VALIDATION", "1", 1);
+    bool skip = false;
+    const bool present = openBackend("vulkan", skip) != nullptr;
+    if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+    ASSERT_TRUE(present);
+    errorsBefore_ = vulkanValidationErrorCount();
+}
+
+void GraphicsTest::TearDown()
+{
+    if (!IsSkipped()) {
+        EXPECT_EQ(vulkanValidationErrorCount(), errorsBefore_);
+    }
 }
 
 ScratchDir::ScratchDir(const std::string& prefix)

@@ -109,6 +109,35 @@ private:
     std::string path_;
 };
 
+// A point at window position (x, y) in pixels, at window depth z.
+struct WindowPoint {
+    double x, y;
+    float z;
+};
+
+// The triangles (clip space, as clipSpaceScene builds them) followed by one vertex (normal +z) and one
+// point per entry of `points`, window positions of a width x height viewport: point k has id
+// triangleCount + k.
+Scene windowPointScene(const std::vector<WindowPoint>& points, uint32_t width, uint32_t height,
+                       const std::vector<glm::vec4>& triangles = {});
+
+// Largest difference of the R, G, B and A bytes of two packed RGBA8 words.
+int channelDifference(uint32_t a, uint32_t b);
+
+bool isOneLine(const std::string& message);
+
+// A test of the vulkan-graphics reference: validation on (also when the binary runs by hand), skipped
+// under SR_ALLOW_MISSING_BACKENDS=vulkan without a Vulkan device, and failing on any validation error
+// its renders report (each creates and destroys its own device, so leaks are reported too).
+class GraphicsTest : public ::testing::Test {
+protected:
+    void SetUp() override;
+    void TearDown() override;
+
+private:
+    size_t errorsBefore_ = 0;
+};
+
 // Number of pixels whose id equals `id`.
 size_t countId(const AovImage& aov, uint32_t id);
 

@@ -95,6 +95,46 @@ SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
     return rasterSample(t, samplePosition(1u, 0u, px, py), depth);
 }
 
+// A point (Vulkan "Basic Point Rasterization"): the square of side pointSize centred on the snapped
+// vertex covers the samples inside it; a sample on its left or top side is inside and one on its
+// right or bottom side is not, the top-left rule of a square drawn as two triangles. Its depth is the
+// vertex's. A point whose vertex lies outside the view volume is discarded whole, however far its
+// square would reach into the viewport (pointClippingBehavior ALL_CLIP_PLANES).
+struct PointSetup {
+    ivec4 square;  // minX, minY, maxX, maxY in subpixels: covered where min <= p < max per axis
+    float depth;
+};
+
+// Sets up the point at clip position c; false when it is culled.
+SR_FN bool setupPoint(vec4 c, float pointSize, uint width, uint height, SR_OUT(PointSetup) pt)
+{
+    pt.square = ivec4(0, 0, 0, 0);
+    pt.depth = 1.0f;
+    if (!(c.w > 0.0f && abs(c.x) <= c.w && abs(c.y) <= c.w && c.z >= 0.0f && c.z <= c.w)) return false;
+    ivec2 xy;
+    float z;
+    if (!snapVertex(c, width, height, xy, z)) return false;
+    // Half the side in subpixels; sizes are multiples of 1/128 pixel (the CLI checks), so this is exact.
+    int halfSide = int(pointSize * float(SUBPIXEL_SCALE / 2));
+    pt.square = ivec4(xy.x - halfSide, xy.y - halfSide, xy.x + halfSide, xy.y + halfSide);
+    pt.depth = z;
+    return true;
+}
+
+SR_FN bool pointCoversSample(PointSetup pt, ivec2 p)
+{
+    return p.x >= pt.square.x && p.x < pt.square.z && p.y >= pt.square.y && p.y < pt.square.w;
+}
+
+// Inclusive pixel bbox of the point's samples (pattern extent `bounds`), clamped to the viewport;
+// empty when x > z or y > w.
+SR_FN ivec4 pointPixelBounds(PointSetup pt, uint width, uint height, uint bounds)
+{
+    ivec2 x = sampleSpan(pt.square.x, pt.square.z - 1, width, boundsX(bounds));
+    ivec2 y = sampleSpan(pt.square.y, pt.square.w - 1, height, boundsY(bounds));
+    return ivec4(x.x, y.x, x.y, y.y);
+}
+
 // A lower bound, as float bits, on the depth rasterSample returns at any sample the triangle covers,
 // for the early depth test in raster_tiles: a sample whose key already holds a smaller depth cannot be
 // won by this triangle, whatever its id. At a covered sample the barycentrics e_i / area are exact and

@@ -70,6 +70,24 @@ Scene sweepScene(double area, uint32_t count, uint32_t w, uint32_t h)
     return scene;
 }
 
+// `count` points scattered over the screen at random depths (1 px each at the default point size): the
+// point-cloud twin of the smallest triangles of the sweep.
+Scene pointCloudScene(uint32_t count)
+{
+    std::mt19937 rng(count);
+    std::uniform_real_distribution<float> ndc(-0.999f, 0.999f), depth(0.05f, 0.95f);
+    Scene scene;
+    scene.positions.reserve(count);
+    scene.normals.assign(count, glm::vec4(0.0f));
+    scene.points.reserve(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        scene.points.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(glm::vec4(ndc(rng), ndc(rng), depth(rng), 1.0f));
+    }
+    (void)finalizeScene(scene, "point cloud");
+    return scene;
+}
+
 // `layers` full-screen quads at distinct depths, drawn in random depth order.
 Scene layerScene(int layers)
 {
@@ -133,6 +151,8 @@ Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, u
             scenes.push_back({name, sweepScene(area, o.sweepTriangles, w, h), identityMatrices(), area});
     }
     if (wanted("layers-16")) scenes.push_back({"layers-16", layerScene(16), identityMatrices(), 0.0});
+    if (wanted("points-1m"))
+        scenes.push_back({"points-1m", pointCloudScene(o.sweepTriangles), identityMatrices(), 0.0});
     auto framed = [&](std::string name, Scene scene) -> Result<BenchScene> {
         auto camera = resolveCamera(CameraSpec{}, scene, w, h);
         if (!camera) return camera.error();
@@ -194,7 +214,9 @@ size_t sceneBytes(const Scene& s)
     for (const SceneTexture& t : s.textures) texels += t.texels.size();
     return (s.positions.size() + s.normals.size() + s.colors.size() + s.texcoords.size()) *
                sizeof(glm::vec4) +
-           (s.indices.size() + s.triFlags.size() + s.triMaterials.size() + texels) * sizeof(uint32_t) +
+           (s.indices.size() + s.triFlags.size() + s.triMaterials.size() + s.points.size() +
+            s.pointMaterials.size() + texels) *
+               sizeof(uint32_t) +
            s.materials.size() * sizeof(GpuMaterial);
 }
 
@@ -232,7 +254,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                 for (const std::string& backend : o.backends) {
                     if (tty)
                         fmt::print(stderr, "\r\033[Kbench: {} {}x{} {}x MSAA on {} ({} triangles)", s.name, w,
-                                   h, msaa, backend, s.scene.triangleCount());
+                                   h, msaa, backend, s.scene.primitiveCount());
                     RenderSettings r;
                     r.msaa = msaa;
                     r.width = w;
@@ -261,19 +283,19 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                          {"backend", backend},
                          {"device", out->device.name},
                          {"driver", out->device.driver},
-                         {"triangles", s.scene.triangleCount()},
+                         {"triangles", s.scene.primitiveCount()},
                          {"triangle_area_px", s.triangleArea},
                          {"rasterized", out->stats.rasterized},
                          {"stages_ms", stagesJson(out->stages)},
                          {"gpu_total_ms", timingJson(out->total)},
                          {"visibility_ms", ms - shadeMs},
-                         {"triangles_per_s", ms > 0 ? double(s.scene.triangleCount()) / (ms * 1e-3) : 0.0},
+                         {"triangles_per_s", ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
                          {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
                          {"peak_device_bytes", out->peakDeviceBytes},
                          {"scene_bytes", sceneBytes(s.scene)},
                          {"working_bytes", working},
                          {"working_budget_bytes",
-                          40.0 * double(s.scene.triangleCount()) + 8.0 * pixels + 8.0 * pixels * msaa},
+                          40.0 * double(s.scene.primitiveCount()) + 8.0 * pixels + 8.0 * pixels * msaa},
                          {"redraws", out->stats.redraws}});
                 }
             }

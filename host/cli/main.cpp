@@ -5,7 +5,8 @@
 //                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
 //                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
 //                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
-//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
+//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples] [--primitive-mode triangles|points]
+//                 [--point-size PX]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
@@ -22,6 +23,7 @@
 #include "cli/backend.h"
 #include "cli/bench.h"
 #include "scene/camera.h"
+#include "scene/primitive_mode.h"
 #include "io/compare.h"
 #include "render/compute_device.h"
 #include "io/image_io.h"
@@ -46,6 +48,7 @@ struct RenderCommand {
     std::string shading = "blinn-phong";
     std::string textureFilter = "auto";
     std::string uvInterpolation = "perspective";
+    std::string primitiveMode = "triangles";
     std::string lightDir, lightColor, background;
     bool quiet = false;
     RenderSettings settings;
@@ -127,6 +130,7 @@ Status runRender(RenderCommand& cmd)
     if (!cameraSpec) return cameraSpec.error();
     Result<Scene> scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
     if (!scene) return scene.error();
+    if (cmd.primitiveMode == "points") *scene = meshAsPoints(std::move(*scene));
     auto camera = resolveCamera(*cameraSpec, *scene, s.width, s.height);
     if (!camera) return camera.error();
     Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
@@ -146,9 +150,10 @@ Status runRender(RenderCommand& cmd)
     if (!cmd.statsPath.empty()) SR_TRY(writeJson(cmd.statsPath, statsJson(*out, s, sceneName)));
     if (!cmd.quiet) {
         const RenderStats& st = out->stats;
-        fmt::print("{}: {}x{} on {} ({}), {} triangles: {} culled, {} clipped, {} rasterized\n", cmd.output,
-                   s.width, s.height, out->device.backend, out->device.name, st.trianglesIn, st.culled,
-                   st.clipped, st.rasterized);
+        std::string points = st.pointsIn ? fmt::format(", {} points ({} drawn)", st.pointsIn, st.points) : "";
+        fmt::print("{}: {}x{} on {} ({}), {} triangles{}: {} culled, {} clipped, {} triangles rasterized\n",
+                   cmd.output, s.width, s.height, out->device.backend, out->device.name, st.trianglesIn,
+                   points, st.culled, st.clipped, st.rasterized);
         printStageTable(*out);
     }
     return okStatus();
@@ -280,6 +285,12 @@ int main(int argc, char** argv)
                      "supersampling: N x N pixels per output pixel, each shaded, box-filtered; combines "
                      "with --msaa")
         ->check(CLI::Range(1, MAX_SSAA));
+    render
+        ->add_option("--primitive-mode", cmd.primitiveMode,
+                     "triangles (as the file says) or points (a triangle mesh drawn as its vertices)")
+        ->check(CLI::IsMember({"triangles", "points"}));
+    render->add_option("--point-size", cmd.settings.pointSize,
+                       "side of the square a point covers, in pixels (1..64, a multiple of 1/8)");
     render->add_flag("--aov-samples", cmd.settings.aovSamples,
                      "with --aov: also every sample's id and depth as channels id.s<k>, Z.s<k>");
     render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
@@ -309,7 +320,7 @@ int main(int argc, char** argv)
     benchApp->add_option(
         "--scenes", bench.scenes,
         "comma-separated subset of sweep-0.5px, sweep-2px, sweep-8px, sweep-32px, sweep-128px, "
-        "layers-16, bunny, dense, builtin (default: all)");
+        "points-1m, layers-16, bunny, dense, builtin, checker-*, sphere-* (default: all)");
     benchApp->add_option("--msaa", bench.msaa,
                          "comma-separated sample counts, each run on every scene (default 1)");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")

@@ -38,6 +38,8 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
           {"culled", s.culled},
           {"clipped", s.clipped},
           {"invalid", s.invalid},
+          {"points_in", s.pointsIn},
+          {"points", s.points},
           {"rasterized", s.rasterized},
           {"small", s.smallTris},
           {"big", s.bigTris},

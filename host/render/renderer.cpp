@@ -34,7 +34,11 @@ Status uploadMaterials(ComputeDevice& device, const Scene& scene)
 {
     if (scene.materials.empty()) return okStatus();
     SR_TRY(uploadVector(device, BUF_MATERIALS, gpuMaterials(scene)));
-    SR_TRY(uploadVector(device, BUF_TRI_MATERIALS, scene.triMaterials));
+    // One material per primitive id: the triangles', then the points'.
+    std::vector<uint32_t> primitiveMaterials = scene.triMaterials;
+    primitiveMaterials.insert(primitiveMaterials.end(), scene.pointMaterials.begin(),
+                              scene.pointMaterials.end());
+    SR_TRY(uploadVector(device, BUF_TRI_MATERIALS, primitiveMaterials));
     if (scene.textures.empty()) return okStatus();
     std::vector<uint32_t> texels;
     auto textures = gpuTextures(scene, texels);
@@ -76,7 +80,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_CLEAR,
          groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
-        {STAGE_SETUP, groupsFor(p.triangleCount, GROUP_SIZE)},
+        {STAGE_SETUP, groupsFor(uint64_t(p.triangleCount) + p.pointCount, GROUP_SIZE)},
         {STAGE_BIN_COUNT, work.binBig && work.countSplit ? p.binGroups : 0u},
         {STAGE_SCAN_BLOCKS, work.binBig ? scanGroups : 0u},
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
@@ -152,6 +156,8 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.sampleBounds = sampleBoundsOf(s.msaa);
     p.ssaa = s.ssaa;
     p.samplePlane = p.width * p.height;
+    p.pointCount = uint32_t(scene.pointCount());
+    p.pointSize = s.pointSize;
     return p;
 }
 
@@ -198,11 +204,19 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
         return makeError(ExitCode::Usage, "{}x{} with --ssaa {} and --msaa {} is over 2^31 samples",
                          settings.width, settings.height, settings.ssaa, settings.msaa);
     if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
-    if (scene.triangleCount() == 0) return makeError(ExitCode::Usage, "the scene has no triangles");
-    // Triangle ids share 32 bits with EMPTY_ID and index math runs in uint.
-    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.vertexCount() >= (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} vertices)",
-                         scene.triangleCount(), scene.vertexCount());
+    if (scene.primitiveCount() == 0)
+        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, no points)");
+    // Primitive ids share 32 bits with EMPTY_ID and index math runs in uint.
+    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.primitiveCount() >= (uint64_t(1) << 31) ||
+        scene.vertexCount() >= (uint64_t(1) << 31))
+        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} points, {} vertices)",
+                         scene.triangleCount(), scene.pointCount(), scene.vertexCount());
+    // Point sides are multiples of 1/8 pixel (the granularity lavapipe offers), so half a side is a whole
+    // number of subpixels.
+    if (!(settings.pointSize >= 1.0f && settings.pointSize <= MAX_POINT_SIZE) ||
+        settings.pointSize * 8.0f != std::floor(settings.pointSize * 8.0f))
+        return makeError(ExitCode::Usage, "--point-size {} is not a multiple of 1/8 between 1 and {}",
+                         settings.pointSize, MAX_POINT_SIZE);
     if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
         return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
                          scene.vertexCount());
@@ -238,6 +252,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
+    SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
     SR_TRY(uploadMaterials(device, scene));
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
@@ -331,6 +346,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_BIG];
     st.smallTris = counters[COUNTER_SMALL];
     st.bigTris = counters[COUNTER_BIG];
+    st.pointsIn = scene.pointCount();
+    st.points = counters[COUNTER_POINTS];
     st.records = counters[COUNTER_SETUP];
     st.pieces = counters[COUNTER_PIECES];
     st.binEntries = counters[COUNTER_BIN_ENTRIES];

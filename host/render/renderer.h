@@ -45,6 +45,8 @@ struct RenderSettings {
     // pixel (the raster grid is N times the resolution per side), box-filtered; both combine.
     uint32_t msaa = 1;
     uint32_t ssaa = 1;
+    // Points are squares of pointSize pixels (1..MAX_POINT_SIZE) centred on their snapped vertex.
+    float pointSize = 1.0f;
     bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
 };
 
@@ -78,12 +80,14 @@ struct StageTiming {
 
 struct RenderStats {
     uint64_t trianglesIn = 0;   // triangles handed to the GPU
-    uint64_t culled = 0;        // input triangles that produced nothing to rasterize
+    uint64_t culled = 0;        // input primitives that produced nothing to rasterize
     uint64_t clipped = 0;       // input triangles that went through the clipper
-    uint64_t invalid = 0;       // input triangles dropped on the GPU for NaN/Inf positions
+    uint64_t invalid = 0;       // input primitives dropped on the GPU for NaN/Inf positions
     uint64_t rasterized = 0;    // (sub-)triangles set up for rasterization
     uint64_t smallTris = 0;     // of which rasterized by their setup thread
     uint64_t bigTris = 0;       // of which binned to screen tiles
+    uint64_t pointsIn = 0;      // points handed to the GPU
+    uint64_t points = 0;        // of which rasterized (the others culled or invalid)
     uint64_t records = 0;       // big sub-triangles of clipped triangles, stored as records
     uint64_t pieces = 0;        // pieces the big triangles were cut into
     uint64_t binEntries = 0;    // (big triangle, screen tile) bin entries

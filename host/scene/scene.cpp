@@ -10,9 +10,12 @@
 namespace sr {
 namespace {
 
-// Limits that keep every index, triangle id and byte offset the backends compute inside 31 bits.
+// Limits that keep every index, primitive id and byte offset the backends compute inside 31 bits.
 constexpr uint64_t kMaxIndices = (uint64_t(1) << 31) / 3;
 constexpr uint64_t kMaxVertices = uint64_t(1) << 31;
+// Points get the index limit too, so triangle ids plus point ids (at most kMaxIndices / 3 +
+// kMaxIndices) stay below 2^31.
+constexpr uint64_t kMaxPoints = kMaxIndices;
 
 std::string lowerExtension(const std::string& path)
 {
@@ -67,8 +70,9 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
                              m.alphaMode);
         anyTexture = anyTexture || m.baseColorTexture >= 0;
     }
-    if (scene.materials.empty() != scene.triMaterials.empty() ||
-        (!scene.triMaterials.empty() && scene.triMaterials.size() != triangles))
+    // One material index per triangle and per point when there are materials, none otherwise.
+    bool haveMaterials = !scene.materials.empty();
+    if (scene.triMaterials.size() != (haveMaterials ? triangles : 0))
         return makeError(ExitCode::Usage,
                          "{}: {} per-triangle material indices for {} triangles and {} materials",
                          errorPrefix, scene.triMaterials.size(), triangles, scene.materials.size());
@@ -76,6 +80,15 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
         if (scene.triMaterials[t] >= scene.materials.size())
             return makeError(ExitCode::Usage, "{}: triangle {} uses material {}, but there are {} materials",
                              errorPrefix, t, scene.triMaterials[t], scene.materials.size());
+    }
+    if (scene.pointMaterials.size() != (haveMaterials ? scene.points.size() : 0))
+        return makeError(ExitCode::Usage, "{}: {} per-point material indices for {} points and {} materials",
+                         errorPrefix, scene.pointMaterials.size(), scene.points.size(),
+                         scene.materials.size());
+    for (size_t k = 0; k < scene.pointMaterials.size(); ++k) {
+        if (scene.pointMaterials[k] >= scene.materials.size())
+            return makeError(ExitCode::Usage, "{}: point {} uses material {}, but there are {} materials",
+                             errorPrefix, k, scene.pointMaterials[k], scene.materials.size());
     }
     if (!scene.texcoords.empty() && scene.texcoords.size() != scene.positions.size())
         return makeError(ExitCode::Usage, "{}: {} texture coordinates for {} vertices", errorPrefix,
@@ -101,6 +114,7 @@ void dropUnusedMaterials(Scene& scene)
     if (allDefault) {
         scene.materials.clear();
         scene.triMaterials.clear();
+        scene.pointMaterials.clear();
     }
     if (!anyTexture) {
         scene.texcoords.clear();
@@ -115,6 +129,10 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     if (scene.indices.size() > kMaxIndices || scene.positions.size() > kMaxVertices) {
         return makeError(ExitCode::Usage, "{}: scene too large ({} vertices, {} triangles)", errorPrefix,
                          scene.positions.size(), scene.indices.size() / 3);
+    }
+    if (scene.points.size() > kMaxPoints) {
+        return makeError(ExitCode::Usage, "{}: scene too large ({} points)", errorPrefix,
+                         scene.points.size());
     }
     if (scene.indices.size() % 3 != 0) {
         return makeError(ExitCode::Usage, "{}: index count {} is not a multiple of 3", errorPrefix,
@@ -165,14 +183,37 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
                    "positions\n",
                    warnAs, dropped);
     }
-    if (kept == 0) return makeError(ExitCode::Usage, "{}: no triangles to draw", errorPrefix);
+
+    // Points are compacted the same way, keeping their order (their ids) and materials aligned.
+    bool hasPointMaterials = !scene.pointMaterials.empty();
+    size_t keptPoints = 0;
+    for (size_t k = 0; k < scene.points.size(); ++k) {
+        uint32_t v = scene.points[k];
+        if (v >= scene.positions.size() || !finitePosition(scene.positions[v])) continue;
+        scene.points[keptPoints] = v;
+        if (hasPointMaterials) scene.pointMaterials[keptPoints] = scene.pointMaterials[k];
+        ++keptPoints;
+    }
+    uint64_t droppedPoints = scene.points.size() - keptPoints;
+    scene.points.resize(keptPoints);
+    if (hasPointMaterials) scene.pointMaterials.resize(keptPoints);
+    if (droppedPoints > 0) {
+        scene.droppedPoints += droppedPoints;
+        fmt::print(stderr,
+                   "warning: {}: dropped {} point(s) with out-of-range indices or non-finite positions\n",
+                   warnAs, droppedPoints);
+    }
+    if (kept == 0 && keptPoints == 0)
+        return makeError(ExitCode::Usage, "{}: no triangles or points to draw", errorPrefix);
 
     glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (uint32_t i : scene.indices) {
+    auto include = [&](uint32_t i) {
         glm::vec3 p(scene.positions[i]);
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
-    }
+    };
+    for (uint32_t i : scene.indices) include(i);
+    for (uint32_t i : scene.points) include(i);
     scene.boundsMin = lo;
     scene.boundsMax = hi;
     return okStatus();

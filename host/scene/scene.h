@@ -77,12 +77,23 @@ struct Scene {
     std::vector<uint32_t> triMaterials;
     std::vector<glm::vec4> texcoords;
     std::vector<SceneTexture> textures;
+    // Points (glTF mode POINTS, OBJ `p`): one vertex index per point. Primitive ids are one space:
+    // triangles first (0 .. triangleCount() - 1), then line segments (none yet: glTF lines and OBJ `l`
+    // are skipped with a warning), then points, in file order; so point k has id
+    // triangleCount() + k. pointMaterials holds one material index per point when materials is not
+    // empty (else it is empty too). A point's own vertex has a zero normal where the file gives it
+    // none (points are shaded unlit), the one exception to unit-length normals.
+    std::vector<uint32_t> points;
+    std::vector<uint32_t> pointMaterials;
     std::vector<SceneCamera> cameras;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all referenced vertices
     uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
+    uint64_t droppedPoints = 0;                  // points dropped by the loader (warned about once)
 
     size_t vertexCount() const { return positions.size(); }
     size_t triangleCount() const { return indices.size() / 3; }
+    size_t pointCount() const { return points.size(); }
+    size_t primitiveCount() const { return triangleCount() + pointCount(); }
 };
 
 // Loads a .gltf, .glb or .obj file, chosen by extension, or a procedural scene named "builtin...".
@@ -100,9 +111,9 @@ Scene tessellatedSphere(int rings);
 // sub-pixel at small resolutions) and "builtin:huge" (the built-in objects on a 200,000-unit ground plane).
 Result<Scene> builtinSceneNamed(const std::string& name);
 
-// Drops triangles with out-of-range indices or non-finite positions (counting them in
-// droppedTriangles), drops materials, texture coordinates and textures that change nothing (the
-// emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
+// Drops triangles and points with out-of-range indices or non-finite positions (counting them in
+// droppedTriangles and droppedPoints), drops materials, texture coordinates and textures that change nothing
+// (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 
 // finalizeScene for a scene read from `path`: warnings name the file and a failure reads

@@ -1,4 +1,9 @@
-// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle list, through tinygltf.
+// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle and point lists, through
+// tinygltf.
+//
+// Primitives of mode POINTS become Scene::points in document order, after the same attribute
+// validation, node transform, COLOR_0 and material handling as triangles; the line modes (LINES,
+// LINE_LOOP, LINE_STRIP) are skipped with one warning per mode.
 //
 // tinygltf parses the JSON and resolves buffers (external files, data URIs, the GLB chunk); every
 // index, offset and count it hands over is validated here before any byte is read, so a malformed
@@ -24,7 +29,7 @@
 namespace sr {
 namespace {
 
-// Stands for "no such vertex"; finalizeScene drops every triangle that uses it and counts it.
+// Stands for "no such vertex"; finalizeScene drops every triangle or point that uses it and counts it.
 constexpr uint32_t kInvalidIndex = 0xffffffffu;
 // Same bound as finalizeScene's, checked early so a huge count fails before it is allocated.
 constexpr size_t kMaxVertices = size_t(1) << 31;
@@ -320,7 +325,6 @@ glm::vec3 safeNormalize(glm::dvec3 v)
 const char* lineModeName(int mode)
 {
     switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
     case TINYGLTF_MODE_LINE: return "LINES";
     case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
     default: return "LINE_STRIP";
@@ -351,7 +355,7 @@ private:
     const std::string& path_;
     Scene scene_;
     std::vector<bool> visited_;
-    std::array<size_t, 4> skippedLineModes_{};  // indexed by TINYGLTF_MODE_POINTS..LINE_STRIP
+    std::array<size_t, 4> skippedLineModes_{};  // indexed by mode, TINYGLTF_MODE_LINE..LINE_STRIP used
     size_t skippedWithoutPositions_ = 0;
     bool anyNonWhite_ = false;
     // glTF material / texture index -> Scene::materials / Scene::textures index; -1 not yet used.
@@ -548,12 +552,11 @@ Status GltfFlattener::run()
     textureTried_.assign(model_.textures.size(), false);
     for (int root : roots) SR_TRY(visitTree(root));
 
-    for (int mode = TINYGLTF_MODE_POINTS; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
+    for (int mode = TINYGLTF_MODE_LINE; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
         if (skippedLineModes_[size_t(mode)] == 0) continue;
         fmt::print(stderr,
-                   "warning: {}: skipping {} primitive(s) with mode {} (lines/points not supported "
-                   "yet)\n",
-                   path_, skippedLineModes_[size_t(mode)], lineModeName(mode));
+                   "warning: {}: skipping {} primitive(s) with mode {} (lines are not rendered yet)\n", path_,
+                   skippedLineModes_[size_t(mode)], lineModeName(mode));
     }
     if (skippedWithoutPositions_ > 0) {
         fmt::print(stderr, "warning: {}: skipping {} primitive(s) without POSITION\n", path_,
@@ -630,12 +633,12 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
                                    const glm::dmat4& world, const glm::dmat3& normalMatrix, bool flip)
 {
     int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-    if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
+    if (mode >= TINYGLTF_MODE_LINE && mode <= TINYGLTF_MODE_LINE_STRIP) {
         ++skippedLineModes_[size_t(mode)];
         return okStatus();
     }
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-        mode != TINYGLTF_MODE_TRIANGLE_FAN)
+    if (mode != TINYGLTF_MODE_POINTS && mode != TINYGLTF_MODE_TRIANGLES &&
+        mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
         return fail(fmt::format("{} has unknown mode {}", where, mode));
 
     auto attribute = [&](const char* name) {
@@ -759,6 +762,27 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
         for (size_t i = 0; i < vertexCount; ++i) sequence[i] = uint32_t(i);
     }
 
+    auto worldPosition = [&](size_t v) {
+        return glm::vec3(world * glm::dvec4(glm::dvec3(positions->vec3(v)), 1.0));
+    };
+    size_t base = scene_.positions.size();
+
+    if (mode == TINYGLTF_MODE_POINTS) {
+        // One point per element of the sequence, on the primitive's vertices stored once. Points are
+        // shaded unlit, so a primitive without NORMAL gets zero normals rather than invented ones.
+        if (vertexCount > kMaxVertices - base)
+            return fail(fmt::format("{}: the scene has more than {} vertices", where, kMaxVertices));
+        for (size_t v = 0; v < vertexCount; ++v) {
+            glm::vec3 normal(0.0f);
+            if (hasNormals) normal = safeNormalize(normalMatrix * glm::dvec3(normals.vec3(v)));
+            pushVertex(worldPosition(v), normal, colorOf(v), uvOf(v));
+        }
+        for (uint32_t local : sequence)
+            scene_.points.push_back(local < vertexCount ? uint32_t(base + local) : kInvalidIndex);
+        scene_.pointMaterials.insert(scene_.pointMaterials.end(), sequence.size(), *materialId);
+        return okStatus();
+    }
+
     // Triangle lists, with the vertex order of the glTF spec (section 3.7.2.1).
     std::vector<uint32_t> tris;
     size_t n = sequence.size();
@@ -782,13 +806,9 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
         for (size_t t = 0; t + 2 < tris.size(); t += 3) std::swap(tris[t + 1], tris[t + 2]);
     }
 
-    auto worldPosition = [&](size_t v) {
-        return glm::vec3(world * glm::dvec4(glm::dvec3(positions->vec3(v)), 1.0));
-    };
     size_t triangleCount = tris.size() / 3;
     uint32_t flags = (doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u) |
                      (material.alphaMode == ALPHA_MASK ? TRI_FLAG_ALPHA_MASK : 0u);
-    size_t base = scene_.positions.size();
     size_t added = hasNormals ? vertexCount : 3 * triangleCount;
     if (added > kMaxVertices - base)
         return fail(fmt::format("{}: the scene has more than {} vertices", where, kMaxVertices));

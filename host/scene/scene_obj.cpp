@@ -1,20 +1,28 @@
-// scene_obj.cpp - Wavefront OBJ to the flat triangle list, through tinyobjloader.
+// scene_obj.cpp - Wavefront OBJ to the flat triangle and point lists, through tinyobjloader.
 //
 // tinyobjloader's own triangulation is off so that the triangle order (the ids in the `id` AOV) is
 // defined here: polygons are fanned as (v0, vi, vi+1) in file order. Every face corner becomes its
 // own vertex, because OBJ indexes positions, normals, texture coordinates and colours separately.
+//
+// Points: every vertex of every `p` statement, in file order, with the material of the `usemtl` in
+// force and its own vertex (a zero normal unless it names a `vn`: points are shaded unlit). A file
+// with vertices but no `f`, `l` or `p` statement at all (Meshlab's point clouds) is drawn as one point
+// per vertex, as assimp does. `l` statements are skipped with one warning.
 //
 // Materials come from the .mtl files: Kd is the base colour factor, map_Kd the base colour texture
 // (sRGB, repeat, trilinear), resolved relative to the folder of the .mtl that names it. A missing .mtl
 // or texture image is a warning; the faces keep their geometry.
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 
 #include "scene/scene.h"
@@ -23,7 +31,7 @@
 namespace sr {
 namespace {
 
-// Stands for "no such vertex"; finalizeScene drops every triangle that uses it and counts it.
+// Stands for "no such vertex"; finalizeScene drops every triangle or point that uses it and counts it.
 constexpr uint32_t kInvalidIndex = 0xffffffffu;
 constexpr size_t kMaxVertices = size_t(1) << 31;
 
@@ -61,10 +69,14 @@ public:
         tinyobj::LoadMtl(matMap, materials, &in, warn, err);
         folders.resize(before);
         folders.resize(materials->size(), folderOf(path));
+        materialIds = *matMap;
         return true;
     }
 
     std::vector<std::string> folders;  // per material: folder of its .mtl, ending in '/' (or empty)
+    // tinyobjloader's name -> material id map (the first material of a name wins), which `usemtl`
+    // statements are resolved with.
+    std::map<std::string, int> materialIds;
 
 private:
     std::string objFolder_;
@@ -78,6 +90,93 @@ std::string texturePath(const std::string& folder, std::string name)
     // Normalised, so that "./a.png" and "a.png" are one texture, loaded once.
     std::string path = !name.empty() && name[0] == '/' ? name : folder + name;
     return std::filesystem::path(path).lexically_normal().string();
+}
+
+// One vertex of a `p` statement: 0-based indices as tinyobjloader resolves them (-1: not given or
+// invalid, negative ones relative to the vertices read so far), and the tinyobjloader material id in
+// force (-1: none).
+struct ObjPointRef {
+    int v = -1, vt = -1, vn = -1;
+    int material = -1;
+};
+
+struct ObjElements {
+    std::vector<ObjPointRef> points;
+    size_t faces = 0;  // `f` statements
+    size_t lines = 0;  // `l` statements
+};
+
+// One index of tinyobjloader's parseTriple: atoi, 1-based or negative (relative to `count`), 0 invalid.
+int objIndex(const char*& token, int count)
+{
+    int i = std::atoi(token);
+    token += std::strcspn(token, "/ \t\r");
+    if (i > 0) return i - 1;
+    if (i < 0 && count + i >= 0) return count + i;
+    return -1;
+}
+
+// Reads the `p`, `l` and `f` statements of an OBJ file that tinyobjloader has already accepted.
+// tinyobjloader 2.0.0rc10 keeps points badly: a `usemtl` between `p` statements exports the pending
+// points a second time, a `g` line loses the points of a group without faces, and points carry no
+// material. So points are read here, line by line with tinyobjloader's own tokenisation (its line
+// ends, leading blanks, a keyword followed by a blank, "v/vt/vn" triples read with atoi, negative
+// indices relative to the lines read so far), and `usemtl` is resolved with tinyobjloader's material
+// map, as it does for faces.
+ObjElements readObjElements(const std::string& text, const std::map<std::string, int>& materialIds)
+{
+    ObjElements out;
+    int vertices = 0, normals = 0, texcoords = 0;
+    int material = -1;
+    size_t start = 0;
+    while (start < text.size()) {
+        // Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader's safeGetline reads them.
+        size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+        std::string line = text.substr(start, end - start);
+        start = end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
+        const char* token = line.c_str() + std::strspn(line.c_str(), " \t");
+        auto isSpace = [](char c) { return c == ' ' || c == '\t'; };
+        if (token[0] == 'v' && isSpace(token[1])) {
+            ++vertices;
+        } else if (token[0] == 'v' && token[1] == 'n' && isSpace(token[2])) {
+            ++normals;
+        } else if (token[0] == 'v' && token[1] == 't' && isSpace(token[2])) {
+            ++texcoords;
+        } else if (token[0] == 'f' && isSpace(token[1])) {
+            ++out.faces;
+        } else if (token[0] == 'l' && isSpace(token[1])) {
+            ++out.lines;
+        } else if (token[0] == 'p' && isSpace(token[1])) {
+            token += 2;
+            while (token[0] != '\0' && token[0] != '\r' && token[0] != '\n') {
+                ObjPointRef ref;
+                ref.material = material;
+                ref.v = objIndex(token, vertices);
+                if (token[0] == '/') {
+                    ++token;
+                    if (token[0] == '/') {
+                        ++token;
+                        ref.vn = objIndex(token, normals);
+                    } else {
+                        ref.vt = objIndex(token, texcoords);
+                        if (token[0] == '/') {
+                            ++token;
+                            ref.vn = objIndex(token, normals);
+                        }
+                    }
+                }
+                out.points.push_back(ref);
+                token += std::strspn(token, " \t\r");
+            }
+        } else if (std::strncmp(token, "usemtl", 6) == 0) {
+            token += 6;
+            token += std::strspn(token, " \t");
+            std::string name(token, std::strcspn(token, " \t\r"));
+            auto it = materialIds.find(name);
+            material = it == materialIds.end() ? -1 : it->second;
+        }
+    }
+    return out;
 }
 
 }  // namespace
@@ -102,6 +201,13 @@ Result<Scene> loadObj(const std::string& path)
         return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
     }
     if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+    ObjElements elements;
+    {
+        std::ifstream again(path, std::ios::binary);
+        if (!again) return makeError(ExitCode::Usage, "cannot load '{}': cannot open the file", path);
+        std::string text((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
+        elements = readObjElements(text, mtlReader.materialIds);
+    }
 
     size_t positionCount = attrib.vertices.size() / 3;
     size_t normalCount = attrib.normals.size() / 3;
@@ -158,14 +264,32 @@ Result<Scene> loadObj(const std::string& path)
         return uint32_t(materialIndex[size_t(id)]);
     };
     size_t shortFaces = 0;
-    size_t linesAndPoints = 0;
     auto position = [&](int i) {
         const tinyobj::real_t* p = &attrib.vertices[3 * size_t(i)];
         return glm::dvec3(p[0], p[1], p[2]);
     };
+    // OBJ's v points up; glTF's v = 0 (which the samplers follow) is the image's top row.
+    auto texcoord = [&](int vt) {
+        glm::vec4 uv(0.0f);
+        if (vt >= 0 && size_t(vt) < texcoordCount) {
+            const tinyobj::real_t* t = &attrib.texcoords[2 * size_t(vt)];
+            uv.x = float(t[0]);
+            uv.y = float(1.0 - double(t[1]));
+        }
+        return uv;
+    };
+    // The vertex colour of position v, noting whether any is not white.
+    auto color = [&](size_t v) {
+        glm::vec4 c(1.0f);
+        if (hasColors) {
+            const tinyobj::real_t* rgb = &attrib.colors[3 * v];
+            c = glm::vec4(float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0f);
+        }
+        if (c != glm::vec4(1.0f)) anyNonWhite = true;
+        return c;
+    };
 
     for (const tinyobj::shape_t& shape : shapes) {
-        linesAndPoints += shape.lines.num_line_vertices.size() + shape.points.indices.size();
         const tinyobj::mesh_t& mesh = shape.mesh;
         size_t offset = 0;
         for (size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
@@ -220,35 +344,60 @@ Result<Scene> loadObj(const std::string& path)
                     if (len > 0.0 && std::isfinite(len)) normal = glm::vec3(given / len);
                 }
                 scene.normals.emplace_back(normal, 0.0f);
-                // OBJ's v points up; glTF's v = 0 (which the samplers follow) is the image's top row.
-                glm::vec4 uv(0.0f);
-                int vt = corners[k].texcoord_index;
-                if (vt >= 0 && size_t(vt) < texcoordCount) {
-                    const tinyobj::real_t* t = &attrib.texcoords[2 * size_t(vt)];
-                    uv.x = float(t[0]);
-                    uv.y = float(1.0 - double(t[1]));
-                }
-                scene.texcoords.push_back(uv);
-                glm::vec4 color(1.0f);
-                if (hasColors) {
-                    const tinyobj::real_t* c = &attrib.colors[3 * v];
-                    color = glm::vec4(float(c[0]), float(c[1]), float(c[2]), 1.0f);
-                }
-                if (color != glm::vec4(1.0f)) anyNonWhite = true;
-                scene.colors.push_back(color);
+                scene.texcoords.push_back(texcoord(corners[k].texcoord_index));
+                scene.colors.push_back(color(size_t(v)));
             }
             for (size_t k = 1; k + 1 < n; ++k) {
                 scene.indices.insert(scene.indices.end(), {base, base + uint32_t(k), base + uint32_t(k + 1)});
             }
         }
     }
+
+    // Every point gets its own vertex, like every face corner.
+    auto pushPoint = [&](int v, int vt, int vn, uint32_t material) -> Status {
+        scene.pointMaterials.push_back(material);
+        if (v < 0 || size_t(v) >= positionCount) {
+            scene.points.push_back(kInvalidIndex);
+            return okStatus();
+        }
+        if (scene.positions.size() >= kMaxVertices)
+            return makeError(ExitCode::Usage, "cannot load '{}': more than {} vertices", path, kMaxVertices);
+        scene.points.push_back(uint32_t(scene.positions.size()));
+        scene.positions.emplace_back(glm::vec3(position(v)), 1.0f);
+        glm::vec3 normal(0.0f);
+        if (vn >= 0 && size_t(vn) < normalCount) {
+            const tinyobj::real_t* n = &attrib.normals[3 * size_t(vn)];
+            glm::dvec3 given(n[0], n[1], n[2]);
+            double len = glm::length(given);
+            if (len > 0.0 && std::isfinite(len)) normal = glm::vec3(given / len);
+        }
+        scene.normals.emplace_back(normal, 0.0f);
+        scene.texcoords.push_back(texcoord(vt));
+        scene.colors.push_back(color(size_t(v)));
+        return okStatus();
+    };
+    for (const ObjPointRef& ref : elements.points) {
+        Result<uint32_t> materialId = useMaterial(ref.material);
+        if (!materialId) return materialId.error();
+        SR_TRY(pushPoint(ref.v, ref.vt, ref.vn, *materialId));
+    }
+    if (elements.faces == 0 && elements.lines == 0 && elements.points.empty() && positionCount > 0) {
+        // A bare vertex list is a point cloud. Meshlab writes a `vn` before each `v`, so equal counts
+        // pair them by position in the file.
+        Result<uint32_t> materialId = useMaterial(-1);
+        if (!materialId) return materialId.error();
+        bool pairedNormals = normalCount == positionCount;
+        for (size_t v = 0; v < positionCount; ++v)
+            SR_TRY(pushPoint(int(v), -1, pairedNormals ? int(v) : -1, *materialId));
+    }
+
     if (!anyNonWhite) scene.colors.clear();
     if (shortFaces > 0) {
         fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
     }
-    if (linesAndPoints > 0) {
-        fmt::print(stderr, "warning: {}: skipping {} line/point element(s) (not supported yet)\n", path,
-                   linesAndPoints);
+    if (elements.lines > 0) {
+        fmt::print(stderr, "warning: {}: skipping {} line element(s) (lines are not rendered yet)\n", path,
+                   elements.lines);
     }
     SR_TRY(finalizeLoadedScene(scene, path));
     return scene;

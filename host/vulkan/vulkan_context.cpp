@@ -380,7 +380,8 @@ Status VulkanContext::createDevice(QueueKind kind)
 
     // Exactly the features the shaders use: 64-bit integers for the edge functions and the
     // visibility key, 64-bit buffer atomics for the depth test, and for graphics the Geometry
-    // capability that gl_PrimitiveID in a fragment shader declares.
+    // capability that gl_PrimitiveID in a fragment shader declares and, where offered, points larger
+    // than one pixel (vulkan-graphics refuses them on a device without).
     VkPhysicalDeviceShaderAtomicInt64Features atomics{};
     atomics.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES;
     atomics.shaderBufferInt64Atomics = VK_TRUE;
@@ -389,6 +390,9 @@ Status VulkanContext::createDevice(QueueKind kind)
     features.pNext = &atomics;
     features.features.shaderInt64 = VK_TRUE;
     features.features.geometryShader = kind == QueueKind::Graphics ? VK_TRUE : VK_FALSE;
+    VkPhysicalDeviceFeatures offered{};
+    vkGetPhysicalDeviceFeatures(physical_, &offered);
+    features.features.largePoints = kind == QueueKind::Graphics ? offered.largePoints : VK_FALSE;
 
     VkDeviceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;

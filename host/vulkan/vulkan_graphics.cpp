@@ -14,11 +14,19 @@
 // The attachments are then floats (reference_aa.frag says why); multisampled ones cannot be copied to a
 // buffer, so a compute pass (reference_samples.comp) reads every sample. The host averages the linear
 // colours of each output pixel's samples and takes the ids and depths per sample.
+//
+// Points (Scene::points) are a second draw in the same render pass, after the triangles, through a
+// second pipeline (POINT_LIST, reference_point.vert and reference_point*.frag) with the same
+// attachments, depth test and descriptor sets: the depth test sees triangles and points in one buffer,
+// and a point at a triangle's depth loses to it, as the lower id wins in the compute visibility key.
+// A scene without triangles skips the triangle draw; one without points skips the point draw.
 #include "vulkan/vulkan_graphics.h"
 
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <initializer_list>
@@ -36,6 +44,9 @@ namespace {
 // The generated headers define one `const uint32_t kSpv_<shader>[]` each, e.g. kSpv_reference_vert.
 #include "reference_aa_frag.spv.h"
 #include "reference_frag.spv.h"
+#include "reference_point_aa_frag.spv.h"
+#include "reference_point_frag.spv.h"
+#include "reference_point_vert.spv.h"
 #include "reference_samples_comp.spv.h"
 #include "reference_visibility_aa_frag.spv.h"
 #include "reference_visibility_frag.spv.h"
@@ -63,12 +74,13 @@ constexpr VkFormatFeatureFlags kTextureFeatures = VK_FORMAT_FEATURE_SAMPLED_IMAG
                                                   VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
 
 // Specialization constant ids: the visibility shader's background word, the vertex shader's
-// texcoords switch, the fragment shader's texture array size and the anti-aliased visibility shader's
-// linear background (three ids from this one).
+// texcoords switch, the fragment shader's texture array size, the anti-aliased visibility shader's
+// linear background (three ids from this one) and the point fragment shaders' visibility switch.
 constexpr uint32_t kBackgroundConstant = 0;
 constexpr uint32_t kHasTexcoordsConstant = 1;
 constexpr uint32_t kTextureSlotsConstant = 2;
 constexpr uint32_t kBackgroundRgbConstant = 3;
+constexpr uint32_t kPointVisibilityConstant = 6;
 
 // Attachment indices of the render pass and the framebuffer.
 constexpr uint32_t kColorAttachment = 0;
@@ -123,6 +135,14 @@ Status checkInputs(const Scene& scene, const RenderSettings& settings)
     if (!scene.materials.empty() && scene.triMaterials.size() != scene.triangleCount())
         return makeError(ExitCode::Usage, "the scene has {} triangle materials for {} triangles",
                          scene.triMaterials.size(), scene.triangleCount());
+    if (!scene.materials.empty() && scene.pointMaterials.size() != scene.pointCount())
+        return makeError(ExitCode::Usage, "the scene has {} point materials for {} points",
+                         scene.pointMaterials.size(), scene.pointCount());
+    // The point vertex shader fetches through the point list without a bounds check.
+    for (size_t k = 0; k < scene.points.size(); ++k)
+        if (scene.points[k] >= scene.vertexCount())
+            return makeError(ExitCode::Usage, "point {} names vertex {} of {}", k, scene.points[k],
+                             scene.vertexCount());
     const bool textured =
         std::any_of(scene.materials.begin(), scene.materials.end(), [&](const SceneMaterial& m) {
             return m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size();
@@ -250,6 +270,7 @@ private:
 
     Status checkDevice(const Scene& scene) const;
     Status checkAntialiasing(const Scene& scene) const;
+    Status checkPoints() const;
     bool offersSamples(uint32_t samples) const;
     Status uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
                              VkBufferUsageFlags extraUsage);
@@ -262,6 +283,10 @@ private:
     Status createRenderPass();
     Status createFramebuffer();
     Status createPipeline();
+    Status createPointPipeline();
+    Status buildPipeline(VkShaderModule vertex, const VkSpecializationInfo* vertexConstants,
+                         VkShaderModule fragment, const VkSpecializationInfo* fragmentConstants,
+                         VkPrimitiveTopology topology, VkCullModeFlags cullMode, VkPipeline& pipeline);
     Status createSampleReadback();
     Status readWords(RenderOutput& out, bool allSamples);
     Status readSingleSamples(SampleFrame& frame);
@@ -278,6 +303,7 @@ private:
     uint32_t samples_ = 1;      // rasterization samples per pixel (params.sampleCount)
     bool antialiased_ = false;  // float attachments and the host resolve: MSAA, SSAA or both
     uint32_t indexCount_ = 0;
+    uint32_t pointCount_ = 0;
     bool visibilityOnly_ = false;
     VkBool32 hasTexcoords_ = VK_FALSE;  // BUF_TEXCOORDS holds the scene's texcoords
     GpuBuffer buffers_[BUF_COUNT];      // the parameters and the scene inputs; the other bindings stay empty
@@ -295,7 +321,8 @@ private:
     VkDeviceSize targetBytes_ = 0;  // memory of the multisampled attachments
     VkRenderPass renderPass_ = VK_NULL_HANDLE;
     VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
-    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;       // triangles; none without triangles
+    VkPipeline pointPipeline_ = VK_NULL_HANDLE;  // points; none without points
     // The readback of multisampled attachments (reference_samples.comp): its own set of the three
     // attachments and three output buffers, sized for bands of bandRows_ rows.
     VkDescriptorSetLayout readSetLayout_ = VK_NULL_HANDLE;
@@ -317,6 +344,7 @@ GraphicsRender::~GraphicsRender()
     vkDestroyDescriptorPool(device, readPool_, nullptr);
     vkDestroyDescriptorSetLayout(device, readSetLayout_, nullptr);
     for (GpuBuffer* b : {&readColors_, &readIds_, &readDepths_}) ctx_.destroyBuffer(*b);
+    vkDestroyPipeline(device, pointPipeline_, nullptr);
     vkDestroyPipeline(device, pipeline_, nullptr);
     vkDestroyFramebuffer(device, framebuffer_, nullptr);
     vkDestroyRenderPass(device, renderPass_, nullptr);
@@ -346,13 +374,15 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, bool
     samples_ = params.sampleCount;
     antialiased_ = params.sampleCount > 1 || params.ssaa > 1;
     indexCount_ = static_cast<uint32_t>(scene.indices.size());
+    pointCount_ = static_cast<uint32_t>(scene.pointCount());
     SR_TRY(checkDevice(scene));
     SR_TRY(uploadScene(scene));
     SR_TRY(createTextures(scene));
     SR_TRY(createTargets());
     SR_TRY(createRenderPass());
     SR_TRY(createFramebuffer());
-    SR_TRY(createPipeline());
+    if (indexCount_ > 0) SR_TRY(createPipeline());
+    if (pointCount_ > 0) SR_TRY(createPointPipeline());
     if (samples_ > 1) SR_TRY(createSampleReadback());
     SR_TRY(ctx_.ensureQueryPool(2));
     return ctx_.validationStatus();
@@ -375,6 +405,7 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
         return makeError(ExitCode::Usage,
                          "vulkan-graphics: {} vertices exceed the device's index limit of {}",
                          scene.vertexCount(), uint64_t(limits.maxDrawIndexedIndexValue) + 1);
+    if (scene.pointCount() > 0) SR_TRY(checkPoints());
 
     if (antialiased_)
         SR_TRY(checkAntialiasing(scene));
@@ -415,11 +446,12 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
 Status GraphicsRender::checkAntialiasing(const Scene& scene) const
 {
     const char* name = ctx_.properties().deviceName;
-    if (scene.triangleCount() > kMaxFloatIds)
-        return makeError(ExitCode::Usage,
-                         "vulkan-graphics: anti-aliasing stores triangle ids as floats, exact for at most {} "
-                         "triangles; the scene has {}",
-                         kMaxFloatIds, scene.triangleCount());
+    if (scene.primitiveCount() > kMaxFloatIds)
+        return makeError(
+            ExitCode::Usage,
+            "vulkan-graphics: anti-aliasing stores primitive ids as floats, exact for at most {} "
+            "primitives; the scene has {}",
+            kMaxFloatIds, scene.primitiveCount());
     if (samples_ == 1)
         return checkFormats(
             ctx_, {{kLinearColorFormat, kCopyableColor,
@@ -447,6 +479,36 @@ Status GraphicsRender::checkAntialiasing(const Scene& scene) const
                              "vulkan-graphics: {} has a graphics queue without compute, which MSAA needs to "
                              "read its samples back",
                              name);
+    return okStatus();
+}
+
+// What points need from the device: their side drawn exactly as asked. A side between two of the
+// device's supported sizes would be drawn at the nearer one, and sizes above 1 need the largePoints
+// feature: each is a one-line Usage error. (The view-volume cull needs nothing from the device:
+// reference_point.vert applies it.)
+Status GraphicsRender::checkPoints() const
+{
+    const VkPhysicalDeviceLimits& limits = ctx_.properties().limits;
+    const char* name = ctx_.properties().deviceName;
+    const float size = params_.pointSize;
+    VkPhysicalDeviceFeatures features{};
+    vkGetPhysicalDeviceFeatures(ctx_.physicalDevice(), &features);
+    const float low = limits.pointSizeRange[0], high = limits.pointSizeRange[1];
+    const float step = limits.pointSizeGranularity;
+    // Granularities need not be binary fractions (the spec's example is 0.1): a size counts as a step
+    // when it lies within a thousandth of a step of one.
+    const double steps = step > 0.0f ? double(size - low) / step : 0.0;
+    const bool onStep = step > 0.0f ? std::abs(steps - std::round(steps)) <= 1e-3 : size == low;
+    if (!(size >= low && size <= high) || !onStep)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} cannot draw points of size {} exactly (it draws {} to {} in "
+                         "steps of {})",
+                         name, size, low, high, step);
+    if (size > 1.0f && !features.largePoints)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} lacks the largePoints feature and draws points of size 1 only, "
+                         "not {}",
+                         name, size);
     return okStatus();
 }
 
@@ -520,18 +582,27 @@ Status GraphicsRender::uploadScene(const Scene& scene)
         SR_TRY(
             uploadSceneBuffer(BUF_COLORS, scene.colors.data(), scene.colors.size() * sizeof(glm::vec4), 0));
     // The vertex stage fetches through the index buffer, the fragment stage reads the same indices
-    // by triangle id.
-    SR_TRY(uploadSceneBuffer(BUF_INDICES, scene.indices.data(), scene.indices.size() * sizeof(uint32_t),
-                             VK_BUFFER_USAGE_INDEX_BUFFER_BIT));
-    SR_TRY(
-        uploadSceneBuffer(BUF_TRI_FLAGS, scene.triFlags.data(), scene.triFlags.size() * sizeof(uint32_t), 0));
-    // The fragment shader reads the material of its triangle; the texels go to images instead
+    // by triangle id. A scene of points alone draws no triangle and leaves both bindings placeholders.
+    if (scene.triangleCount() > 0) {
+        SR_TRY(uploadSceneBuffer(BUF_INDICES, scene.indices.data(), scene.indices.size() * sizeof(uint32_t),
+                                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT));
+        SR_TRY(uploadSceneBuffer(BUF_TRI_FLAGS, scene.triFlags.data(),
+                                 scene.triFlags.size() * sizeof(uint32_t), 0));
+    }
+    // The point vertex stage fetches each point's vertex through the point list.
+    if (scene.pointCount() > 0)
+        SR_TRY(uploadSceneBuffer(BUF_POINTS, scene.points.data(), scene.points.size() * sizeof(uint32_t), 0));
+    // The fragment shaders read the material of their primitive, by primitive id: the triangles', then
+    // the points' (as the compute pipeline lays BUF_TRI_MATERIALS out). The texels go to images instead
     // (createTextures), so BUF_TEXTURES and BUF_TEXELS stay placeholders.
     if (!scene.materials.empty()) {
         const std::vector<GpuMaterial> materials = gpuMaterials(scene);
         SR_TRY(uploadSceneBuffer(BUF_MATERIALS, materials.data(), materials.size() * sizeof(GpuMaterial), 0));
-        SR_TRY(uploadSceneBuffer(BUF_TRI_MATERIALS, scene.triMaterials.data(),
-                                 scene.triMaterials.size() * sizeof(uint32_t), 0));
+        std::vector<uint32_t> primitiveMaterials = scene.triMaterials;
+        primitiveMaterials.insert(primitiveMaterials.end(), scene.pointMaterials.begin(),
+                                  scene.pointMaterials.end());
+        SR_TRY(uploadSceneBuffer(BUF_TRI_MATERIALS, primitiveMaterials.data(),
+                                 primitiveMaterials.size() * sizeof(uint32_t), 0));
     }
     if (!scene.texcoords.empty()) {
         SR_TRY(uploadSceneBuffer(BUF_TEXCOORDS, scene.texcoords.data(),
@@ -850,11 +921,6 @@ Status GraphicsRender::createPipeline()
         vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
         return fragment.error();
     }
-    VkPipelineShaderStageCreateInfo stages[2]{};
-    for (VkPipelineShaderStageCreateInfo& stage : stages) {
-        stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        stage.pName = "main";
-    }
     // The visibility shader writes the background word (anti-aliased: the linear background); the
     // full one sizes its texture array; the vertex shader fetches texcoords only where the scene has
     // them.
@@ -868,23 +934,93 @@ Status GraphicsRender::createPipeline()
     VkSpecializationInfo linearBackground{3, backgroundRgbEntries, sizeof backgroundRgb, backgroundRgb};
     VkSpecializationMapEntry slotsEntry{kTextureSlotsConstant, 0, sizeof(uint32_t)};
     VkSpecializationInfo slots{1, &slotsEntry, sizeof(uint32_t), &textureSlots_};
-    stages[1].pSpecializationInfo = !visibilityOnly_ ? &slots
-                                    : antialiased_   ? &linearBackground
-                                                     : &background;
+    const VkSpecializationInfo* fragmentConstants = !visibilityOnly_ ? &slots
+                                                    : antialiased_   ? &linearBackground
+                                                                     : &background;
     VkSpecializationMapEntry texcoordsEntry{kHasTexcoordsConstant, 0, sizeof(VkBool32)};
     VkSpecializationInfo texcoords{1, &texcoordsEntry, sizeof(VkBool32), &hasTexcoords_};
-    stages[0].pSpecializationInfo = &texcoords;
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = *vertex;
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = *fragment;
 
-    // Vertex pulling: the vertex shader reads BUF_POSITIONS at gl_VertexIndex.
+    // No pipeline culling: the fragment shader culls per triangle, since doubleSided triangles must
+    // survive within the same draw. The visibility pass has no per-triangle flags to honour, so the
+    // pipeline culls.
+    const VkCullModeFlags cullMode = !visibilityOnly_                 ? VK_CULL_MODE_NONE
+                                     : params_.cullMode == CULL_BACK  ? VK_CULL_MODE_BACK_BIT
+                                     : params_.cullMode == CULL_FRONT ? VK_CULL_MODE_FRONT_BIT
+                                                                      : VK_CULL_MODE_NONE;
+    Status status = buildPipeline(*vertex, &texcoords, *fragment, fragmentConstants,
+                                  VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, cullMode, pipeline_);
+    // The pipeline keeps what it needs of the modules.
+    vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
+    vkDestroyShaderModule(ctx_.device(), *fragment, nullptr);
+    return status;
+}
+
+// The point pipeline: reference_point.vert and the point fragment shader of the attachments' kind, in
+// the visibility pass writing the background as the triangle pipeline's visibility shaders do.
+Status GraphicsRender::createPointPipeline()
+{
+    Result<VkShaderModule> vertex =
+        ctx_.createShaderModule(kSpv_reference_point_vert, sizeof kSpv_reference_point_vert);
+    if (!vertex.ok()) return vertex.error();
+    Result<VkShaderModule> fragment =
+        antialiased_
+            ? ctx_.createShaderModule(kSpv_reference_point_aa_frag, sizeof kSpv_reference_point_aa_frag)
+            : ctx_.createShaderModule(kSpv_reference_point_frag, sizeof kSpv_reference_point_frag);
+    if (!fragment.ok()) {
+        vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
+        return fragment.error();
+    }
+    // One block of every constant either shader may declare: the background word, the linear
+    // background and the visibility switch.
+    struct Constants {
+        uint32_t backgroundWord;
+        float backgroundRgb[3];
+        VkBool32 visibilityOnly;
+    };
+    const Constants constants = {backgroundWord_,
+                                 {linearBackground_.x, linearBackground_.y, linearBackground_.z},
+                                 visibilityOnly_ ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[5] = {
+        {kBackgroundConstant, offsetof(Constants, backgroundWord), sizeof(uint32_t)},
+        {kBackgroundRgbConstant, offsetof(Constants, backgroundRgb), sizeof(float)},
+        {kBackgroundRgbConstant + 1, offsetof(Constants, backgroundRgb) + sizeof(float), sizeof(float)},
+        {kBackgroundRgbConstant + 2, offsetof(Constants, backgroundRgb) + 2 * sizeof(float), sizeof(float)},
+        {kPointVisibilityConstant, offsetof(Constants, visibilityOnly), sizeof(VkBool32)}};
+    const VkSpecializationInfo fragmentConstants{5, entries, sizeof constants, &constants};
+    // Facing culling applies to polygons only: a point has no facing.
+    Status status = buildPipeline(*vertex, nullptr, *fragment, &fragmentConstants,
+                                  VK_PRIMITIVE_TOPOLOGY_POINT_LIST, VK_CULL_MODE_NONE, pointPipeline_);
+    vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
+    vkDestroyShaderModule(ctx_.device(), *fragment, nullptr);
+    return status;
+}
+
+// A pipeline of the render pass's one subpass from the two modules with their constants, drawing
+// `topology` with facing culling `cullMode`; every other state is common to the triangle and point
+// pipelines, so that both draws rasterize, test depth and write the attachments alike.
+Status GraphicsRender::buildPipeline(VkShaderModule vertex, const VkSpecializationInfo* vertexConstants,
+                                     VkShaderModule fragment, const VkSpecializationInfo* fragmentConstants,
+                                     VkPrimitiveTopology topology, VkCullModeFlags cullMode,
+                                     VkPipeline& pipeline)
+{
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    for (VkPipelineShaderStageCreateInfo& stage : stages) {
+        stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        stage.pName = "main";
+    }
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vertex;
+    stages[0].pSpecializationInfo = vertexConstants;
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fragment;
+    stages[1].pSpecializationInfo = fragmentConstants;
+
+    // Vertex pulling: the vertex shaders read BUF_POSITIONS themselves.
     VkPipelineVertexInputStateCreateInfo vertexInput{};
     vertexInput.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
     VkPipelineInputAssemblyStateCreateInfo assembly{};
     assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    assembly.topology = topology;
 
     // Depth range 0..1 and the whole framebuffer: the viewport transform of the compute pipeline.
     const VkViewport viewport = {0.0f, 0.0f, float(params_.width), float(params_.height), 0.0f, 1.0f};
@@ -896,31 +1032,27 @@ Status GraphicsRender::createPipeline()
     viewportState.scissorCount = 1;
     viewportState.pScissors = &scissor;
 
-    // No pipeline culling: the fragment shader culls per triangle, since doubleSided triangles must
-    // survive within the same draw. Counter-clockwise on screen is front, as in setupTriangle (the
-    // projection flips y, so this is glTF's front face). Depth clamping is off: triangles are clipped
-    // at the near and far planes, as the compute pipeline clips them.
+    // Counter-clockwise on screen is front, as in setupTriangle (the projection flips y, so this is
+    // glTF's front face). Depth clamping is off: triangles are clipped at the near and far planes, as
+    // the compute pipeline clips them, and points outside them are discarded.
     VkPipelineRasterizationStateCreateInfo rasterization{};
     rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
     rasterization.depthClampEnable = VK_FALSE;
     rasterization.polygonMode = VK_POLYGON_MODE_FILL;
-    // The visibility pass has no per-triangle flags to honour, so the pipeline culls.
-    rasterization.cullMode = !visibilityOnly_                 ? VK_CULL_MODE_NONE
-                             : params_.cullMode == CULL_BACK  ? VK_CULL_MODE_BACK_BIT
-                             : params_.cullMode == CULL_FRONT ? VK_CULL_MODE_FRONT_BIT
-                                                              : VK_CULL_MODE_NONE;
+    rasterization.cullMode = cullMode;
     rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     rasterization.lineWidth = 1.0f;
 
     // The standard sample locations (RasterParams.sampleCount of them) and no sample shading: one
-    // fragment shader invocation per pixel and triangle, its outputs written to every covered sample.
+    // fragment shader invocation per pixel and primitive, its outputs written to every covered sample.
     VkPipelineMultisampleStateCreateInfo multisample{};
     multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
     multisample.rasterizationSamples = sampleCountBit(samples_);
     multisample.sampleShadingEnable = VK_FALSE;
 
-    // LESS keeps the first of equal depths, and primitives are drawn in order, so a tie resolves to
-    // the lowest triangle id, as the compute pipeline's visibility key does.
+    // LESS keeps the first of equal depths, and primitives are drawn in order (triangles, then
+    // points), so a tie resolves to the lowest primitive id, as the compute pipeline's visibility key
+    // does.
     VkPipelineDepthStencilStateCreateInfo depthStencil{};
     depthStencil.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
     depthStencil.depthTestEnable = VK_TRUE;
@@ -950,11 +1082,7 @@ Status GraphicsRender::createPipeline()
     info.layout = pipelineLayout_;
     info.renderPass = renderPass_;
     info.subpass = 0;
-    VkResult result = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-    // The pipeline keeps what it needs of the modules.
-    vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
-    vkDestroyShaderModule(ctx_.device(), *fragment, nullptr);
-    SR_VK_CHECK(result);
+    SR_VK_CHECK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
     return okStatus();
 }
 
@@ -988,12 +1116,21 @@ Status GraphicsRender::drawFrame(double& ms)
     // The clears are part of the timed pass, as the compute pipeline's clear stage is part of its frame.
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, 0);
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+    // Both pipelines share the layout, so the sets stay bound across the two draws.
     const VkDescriptorSet sets[2] = {ctx_.descriptorSet(), textureSet_};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 2, sets, 0, nullptr);
-    vkCmdBindIndexBuffer(cmd, buffers_[BUF_INDICES].buffer, 0, VK_INDEX_TYPE_UINT32);
-    // One draw of the whole list: gl_PrimitiveID counts triangles from 0, the compute pipeline's ids.
-    vkCmdDrawIndexed(cmd, indexCount_, 1, 0, 0, 0);
+    if (indexCount_ > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+        vkCmdBindIndexBuffer(cmd, buffers_[BUF_INDICES].buffer, 0, VK_INDEX_TYPE_UINT32);
+        // One draw of the whole list: gl_PrimitiveID counts triangles from 0, the compute pipeline's ids.
+        vkCmdDrawIndexed(cmd, indexCount_, 1, 0, 0, 0);
+    }
+    if (pointCount_ > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointPipeline_);
+        // One draw of every point after the triangles: gl_PrimitiveID counts points from 0, and the
+        // fragment shader adds the triangle count.
+        vkCmdDraw(cmd, pointCount_, 1, 0, 0);
+    }
     vkCmdEndRenderPass(cmd);
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool, 1);
     SR_TRY(ctx_.submitAndWait());
@@ -1282,6 +1419,7 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.total = draw;
     out.total.name = "total";
     out.stats.trianglesIn = scene.triangleCount();
+    out.stats.pointsIn = scene.pointCount();
     // No device memory is freed before the render ends, so the render's own adds to the context's peak.
     out.peakDeviceBytes = context.peakAllocatedBytes() + render.ownDeviceBytes();
     return out;

@@ -17,6 +17,14 @@
 // read back sample by sample by a compute shader; the host averages each output pixel's samples in
 // linear space and sRGB-encodes the mean. A sample count the device does not offer for these
 // attachments (lavapipe: only 1 and 4) is a one-line Usage error naming the counts it offers.
+//
+// Points (Scene::points) are a second draw after the triangles in the same pass: POINT_LIST, each
+// point's vertex fetched through the point list, gl_PointSize = RenderSettings::pointSize, id =
+// triangleCount + gl_PrimitiveID, colour unlit (shadePoint: vertex colour x material factor), depth the
+// vertex's. The device decides coverage by Vulkan's basic point rasterization (the samples inside the
+// square of side pointSize centred on the vertex); a point whose vertex is outside the view volume is
+// discarded whole by the vertex shader itself, since devices differ there (reference_point.vert). A
+// size the device cannot draw exactly is a one-line Usage error.
 #ifndef RASTER_VULKAN_GRAPHICS_H
 #define RASTER_VULKAN_GRAPHICS_H
 
@@ -29,8 +37,8 @@ namespace sr {
 
 // Renders `settings.warmup + settings.repeat` frames on Vulkan device `deviceIndex` (same ordering and
 // validation rules as makeVulkanDevice) and returns the last one. stages holds one entry, "draw"
-// (GPU time of the render pass; the readback is not timed); stats has trianglesIn only; samples is
-// filled when settings.aovSamples asks for it; hitCount stays empty.
+// (GPU time of the render pass; the readback is not timed); stats has trianglesIn and pointsIn only;
+// samples is filled when settings.aovSamples asks for it; hitCount stays empty.
 Result<RenderOutput> renderVulkanGraphics(const Scene& scene, const CameraMatrices& camera,
                                           const RenderSettings& settings, int deviceIndex);
 
