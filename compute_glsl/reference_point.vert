@@ -5,7 +5,7 @@
 // coordinates. The side is params.pointSize raster pixels; the host has checked that the device draws
 // that size exactly (pointSizeRange, pointSizeGranularity, largePoints).
 // A point whose vertex lies outside the view volume is discarded whole (Vulkan's
-// VK_POINT_CLIPPING_BEHAVIOR_ALL_CLIP_PLANES, setupPoint's test). Devices need not do that themselves:
+// VK_POINT_CLIPPING_BEHAVIOR_ALL_CLIP_PLANES, pointInViewVolume). Devices need not do that themselves:
 // lavapipe (Mesa 22.3) reports ALL_CLIP_PLANES yet draws the part of a point beyond the left, right, top
 // or bottom plane that reaches into the viewport (tests/points_graphics_test.cpp), and a
 // USER_CLIP_PLANES_ONLY device may too. So the shader applies the test and moves a failing point so far
@@ -19,7 +19,7 @@
 void main()
 {
     vec4 c = mulPoint(params.clipFromWorld, positions[points[gl_VertexIndex]]);
-    bool inside = c.w > 0.0f && abs(c.x) <= c.w && abs(c.y) <= c.w && c.z >= 0.0f && c.z <= c.w;
+    bool inside = pointInViewVolume(c);
     // pointSize + 2 pixels beyond the edge: half a side and then more than a pixel of margin.
     vec2 pixelsPerNdc = 0.5f * vec2(float(params.width), float(params.height));
     vec2 away = vec2(-1.0f) - (params.pointSize + 2.0f) / pixelsPerNdc;

@@ -105,12 +105,18 @@ struct PointSetup {
     float depth;
 };
 
+// Whether a point at clip position c is kept: its vertex inside the view volume.
+SR_FN bool pointInViewVolume(vec4 c)
+{
+    return c.w > 0.0f && abs(c.x) <= c.w && abs(c.y) <= c.w && c.z >= 0.0f && c.z <= c.w;
+}
+
 // Sets up the point at clip position c; false when it is culled.
 SR_FN bool setupPoint(vec4 c, float pointSize, uint width, uint height, SR_OUT(PointSetup) pt)
 {
     pt.square = ivec4(0, 0, 0, 0);
     pt.depth = 1.0f;
-    if (!(c.w > 0.0f && abs(c.x) <= c.w && abs(c.y) <= c.w && c.z >= 0.0f && c.z <= c.w)) return false;
+    if (!pointInViewVolume(c)) return false;
     ivec2 xy;
     float z;
     if (!snapVertex(c, width, height, xy, z)) return false;
