@@ -7,7 +7,7 @@
 //   vertex.h       stage vertex: clip and view positions with a fixed summation order
 //   clip.h         stage setup, first half: outcodes, frustum cull, near/far/guard-band clipping
 //   setup.h        stage setup, second half: snapping to n.8 fixed point, edge functions, top-left rule
-//   raster.h       raster stages: pixel coverage and depth, tile walk, the 64-bit visibility key
+//   raster.h       raster stages: sample patterns, sample coverage and depth, points, the visibility key
 //   texture.h      textures: level of detail, level and texel selection, wrap modes, filters
 //   shade.h        stage shade: perspective-correct barycentrics and derivatives, lighting, sRGB
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index

@@ -1,9 +1,12 @@
-// setup.comp - stage `setup`: per input triangle, cull, clip and snap; a small (sub-)triangle (bbox at
-// most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by its thread, the one-thread fast
-// path that needs no memory; a big one is cut into pieces of consecutive bbox tiles (pieceCount) for
-// bin_count and bin_fill. Only a clipped big sub-triangle is stored (a TriSetup record); every other big
-// triangle is named by its input index and set up again where it is needed.
-// One thread per triangle; groups = ceil(triangleCount / GROUP_SIZE).
+// setup.comp - stage `setup`: per input primitive. A point is culled by its vertex, snapped and
+// rasterized by its thread (every sample of its square). A triangle is culled, clipped and snapped; a
+// small (sub-)triangle (bbox at most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by
+// its thread, the one-thread fast path that needs no memory; a big one is cut into pieces of
+// consecutive bbox tiles (pieceCount) for bin_count and bin_fill. Only a clipped big sub-triangle is
+// stored (a TriSetup record); every other big triangle is named by its input index and set up again
+// where it is needed.
+// One thread per primitive, triangles then points; groups = ceil((triangleCount + pointCount) /
+// GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"

@@ -1,5 +1,6 @@
-// shared/raster.h - the raster stages: pixel coverage and depth of a TriSetup, the early depth bound of
-// raster_tiles, and the 64-bit visibility key whose minimum resolves every pixel.
+// shared/raster.h - the raster stages: Vulkan's standard sample patterns, sample coverage and depth of a
+// TriSetup, points, the early depth bound of raster_tiles, and the 64-bit visibility key whose minimum
+// resolves every sample.
 //
 // Part of raster_shared.h (included from there, not on its own); same three-language rules.
 #ifndef RASTER_SHARED_RASTER_H
