@@ -38,16 +38,8 @@ struct SampleAgreement {
     size_t partlyCovered = 0;   // of them, pixels with covered and empty samples (edges)
 };
 
-class MsaaOracleTest : public ::testing::Test {
+class MsaaOracleTest : public ComputeOracleTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        compute_ = openBackend("vulkan", skip);
-        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
-        ASSERT_TRUE(compute_);
-    }
-
     SampleAgreement agree(const Scene& scene, RenderSettings s, const CameraMatrices& camera)
     {
         s.aovSamples = true;
@@ -119,8 +111,6 @@ protected:
         EXPECT_FALSE(offered.empty()) << "the device offers no multisample count";
         EXPECT_TRUE(std::find(offered.begin(), offered.end(), 4u) != offered.end()) << "4x is required";
     }
-
-    std::unique_ptr<ComputeDevice> compute_;
 };
 
 glm::vec4 win(double x, double y, float z)

@@ -31,15 +31,8 @@ struct Agreement {
     std::vector<uint32_t> hitCount;  // from the compute backend
 };
 
-class OracleTest : public ::testing::Test {
+class OracleTest : public ComputeOracleTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        compute_ = openBackend("vulkan", skip);
-        ASSERT_TRUE(compute_);
-    }
-
     Agreement agree(const Scene& scene, const CameraMatrices& camera = identityCamera(),
                     uint32_t size = kSize)
     {
@@ -79,8 +72,6 @@ protected:
                     a.covered);
         return a;
     }
-
-    std::unique_ptr<ComputeDevice> compute_;
 };
 
 // Window position (x, y) in pixels, depth z, as a clip-space vertex with w = 1.

@@ -24,16 +24,8 @@ constexpr long kProjectedBound = 64;
 // lavapipe divides z by w of the unsnapped vertex with its own rounding: a few ulps at depth ~0.7.
 constexpr float kProjectedDepthBound = 1e-6f;
 
-class PointsOracleTest : public ::testing::Test {
+class PointsOracleTest : public ComputeOracleTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        compute_ = openBackend("vulkan", skip);
-        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
-        ASSERT_TRUE(compute_);
-    }
-
     // Differing sample ids between the two pipelines (depth must agree within depthTolerance where the ids
     // do); -1 when the device does not offer the sample count.
     long differingSamples(const Scene& scene, RenderSettings s, const CameraMatrices& camera, size_t& covered,
@@ -60,8 +52,6 @@ protected:
         }
         return differing;
     }
-
-    std::unique_ptr<ComputeDevice> compute_;
 };
 
 // Points on and off every kind of grid position, in front of and behind two triangles.

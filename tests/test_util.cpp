@@ -123,6 +123,14 @@ bool isOneLine(const std::string& message)
     return !message.empty() && message.find('\n') == std::string::npos;
 }
 
+void ComputeOracleTest::SetUp()
+{
+    bool skip = false;
+    compute_ = openBackend("vulkan", skip);
+    if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+    ASSERT_TRUE(compute_);
+}
+
 void GraphicsTest::SetUp()
 {
     setenv("SR_VULKAN_VALIDATION", "1", 1);

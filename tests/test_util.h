@@ -126,6 +126,15 @@ int channelDifference(uint32_t a, uint32_t b);
 
 bool isOneLine(const std::string& message);
 
+// A test comparing the Vulkan compute backend (compute_) with the vulkan-graphics reference, skipped
+// under SR_ALLOW_MISSING_BACKENDS=vulkan without a Vulkan device.
+class ComputeOracleTest : public ::testing::Test {
+protected:
+    void SetUp() override;
+
+    std::unique_ptr<ComputeDevice> compute_;
+};
+
 // A test of the vulkan-graphics reference: validation on (also when the binary runs by hand), skipped
 // under SR_ALLOW_MISSING_BACKENDS=vulkan without a Vulkan device, and failing on any validation error
 // its renders report (each creates and destroys its own device, so leaks are reported too).

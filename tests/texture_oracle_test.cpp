@@ -260,15 +260,8 @@ struct Row {
     }
 };
 
-class TextureOracleTest : public ::testing::Test {
+class TextureOracleTest : public ComputeOracleTest {
 protected:
-    void SetUp() override
-    {
-        bool skip = false;
-        compute_ = openBackend("vulkan", skip);
-        ASSERT_TRUE(compute_);
-    }
-
     // Both renders of one scene; false (with a failure) if either failed.
     bool renderBoth(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
                     RenderOutput& ours, RenderOutput& oracle)
@@ -394,8 +387,6 @@ protected:
         row.print();
         return row;
     }
-
-    std::unique_ptr<ComputeDevice> compute_;
 };
 
 // A world-space quad (corners counter-clockwise, texture coordinates (0, 0) at corner 0 to (uvMax,
