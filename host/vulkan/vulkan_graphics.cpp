@@ -223,6 +223,25 @@ struct FormatNeed {
     const char* name;
 };
 
+// A descriptor pool sized for exactly one set of `layout` (its bindings' counts in `sizes`) and that set.
+Status createSingleSet(VkDevice device, const VkDescriptorPoolSize* sizes, uint32_t sizeCount,
+                       VkDescriptorSetLayout layout, VkDescriptorPool& pool, VkDescriptorSet& set)
+{
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = sizeCount;
+    poolInfo.pPoolSizes = sizes;
+    SR_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout;
+    SR_VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
+    return okStatus();
+}
+
 // A one-line Usage error for the first need the context's device does not meet.
 Status checkFormats(const VulkanContext& ctx, std::initializer_list<FormatNeed> needs)
 {
@@ -727,19 +746,8 @@ Status GraphicsRender::createTextures(const Scene& scene)
     layoutInfo.pSetLayouts = setLayouts;
     SR_VK_CHECK(vkCreatePipelineLayout(ctx_.device(), &layoutInfo, nullptr, &pipelineLayout_));
 
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textureSlots_};
-    VkDescriptorPoolCreateInfo poolInfo{};
-    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
-    SR_VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &poolInfo, nullptr, &texturePool_));
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = texturePool_;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &textureSetLayout_;
-    SR_VK_CHECK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &textureSet_));
+    const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textureSlots_};
+    SR_TRY(createSingleSet(ctx_.device(), &poolSize, 1, textureSetLayout_, texturePool_, textureSet_));
 
     VkWriteDescriptorSet write{};
     write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -1263,18 +1271,7 @@ Status GraphicsRender::createSampleReadback()
 
     const VkDescriptorPoolSize poolSizes[2] = {{VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 3},
                                                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
-    VkDescriptorPoolCreateInfo poolInfo{};
-    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 2;
-    poolInfo.pPoolSizes = poolSizes;
-    SR_VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &poolInfo, nullptr, &readPool_));
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = readPool_;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &readSetLayout_;
-    SR_VK_CHECK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &readSet_));
+    SR_TRY(createSingleSet(ctx_.device(), poolSizes, 2, readSetLayout_, readPool_, readSet_));
     const VkDescriptorImageInfo images[3] = {
         {VK_NULL_HANDLE, color_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
         {VK_NULL_HANDLE, id_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
