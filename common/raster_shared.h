@@ -51,13 +51,14 @@ SR_NAMESPACE_BEGIN
 #define BUF_HIT_COUNT 16    // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
 #define BUF_MATERIALS 17    // GpuMaterial per scene material (RasterParams.materialCount of them)
 #define BUF_TRI_MATERIALS \
-    18                     // uint per primitive id (triangles, then points): its material (if materialCount)
+    18                     // uint per primitive id (triangles, lines, points): its material (if materialCount)
 #define BUF_TEXCOORDS 19   // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
 #define BUF_TEXTURES 20    // GpuTexture per texture
 #define BUF_TEXELS 21      // uint per texel, RGBA8 (R in the low byte): every level of every texture
 #define BUF_SRGB_TABLE 22  // float[256]: the linear value of each sRGB-encoded byte (decode table)
-#define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + k)
-#define BUF_COUNT 24
+#define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + lineCount + k)
+#define BUF_LINES 24       // uint pair per line segment: its two vertices (segment k is primitive triangleCount + k)
+#define BUF_COUNT 25
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -73,7 +74,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_ACTIVE_TILES 9   // entries of BUF_ACTIVE_TILES, appended by scan_blocks
 #define COUNTER_SPLIT 10         // big triangles of more than one piece (their pieces need bin_count)
 #define COUNTER_POINTS 11        // points rasterized (not culled) by setup
-#define COUNTER_COUNT 12
+#define COUNTER_LINES 12         // line segments set up (not culled, not clipped away) by setup
+#define COUNTER_COUNT 13
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
@@ -114,6 +116,7 @@ SR_NAMESPACE_BEGIN
 #define MAX_FRAMEBUFFER_DIM 16384  // largest raster grid side (output resolution x ssaa)
 #define MAX_SAMPLES 16             // largest sampleCount
 #define MAX_POINT_SIZE 64.0f       // largest point size in pixels: a point is rasterized by one thread
+#define MAX_LINE_WIDTH 64.0f       // largest line width in pixels
 #define MAX_SSAA 8                 // largest ssaa factor
 // The 1x sample pattern's sampleBounds: the pixel centre, 128 subpixels from the pixel's corner.
 #define PIXEL_CENTER_BOUNDS 0x80808080u
@@ -210,8 +213,11 @@ struct RasterParams {
     uint sampleBounds;      // sampleBoundsOf(sampleCount): the pattern's extent within a pixel
     uint ssaa;              // SSAA factor N: width x height is the raster grid, N times the output's per side
     uint samplePlane;       // width * height: the stride of BUF_VISIBILITY's sample planes
-    uint pointCount;        // entries in BUF_POINTS; setup runs triangleCount + pointCount threads
+    uint pointCount;        // entries in BUF_POINTS; setup runs triangleCount + lineCount + pointCount threads
     float pointSize;        // point side in pixels, 1..MAX_POINT_SIZE
+    uint lineCount;         // segments in BUF_LINES (primitive ids triangleCount .. + lineCount - 1)
+    float lineWidth;        // line width in pixels, 1..MAX_LINE_WIDTH, a multiple of 1/8
+    float lineDepthBias;    // b: a line's window depth z is drawn as z - b (1 - z) (0 unless --wireframe)
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -249,7 +255,7 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 26 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 29 * 4, "RasterParams must match std140");
 static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");

@@ -32,6 +32,7 @@ layout(std430, set = 0, binding = BUF_TEXTURES) readonly buffer TexturesBlock { 
 layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint texels[]; };
 layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock { float srgbTable[]; };
 layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
+layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
 // plus the debug hit count. Used by setup for small triangles; raster_tiles owns its pixels and writes
@@ -162,8 +163,19 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
 // `id`.
 vec4 pointBaseColor(uint id)
 {
-    uint v = points[id - params.triangleCount];
+    uint v = points[id - params.triangleCount - params.lineCount];
     vec4 base = params.hasColors != 0u ? colors[v] : vec4(1.0f);
+    if (params.materialCount == 0u) return base;
+    return base * materials[min(triMaterials[id], params.materialCount - 1u)].baseColorFactor;
+}
+
+// Base colour of line segment primitive `id` at parameter t along it (0 at its first vertex, 1 at its
+// second; perspective-correct, lineParameter): the vertex colours mixed, times the material factor.
+vec4 lineBaseColor(uint id, float t)
+{
+    uint k = id - params.triangleCount;
+    vec4 base = vec4(1.0f);
+    if (params.hasColors != 0u) base = mix(colors[lines[2u * k]], colors[lines[2u * k + 1u]], t);
     if (params.materialCount == 0u) return base;
     return base * materials[min(triMaterials[id], params.materialCount - 1u)].baseColorFactor;
 }

@@ -1,5 +1,5 @@
 // reference_point.frag - fragment stage of the `vulkan-graphics` point draw without anti-aliasing
-// (host/vulkan/vulkan_graphics.cpp): the point's unlit colour (shadePoint of pointBaseColor, the code the
+// (host/vulkan/vulkan_graphics.cpp): the point's unlit colour (shadeUnlit of pointBaseColor, the code the
 // compute shade stage runs for a point) as the packed sRGB RGBA8 word, and its primitive id,
 // params.triangleCount + gl_PrimitiveID, into the R32_UINT attachments. In the visibility pass
 // (kVisibilityOnly) the colour is the background word, as reference_visibility.frag writes it. Points
@@ -19,6 +19,6 @@ layout(location = 1) out uint outId;
 void main()
 {
     uint id = params.triangleCount + uint(gl_PrimitiveID);
-    outColor = kVisibilityOnly ? kBackgroundWord : packRgba8(shadePoint(params, id, pointBaseColor(id)));
+    outColor = kVisibilityOnly ? kBackgroundWord : packRgba8(shadeUnlit(params, id, pointBaseColor(id)));
     outId = id;
 }

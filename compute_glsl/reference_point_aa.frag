@@ -23,7 +23,7 @@ void main()
 {
     uint id = params.triangleCount + uint(gl_PrimitiveID);
     vec3 color = kVisibilityOnly ? vec3(kBackgroundR, kBackgroundG, kBackgroundB)
-                                 : clamp(shadePoint(params, id, pointBaseColor(id)), vec3(0.0f), vec3(1.0f));
+                                 : clamp(shadeUnlit(params, id, pointBaseColor(id)), vec3(0.0f), vec3(1.0f));
     outColor = vec4(color, 1.0f);
     outId = float(id);
 }

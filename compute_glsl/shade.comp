@@ -21,7 +21,7 @@ layout(constant_id = SPEC_RESOLVE) const bool RESOLVE = false;
 // point's unlit base colour.
 vec3 shadePrimitive(uint id, int x, int y)
 {
-    if (id >= params.triangleCount) return shadePoint(params, id, pointBaseColor(id));
+    if (id >= params.triangleCount) return shadeUnlit(params, id, pointBaseColor(id));
     uint i0 = indices[3u * id];
     uint i1 = indices[3u * id + 1u];
     uint i2 = indices[3u * id + 2u];

@@ -32,6 +32,7 @@ struct Buffers {
     const uint* texels;              // BUF_TEXELS
     const float* srgbTable;          // BUF_SRGB_TABLE
     const uint* points;              // BUF_POINTS
+    const uint* lines;               // BUF_LINES
 };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
@@ -160,8 +161,19 @@ __device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffe
 // `id`.
 __device__ inline vec4 pointBaseColor(const RasterParams& params, const Buffers& b, uint id)
 {
-    uint v = b.points[id - params.triangleCount];
+    uint v = b.points[id - params.triangleCount - params.lineCount];
     vec4 base = params.hasColors != 0u ? b.colors[v] : vec4(1.0f);
+    if (params.materialCount == 0u) return base;
+    return base * b.materials[min(b.triMaterials[id], params.materialCount - 1u)].baseColorFactor;
+}
+
+// Base colour of line segment primitive `id` at parameter t along it (0 at its first vertex, 1 at its
+// second; perspective-correct, lineParameter): the vertex colours mixed, times the material factor.
+__device__ inline vec4 lineBaseColor(const RasterParams& params, const Buffers& b, uint id, float t)
+{
+    uint k = id - params.triangleCount;
+    vec4 base = vec4(1.0f);
+    if (params.hasColors != 0u) base = mix(b.colors[b.lines[2u * k]], b.colors[b.lines[2u * k + 1u]], t);
     if (params.materialCount == 0u) return base;
     return base * b.materials[min(b.triMaterials[id], params.materialCount - 1u)].baseColorFactor;
 }

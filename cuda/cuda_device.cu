@@ -157,6 +157,7 @@ private:
         b.texels = as<uint>(BUF_TEXELS);
         b.srgbTable = as<float>(BUF_SRGB_TABLE);
         b.points = as<uint>(BUF_POINTS);
+        b.lines = as<uint>(BUF_LINES);
         return b;
     }
 

@@ -11,7 +11,7 @@ namespace sr {
 // point's unlit base colour.
 __device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers& b, uint id, int x, int y)
 {
-    if (id >= params.triangleCount) return shadePoint(params, id, pointBaseColor(params, b, id));
+    if (id >= params.triangleCount) return shadeUnlit(params, id, pointBaseColor(params, b, id));
     uint i0 = b.indices[3u * id];
     uint i1 = b.indices[3u * id + 1u];
     uint i2 = b.indices[3u * id + 2u];

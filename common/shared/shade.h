@@ -234,9 +234,10 @@ SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 ba
                       vec3(baseColor.x, baseColor.y, baseColor.z));
 }
 
-// Colour of a point, primitive `id`, with base colour `baseColor` (vertex colour x material factor):
-// points are drawn unlit (they have no surface to light), in every shading mode but the id view.
-SR_FN vec3 shadePoint(RasterParams params, uint id, vec4 baseColor)
+// Colour of a line segment or point, primitive `id`, with base colour `baseColor` (vertex colour x
+// material factor): they are drawn unlit (they have no surface to light), in every shading mode but the
+// id view.
+SR_FN vec3 shadeUnlit(RasterParams params, uint id, vec4 baseColor)
 {
     if (params.shadingMode == SHADING_PRIMITIVE_ID) return idColor(id);
     return vec3(baseColor.x, baseColor.y, baseColor.z);

@@ -47,6 +47,12 @@ struct RenderSettings {
     uint32_t ssaa = 1;
     // Points are squares of pointSize pixels (1..MAX_POINT_SIZE) centred on their snapped vertex.
     float pointSize = 1.0f;
+    // Lines are rectangles lineWidth pixels wide (1..MAX_LINE_WIDTH, multiples of 1/8) centred on the
+    // snapped segment, ends cut square at the endpoints (Vulkan's rectangular lines).
+    float lineWidth = 1.0f;
+    // --wireframe: the depth bias of every line (RasterParams.lineDepthBias), so that edges drawn over
+    // their own surface win its depth test. 0 draws lines at their exact depth.
+    float lineDepthBias = 0.0f;
     bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
 };
 
@@ -86,6 +92,8 @@ struct RenderStats {
     uint64_t rasterized = 0;    // (sub-)triangles set up for rasterization
     uint64_t smallTris = 0;     // of which rasterized by their setup thread
     uint64_t bigTris = 0;       // of which binned to screen tiles
+    uint64_t linesIn = 0;       // line segments handed to the GPU
+    uint64_t lines = 0;         // of which set up (the others culled, clipped away or invalid)
     uint64_t pointsIn = 0;      // points handed to the GPU
     uint64_t points = 0;        // of which rasterized (the others culled or invalid)
     uint64_t records = 0;       // big sub-triangles of clipped triangles, stored as records

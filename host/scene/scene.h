@@ -77,23 +77,29 @@ struct Scene {
     std::vector<uint32_t> triMaterials;
     std::vector<glm::vec4> texcoords;
     std::vector<SceneTexture> textures;
-    // Points (glTF mode POINTS, OBJ `p`): one vertex index per point. Primitive ids are one space:
-    // triangles first (0 .. triangleCount() - 1), then line segments (none yet: glTF lines and OBJ `l`
-    // are skipped with a warning), then points, in file order; so point k has id
-    // triangleCount() + k. pointMaterials holds one material index per point when materials is not
-    // empty (else it is empty too). A point's own vertex has a zero normal where the file gives it
-    // none (points are shaded unlit), the one exception to unit-length normals.
+    // Line segments (glTF LINES, LINE_STRIP, LINE_LOOP; OBJ `l` polylines): two vertex indices per
+    // segment; a strip or loop is stored as its segments (a loop's closing segment last). Points (glTF
+    // POINTS, OBJ `p`): one vertex index per point. Primitive ids are one space: triangles first
+    // (0 .. triangleCount() - 1), then segments (segment k has id triangleCount() + k), then points
+    // (point k has id triangleCount() + lineCount() + k), each in file order. lineMaterials and
+    // pointMaterials hold one material index per segment / point when materials is not empty (else
+    // they are empty too). A vertex used only by lines or points has a zero normal where the file gives
+    // it none (lines and points are shaded unlit), the one exception to unit-length normals.
+    std::vector<uint32_t> lines;
+    std::vector<uint32_t> lineMaterials;
     std::vector<uint32_t> points;
     std::vector<uint32_t> pointMaterials;
     std::vector<SceneCamera> cameras;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all referenced vertices
     uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
+    uint64_t droppedLines = 0;                   // segments dropped by the loader (warned about once)
     uint64_t droppedPoints = 0;                  // points dropped by the loader (warned about once)
 
     size_t vertexCount() const { return positions.size(); }
     size_t triangleCount() const { return indices.size() / 3; }
+    size_t lineCount() const { return lines.size() / 2; }
     size_t pointCount() const { return points.size(); }
-    size_t primitiveCount() const { return triangleCount() + pointCount(); }
+    size_t primitiveCount() const { return triangleCount() + lineCount() + pointCount(); }
 };
 
 // Loads a .gltf, .glb or .obj file, chosen by extension, or a procedural scene named "builtin...".
@@ -111,8 +117,8 @@ Scene tessellatedSphere(int rings);
 // sub-pixel at small resolutions) and "builtin:huge" (the built-in objects on a 200,000-unit ground plane).
 Result<Scene> builtinSceneNamed(const std::string& name);
 
-// Drops triangles and points with out-of-range indices or non-finite positions (counting them in
-// droppedTriangles and droppedPoints), drops materials, texture coordinates and textures that change nothing
+// Drops triangles, segments and points with out-of-range indices or non-finite positions (counting them
+// in droppedTriangles, droppedLines and droppedPoints), drops materials, texture coordinates and textures that change nothing
 // (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 

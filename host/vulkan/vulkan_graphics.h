@@ -20,7 +20,7 @@
 //
 // Points (Scene::points) are a second draw after the triangles in the same pass: POINT_LIST, each
 // point's vertex fetched through the point list, gl_PointSize = RenderSettings::pointSize, id =
-// triangleCount + gl_PrimitiveID, colour unlit (shadePoint: vertex colour x material factor), depth the
+// triangleCount + gl_PrimitiveID, colour unlit (shadeUnlit: vertex colour x material factor), depth the
 // vertex's. The device decides coverage by Vulkan's basic point rasterization (the samples inside the
 // square of side pointSize centred on the vertex); a point whose vertex is outside the view volume is
 // discarded whole by the vertex shader itself, since devices differ there (reference_point.vert). A
