@@ -82,8 +82,8 @@ SR_NAMESPACE_BEGIN
 #define STAGE_CLEAR 0   // visibility := empty, counters and tile bins := 0
 #define STAGE_VERTEX 1  // per vertex: clip position
 #define STAGE_SETUP \
-    2                        // per primitive: cull, clip, snap; rasterize points and small triangles, cut big
-                             // triangles into pieces
+    2                        // per primitive: cull, clip, snap (a line to its rectangle's two triangles);
+                             // rasterize points and small triangles, cut big triangles into pieces
 #define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
 #define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
 #define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
@@ -158,6 +158,9 @@ SR_NAMESPACE_BEGIN
 // Specialization constant of shade (Vulkan): false builds only the one-sample-per-pixel path, the build
 // a frame without MSAA and SSAA runs (a CPU device would otherwise run the resolve loops too, masked).
 #define SPEC_RESOLVE 3
+// Specialization constant (Vulkan) / template argument (CUDA) of setup: whether the line and point paths
+// are built in; false for a scene of triangles alone, whose setup then compiles as it did without them.
+#define SPEC_PRIMITIVES 4
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u

@@ -59,6 +59,20 @@ bool loadClipTriangle(uint tri, out vec4 c0, out vec4 c1, out vec4 c2)
     return true;
 }
 
+// Clip positions of line segment k's vertices, as setup sees them (setupClipPosition). False when an
+// index is out of range.
+bool loadClipLine(uint k, out vec4 c0, out vec4 c1)
+{
+    c0 = c1 = vec4(0.0f);
+    uint i0 = lines[2u * k];
+    uint i1 = lines[2u * k + 1u];
+    if (max(i0, i1) >= params.vertexCount) return false;
+    bool stored = params.transformInSetup == 0u;
+    c0 = setupClipPosition(params, positions[i0], stored ? clipPos[i0] : vec4(0.0f));
+    c1 = setupClipPosition(params, positions[i1], stored ? clipPos[i1] : vec4(0.0f));
+    return true;
+}
+
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
 // the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
 // no second look). False for a ref setup would never have written (a slot of an overflowed frame).

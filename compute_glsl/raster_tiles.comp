@@ -63,7 +63,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
             if (MATERIALS) {
-                bool maskable = ok && params.materialCount != 0u;
+                // Lines have no alpha test (and no triangle flags).
+                bool maskable = ok && params.materialCount != 0u && setupTriId(t) < params.triangleCount;
                 masked[lane] = maskable ? (triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
             }
         }

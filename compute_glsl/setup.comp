@@ -1,12 +1,14 @@
-// setup.comp - stage `setup`: per input primitive. A point is culled by its vertex, snapped and
-// rasterized by its thread (every sample of its square). A triangle is culled, clipped and snapped; a
+// setup.comp - stage `setup`: per input primitive. A triangle is culled, clipped and snapped; a
 // small (sub-)triangle (bbox at most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by
 // its thread, the one-thread fast path that needs no memory; a big one is cut into pieces of
 // consecutive bbox tiles (pieceCount) for bin_count and bin_fill. Only a clipped big sub-triangle is
 // stored (a TriSetup record); every other big triangle is named by its input index and set up again
-// where it is needed.
-// One thread per primitive, triangles then points; groups = ceil((triangleCount + pointCount) /
-// GROUP_SIZE).
+// where it is needed. A line segment is clipped and snapped like a triangle and becomes its rectangle's
+// two triangles (setupLine), which take the same two paths (a long line's pieces spread over many
+// threads like a big triangle's), stored as records when big. A point is culled by its vertex, snapped
+// and rasterized by its thread (every sample of its square).
+// One thread per primitive, triangles, then line segments, then points; groups = ceil((triangleCount +
+// lineCount + pointCount) / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -18,6 +20,8 @@ layout(local_size_x = GROUP_SIZE) in;
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 // Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): the one-sample build has no MSAA loop.
 layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
+// Whether the line and point paths are built in (SPEC_PRIMITIVES): not for scenes of triangles alone.
+layout(constant_id = SPEC_PRIMITIVES) const bool LINES_POINTS = true;
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
@@ -28,7 +32,8 @@ void emitTriangle(TriSetup t, bool clipped)
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
-        bool masked = MATERIALS && params.materialCount != 0u && (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
+        bool masked = MATERIALS && params.materialCount != 0u && id < params.triangleCount &&
+                      (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (SAMPLES == 1u) {
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
@@ -79,7 +84,7 @@ void emitTriangle(TriSetup t, bool clipped)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
-// Rasterizes point k (primitive triangleCount + k) by its invocation: every sample of the pixels its
+// Rasterizes point k (primitive triangleCount + lineCount + k) by its invocation: every sample of the pixels its
 // square reaches, merged like a small triangle's. Points are opaque and have no facing.
 void rasterPoint(uint k)
 {
@@ -102,7 +107,7 @@ void rasterPoint(uint k)
         return;
     }
     atomicAdd(counters[COUNTER_POINTS], 1u);
-    uint id = params.triangleCount + k;
+    uint id = params.triangleCount + params.lineCount + k;
     for (int y = r.y; y <= r.w; ++y) {
         for (int x = r.x; x <= r.z; ++x) {
             uint pixel = uint(y) * params.width + uint(x);
@@ -115,33 +120,52 @@ void rasterPoint(uint k)
 
 void main()
 {
-    uint tri = gl_GlobalInvocationID.x;
-    if (tri >= params.triangleCount) {
-        if (tri < params.triangleCount + params.pointCount) rasterPoint(tri - params.triangleCount);
+    uint prim = gl_GlobalInvocationID.x;
+    uint lineEnd = params.triangleCount + (LINES_POINTS ? params.lineCount : 0u);
+    if (prim >= lineEnd) {
+        if (LINES_POINTS && prim < lineEnd + params.pointCount) rasterPoint(prim - lineEnd);
         return;
     }
-    vec4 c0, c1, c2;
-    if (!loadClipTriangle(tri, c0, c1, c2)) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
-        return;
-    }
+    bool line = LINES_POINTS && prim >= params.triangleCount;
     vec4 poly[MAX_CLIP_VERTS];
-    uint count;
-    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    uint count = 0u;
+    uint kind;
+    LineQuad q;
+    if (line) {
+        vec4 c0, c1;
+        vec2 u;
+        kind = loadClipLine(prim - params.triangleCount, c0, c1)
+                   ? prepareLine(c0, c1, params.guardBand, poly[0], poly[1], u)
+                   : PREPARE_INVALID;
+        // The rectangle as a fan of its four corners: two triangles.
+        if (kind != PREPARE_INVALID && kind != PREPARE_CULLED &&
+            setupLine(poly[0], poly[1], params.lineWidth, params.lineDepthBias, params.width, params.height, q))
+            count = 4u;
+    } else {
+        vec4 c0, c1, c2;
+        kind = loadClipTriangle(prim, c0, c1, c2) ? prepareTriangle(c0, c1, c2, params.guardBand, poly, count)
+                                                  : PREPARE_INVALID;
+    }
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
     if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
-    bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    bool doubleSided = line || (triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, params.sampleBounds, t)) {
-            emitTriangle(t, kind == PREPARE_CLIPPED);
+        bool drawn = line ? setupLineTriangle(q, k - 1u, prim, params.width, params.height, params.sampleBounds, t)
+                          : setupTriangle(poly[0], poly[k], poly[k + 1u], prim, doubleSided, params.cullMode,
+                                          params.width, params.height, params.sampleBounds, t);
+        if (drawn) {
+            // A line's triangles are never named by input index: they are not input triangles.
+            emitTriangle(t, line || kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u)
+        atomicAdd(counters[COUNTER_CULLED], 1u);
+    else if (line)
+        atomicAdd(counters[COUNTER_LINES], 1u);
 }

@@ -17,11 +17,16 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 // Whether output pixels have several samples, MSAA or SSAA (SPEC_RESOLVE).
 layout(constant_id = SPEC_RESOLVE) const bool RESOLVE = false;
 
-// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a
-// point's unlit base colour.
+// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a line
+// segment's or point's unlit base colour.
 vec3 shadePrimitive(uint id, int x, int y)
 {
-    if (id >= params.triangleCount) return shadeUnlit(params, id, pointBaseColor(id));
+    if (id >= params.triangleCount) {
+        uint k = id - params.triangleCount;
+        if (k >= params.lineCount) return shadeUnlit(params, id, pointBaseColor(id));
+        float u = lineParameter(params, x, y, positions[lines[2u * k]], positions[lines[2u * k + 1u]]);
+        return shadeUnlit(params, id, lineBaseColor(id, u));
+    }
     uint i0 = indices[3u * id];
     uint i1 = indices[3u * id + 1u];
     uint i2 = indices[3u * id + 2u];

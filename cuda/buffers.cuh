@@ -61,6 +61,19 @@ __device__ inline bool loadClipTriangle(const RasterParams& params, const Buffer
     return true;
 }
 
+// Clip positions of line segment k's vertices, as setup sees them (setupClipPosition). False when an
+// index is out of range.
+__device__ inline bool loadClipLine(const RasterParams& params, const Buffers& b, uint k, vec4& c0, vec4& c1)
+{
+    uint i0 = b.lines[2u * k];
+    uint i1 = b.lines[2u * k + 1u];
+    if (max(i0, i1) >= params.vertexCount) return false;
+    bool stored = params.transformInSetup == 0u;
+    c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
+    c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
+    return true;
+}
+
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
 // the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
 // no second look). False for a ref setup would never have written (a slot of an overflowed frame).

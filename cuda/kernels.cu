@@ -29,11 +29,12 @@ __global__ void __launch_bounds__(GROUP_SIZE) vertexKernel(const RasterParams pa
 // setup and raster_tiles come in two builds: with the alpha test of MASK materials, launched when the
 // scene has MASK triangles (Dispatch::alphaTest), and without, so that the test's code (surface,
 // material and texture lookups) costs every other scene neither registers nor instructions. setup also
-// has a build with MSAA's per-sample loop and one without, for the same reason.
-template <bool kMaterials, bool kMultisample>
+// has a build with MSAA's per-sample loop and one without, and one with the line and point paths and one
+// without, for the same reason.
+template <bool kMaterials, bool kMultisample, bool kLinesPoints>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
-    setupStage<kMaterials, kMultisample>(params, b);
+    setupStage<kMaterials, kMultisample, kLinesPoints>(params, b);
 }
 __global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams params, const Buffers b)
 {
@@ -82,6 +83,16 @@ void forSampleCount(uint samples, Launch launch)
     }
 }
 
+// Calls launch(std::integral_constant<bool, B>{}) with B = value: a build chosen by a run-time flag.
+template <typename Launch>
+void forBool(bool value, Launch launch)
+{
+    if (value)
+        launch(std::true_type{});
+    else
+        launch(std::false_type{});
+}
+
 uint stageBlockSize(uint stage)
 {
     switch (stage) {
@@ -101,17 +112,14 @@ cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterPar
     case STAGE_CLEAR: clearKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_VERTEX: vertexKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SETUP:
-        if (params.sampleCount > 1u) {
-            if (alphaTest)
-                setupKernel<true, true><<<blocks, threads, 0, stream>>>(params, buffers);
-            else
-                setupKernel<false, true><<<blocks, threads, 0, stream>>>(params, buffers);
-        } else {
-            if (alphaTest)
-                setupKernel<true, false><<<blocks, threads, 0, stream>>>(params, buffers);
-            else
-                setupKernel<false, false><<<blocks, threads, 0, stream>>>(params, buffers);
-        }
+        forBool(alphaTest, [&](auto materials) {
+            forBool(params.sampleCount > 1u, [&](auto multisample) {
+                forBool(params.lineCount + params.pointCount > 0u, [&](auto linesPoints) {
+                    setupKernel<materials.value, multisample.value, linesPoints.value>
+                        <<<blocks, threads, 0, stream>>>(params, buffers);
+                });
+            });
+        });
         break;
     case STAGE_BIN_COUNT: binCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;

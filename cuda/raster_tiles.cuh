@@ -53,8 +53,10 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
             if (kMaterials)
-                masked[lane] =
-                    ok && params.materialCount != 0u ? (b.triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK) : 0u;
+                // Lines have no alpha test (and no triangle flags).
+                masked[lane] = ok && params.materialCount != 0u && setupTriId(t) < params.triangleCount
+                                   ? (b.triFlags[setupTriId(t)] & TRI_FLAG_ALPHA_MASK)
+                                   : 0u;
         }
         __syncthreads();
         for (uint j = 0u; j < kPixelsPerLane; ++j) {

@@ -1,12 +1,14 @@
-// setup.cuh - stage `setup`: per input primitive. A point is culled by its vertex, snapped and
-// rasterized by its thread (every sample of its square). A triangle is culled, clipped and snapped; a
+// setup.cuh - stage `setup`: per input primitive. A triangle is culled, clipped and snapped; a
 // small (sub-)triangle (bbox at most SMALL_TRI_SPAN pixels wide and high) is rasterized right here by
 // its thread, the one-thread fast path that needs no memory; a big one is cut into pieces of
 // consecutive bbox tiles (pieceCount) for bin_count and bin_fill. Only a clipped big sub-triangle is
 // stored (a TriSetup record); every other big triangle is named by its input index and set up again
-// where it is needed.
-// One thread per primitive, triangles then points; blocks = ceil((triangleCount + pointCount) /
-// GROUP_SIZE).
+// where it is needed. A line segment is clipped and snapped like a triangle and becomes its rectangle's
+// two triangles (setupLine), which take the same two paths (a long line's pieces spread over many
+// threads like a big triangle's), stored as records when big. A point is culled by its vertex, snapped
+// and rasterized by its thread (every sample of its square).
+// One thread per primitive, triangles, then line segments, then points; blocks = ceil((triangleCount +
+// lineCount + pointCount) / GROUP_SIZE).
 namespace sr {
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
@@ -20,8 +22,8 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
-        bool masked =
-            kMaterials && params.materialCount != 0u && (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
+        bool masked = kMaterials && params.materialCount != 0u && id < params.triangleCount &&
+                      (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (!kMultisample) {
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
@@ -73,7 +75,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
-// Rasterizes point k (primitive triangleCount + k) by its thread: every sample of the pixels its square
+// Rasterizes point k (primitive triangleCount + lineCount + k) by its thread: every sample of the pixels its square
 // reaches, merged like a small triangle's. Points are opaque and have no facing.
 template <bool kMultisample>
 __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b, uint k)
@@ -98,7 +100,7 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
         return;
     }
     atomicAdd(&b.counters[COUNTER_POINTS], 1u);
-    uint id = params.triangleCount + k;
+    uint id = params.triangleCount + params.lineCount + k;
     uint samples = kMultisample ? params.sampleCount : 1u;
     for (int y = r.y; y <= r.w; ++y) {
         for (int x = r.x; x <= r.z; ++x) {
@@ -110,39 +112,60 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
     }
 }
 
-template <bool kMaterials, bool kMultisample>
+// kLinesPoints (SPEC_PRIMITIVES): whether the line and point paths are built in.
+template <bool kMaterials, bool kMultisample, bool kLinesPoints>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
-    uint tri = globalThreadId();
-    if (tri >= params.triangleCount) {
-        if (tri < params.triangleCount + params.pointCount)
-            rasterPoint<kMultisample>(params, b, tri - params.triangleCount);
+    uint prim = globalThreadId();
+    uint lineEnd = params.triangleCount + (kLinesPoints ? params.lineCount : 0u);
+    if (prim >= lineEnd) {
+        if (kLinesPoints && prim < lineEnd + params.pointCount)
+            rasterPoint<kMultisample>(params, b, prim - lineEnd);
         return;
     }
-    vec4 c0, c1, c2;
-    if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
-        return;
-    }
+    bool line = kLinesPoints && prim >= params.triangleCount;
     vec4 poly[MAX_CLIP_VERTS];
-    uint count;
-    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    uint count = 0u;
+    uint kind;
+    LineQuad q;
+    if (line) {
+        vec4 c0, c1;
+        vec2 u;
+        kind = loadClipLine(params, b, prim - params.triangleCount, c0, c1)
+                   ? prepareLine(c0, c1, params.guardBand, poly[0], poly[1], u)
+                   : PREPARE_INVALID;
+        // The rectangle as a fan of its four corners: two triangles.
+        if (kind != PREPARE_INVALID && kind != PREPARE_CULLED &&
+            setupLine(poly[0], poly[1], params.lineWidth, params.lineDepthBias, params.width, params.height, q))
+            count = 4u;
+    } else {
+        vec4 c0, c1, c2;
+        kind = loadClipTriangle(params, b, prim, c0, c1, c2)
+                   ? prepareTriangle(c0, c1, c2, params.guardBand, poly, count)
+                   : PREPARE_INVALID;
+    }
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
     if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
-    bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    bool doubleSided = line || (b.triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, params.sampleBounds, t)) {
-            emitTriangle<kMaterials, kMultisample>(params, b, t, kind == PREPARE_CLIPPED);
+        bool drawn = line ? setupLineTriangle(q, k - 1u, prim, params.width, params.height, params.sampleBounds, t)
+                          : setupTriangle(poly[0], poly[k], poly[k + 1u], prim, doubleSided, params.cullMode,
+                                          params.width, params.height, params.sampleBounds, t);
+        if (drawn) {
+            // A line's triangles are never named by input index: they are not input triangles.
+            emitTriangle<kMaterials, kMultisample>(params, b, t, line || kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u)
+        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    else if (line)
+        atomicAdd(&b.counters[COUNTER_LINES], 1u);
 }
 
 }  // namespace sr

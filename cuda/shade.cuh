@@ -7,11 +7,16 @@
 // One thread per output pixel; blocks = ceil(outputPixels / GROUP_SIZE).
 namespace sr {
 
-// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a
-// point's unlit base colour.
+// Colour of primitive `id` at the centre of raster pixel (x, y): a triangle's shaded surface, or a line
+// segment's or point's unlit base colour.
 __device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers& b, uint id, int x, int y)
 {
-    if (id >= params.triangleCount) return shadeUnlit(params, id, pointBaseColor(params, b, id));
+    if (id >= params.triangleCount) {
+        uint k = id - params.triangleCount;
+        if (k >= params.lineCount) return shadeUnlit(params, id, pointBaseColor(params, b, id));
+        float u = lineParameter(params, x, y, b.positions[b.lines[2u * k]], b.positions[b.lines[2u * k + 1u]]);
+        return shadeUnlit(params, id, lineBaseColor(params, b, id, u));
+    }
     uint i0 = b.indices[3u * id];
     uint i1 = b.indices[3u * id + 1u];
     uint i2 = b.indices[3u * id + 2u];

@@ -2,6 +2,7 @@
 #include "test_util.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 #include "vulkan/vulkan_device_internal.h"
@@ -108,6 +109,52 @@ Scene windowPointScene(const std::vector<WindowPoint>& points, uint32_t width, u
         scene.normals.push_back(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
     }
     return scene;
+}
+
+Scene windowLineScene(const std::vector<WindowLine>& lines, uint32_t width, uint32_t height,
+                      const std::vector<glm::vec4>& triangles, const std::vector<WindowPoint>& points)
+{
+    Scene scene = windowPointScene(points, width, height, triangles);
+    for (const WindowLine& l : lines) {
+        scene.lines.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(windowVertex(l.x0, l.y0, width, height, l.z0));
+        scene.lines.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(windowVertex(l.x1, l.y1, width, height, l.z1));
+        scene.normals.insert(scene.normals.end(), 2, glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+    }
+    return scene;
+}
+
+int lineCoversSample(const WindowLine& l, double width, double sx, double sy, double margin)
+{
+    const double dx = l.x1 - l.x0, dy = l.y1 - l.y0;
+    const double length = std::sqrt(dx * dx + dy * dy);
+    if (length == 0.0) return 0;
+    const double qx = sx - l.x0, qy = sy - l.y0;
+    // Along the segment from p0 (0) to p1 (length), and across it, in pixels.
+    const double along = (qx * dx + qy * dy) / length;
+    const double across = std::abs(qx * dy - qy * dx) / length;
+    // An axis-aligned segment's rectangle has exact corners (half a width is whole subpixels), so every
+    // tie follows the top-left rule: a sample on an edge is inside when that edge's inward normal points
+    // right, or straight down for a horizontal edge (both edges at a corner).
+    auto topLeft = [](double nx, double ny) { return nx > 0.0 || (nx == 0.0 && ny > 0.0); };
+    if (dx == 0.0 || dy == 0.0) {
+        const double ux = dx / length, uy = dy / length;  // unit direction, exact
+        const double side = qx * -uy + qy * ux;           // signed distance to the left of the segment
+        const double inward[4][3] = {{along, ux, uy},
+                                     {length - along, -ux, -uy},
+                                     {width / 2 - side, uy, -ux},
+                                     {width / 2 + side, -uy, ux}};
+        for (const auto& e : inward)
+            if (e[0] < 0.0 || (e[0] == 0.0 && !topLeft(e[1], e[2]))) return 0;
+        return 1;
+    }
+    if (across > width / 2 + margin || along < -margin || along > length + margin) return 0;
+    if (across < width / 2 - margin && along > margin && along < length - margin) return 1;
+    // Exactly an endpoint: on its cap, inside the sides; the top-left rule with the cap's inward normal.
+    if (qx == 0.0 && qy == 0.0) return topLeft(dx, dy) ? 1 : 0;
+    if (sx == l.x1 && sy == l.y1) return topLeft(-dx, -dy) ? 1 : 0;
+    return -1;
 }
 
 int channelDifference(uint32_t a, uint32_t b)

@@ -121,6 +121,28 @@ struct WindowPoint {
 Scene windowPointScene(const std::vector<WindowPoint>& points, uint32_t width, uint32_t height,
                        const std::vector<glm::vec4>& triangles = {});
 
+// A line segment between window positions (x0, y0) and (x1, y1) in pixels, at window depths z0 and z1.
+struct WindowLine {
+    double x0, y0;
+    float z0;
+    double x1, y1;
+    float z1;
+};
+
+// windowPointScene with line segments too: the triangles, then two vertices (normal +z) and one segment
+// per entry of `lines` (segment k has id triangleCount + k), then the points (ids after the segments).
+Scene windowLineScene(const std::vector<WindowLine>& lines, uint32_t width, uint32_t height,
+                      const std::vector<glm::vec4>& triangles = {},
+                      const std::vector<WindowPoint>& points = {});
+
+// Whether sample position (sx, sy) (pixels) is inside the rectangle Vulkan's rectangular line rule draws
+// for segment `l` of width `width`, computed exactly in double: 1 inside, 0 outside. Ties follow the
+// top-left rule (a sample on an edge is inside when the edge's inward normal points right, or straight
+// down): on every edge of an axis-aligned segment's rectangle, whose snapped corners are exact, and at
+// the endpoints of any other. Otherwise -1 within `margin` pixels of a side or an end cap, where the
+// rounding of the snapped rectangle decides, so a test must not insist.
+int lineCoversSample(const WindowLine& l, double width, double sx, double sy, double margin = 1.0 / 128.0);
+
 // Largest difference of the R, G, B and A bytes of two packed RGBA8 words.
 int channelDifference(uint32_t a, uint32_t b);
 

@@ -163,6 +163,49 @@ SR_FN uint prepareTriangle(vec4 c0, vec4 c1, vec4 c2, vec4 guardBand,
     return PREPARE_CLIPPED;
 }
 
+// What setup does with one input line segment before snapping: the same PREPARE_* classes as a
+// triangle. The segment c0 -> c1 is cut to the part inside near, far and the guard band (Liang-Barsky:
+// one parameter interval, narrowed plane by plane); a and b are its clip-space ends, u.x and u.y their
+// parameters along c0 -> c1 (for shading: the vertex attributes interpolate in u). An end moved by a
+// plane is put exactly on it, as the polygon clipper does. Culled also when the segment lies outside
+// one viewport plane: Vulkan clips lines against the view volume, so a wide line whose centre line is
+// off screen draws nothing.
+SR_FN uint prepareLine(vec4 c0, vec4 c1, vec4 guardBand, SR_OUT(vec4) a, SR_OUT(vec4) b, SR_OUT(vec2) u)
+{
+    a = c0;
+    b = c1;
+    u = vec2(0.0f, 1.0f);
+    bool finite = true;
+    for (int k = 0; k < 4; ++k) finite = finite && isFinite(c0[k]) && isFinite(c1[k]);
+    if (!finite) return PREPARE_INVALID;
+    if ((frustumOutcode(c0) & frustumOutcode(c1)) != 0u) return PREPARE_CULLED;
+    uint planes = clipOutcode(c0, guardBand) | clipOutcode(c1, guardBand);
+    if (planes == 0u) return PREPARE_DIRECT;
+    float u0 = 0.0f, u1 = 1.0f;
+    uint plane0 = uint(CLIP_PLANE_COUNT);  // the plane that moved each end, if any
+    uint plane1 = uint(CLIP_PLANE_COUNT);
+    for (uint p = 0u; p < uint(CLIP_PLANE_COUNT); ++p) {
+        if ((planes & (1u << p)) == 0u) continue;
+        float d0 = planeDistance(c0, p, guardBand);
+        float d1 = planeDistance(c1, p, guardBand);
+        if (d0 < 0.0f && d1 < 0.0f) return PREPARE_CULLED;
+        SR_PRECISE float denom = d0 - d1;
+        float cut = divDet(d0, denom);  // where the distance, linear in the parameter, is zero
+        if (d0 < 0.0f && cut > u0) {
+            u0 = cut;
+            plane0 = p;
+        } else if (d1 < 0.0f && cut < u1) {
+            u1 = cut;
+            plane1 = p;
+        }
+    }
+    if (!(u0 < u1)) return PREPARE_CULLED;
+    if (plane0 != uint(CLIP_PLANE_COUNT)) a = projectOntoPlane(lerpClip(c0, c1, u0), plane0, guardBand);
+    if (plane1 != uint(CLIP_PLANE_COUNT)) b = projectOntoPlane(lerpClip(c0, c1, u1), plane1, guardBand);
+    u = vec2(u0, u1);
+    return PREPARE_CLIPPED;
+}
+
 SR_NAMESPACE_END
 
 #endif  // RASTER_SHARED_CLIP_H

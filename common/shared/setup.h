@@ -109,14 +109,12 @@ SR_FN float recipArea(int64_t area)
 // Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
 // snapped triangle has zero area, faces the culled way, or its bbox holds no sample of the viewport
 // (samples of the pattern with extent `bounds`, RasterParams.sampleBounds).
-SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
-                         uint height, uint bounds, SR_OUT(TriSetup) t)
+// setupSnappedTriangle does the part after snapping, for triangles whose corners are already in fixed
+// point (a line's rectangle).
+SR_FN bool setupSnappedTriangle(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1, float z2, uint triId,
+                                bool doubleSided, uint cullMode, uint width, uint height, uint bounds,
+                                SR_OUT(TriSetup) t)
 {
-    ivec2 v0, v1, v2;
-    float z0, z1, z2;
-    if (!snapVertex(c0, width, height, v0, z0)) return false;
-    if (!snapVertex(c1, width, height, v1, z1)) return false;
-    if (!snapVertex(c2, width, height, v2, z2)) return false;
     int64_t area = signedArea2(v0, v1, v2);
     if (area == int64_t(0)) return false;
     bool frontFacing = area < int64_t(0);  // counter-clockwise on screen, glTF's front face
@@ -140,6 +138,94 @@ SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided
     SR_PRECISE float dz20 = z2 - z0;
     t.depthPlane = vec4(z0, dz10, dz20, recipArea(area));
     return true;
+}
+
+SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided, uint cullMode, uint width,
+                         uint height, uint bounds, SR_OUT(TriSetup) t)
+{
+    ivec2 v0, v1, v2;
+    float z0, z1, z2;
+    if (!snapVertex(c0, width, height, v0, z0)) return false;
+    if (!snapVertex(c1, width, height, v1, z1)) return false;
+    if (!snapVertex(c2, width, height, v2, z2)) return false;
+    return setupSnappedTriangle(v0, v1, v2, z0, z1, z2, triId, doubleSided, cullMode, width, height, bounds, t);
+}
+
+// Deterministic 1 / sqrt(x) for x > 0: the classic bit-level first guess refined by three Newton steps
+// y' = y (3/2 - x y^2 / 2) in correctly rounded float multiplies and subtractions, so every backend
+// computes the same bits (GLSL's inversesqrt and sqrt carry a few ulp of implementation freedom). The
+// result is within a few ulp of the true value.
+SR_FN float rsqrtDet(float x)
+{
+    float halfX = 0.5f * x;
+    float y = uintBitsToFloat(0x5f3759dfu - (floatBitsToUint(x) >> 1));
+    for (int k = 0; k < 3; ++k) {
+        SR_PRECISE float yy = y * y;
+        SR_PRECISE float hyy = halfX * yy;
+        SR_PRECISE float f = 1.5f - hyy;
+        SR_PRECISE float next = y * f;
+        y = next;
+    }
+    return y;
+}
+
+// A line segment as Vulkan's rectangular lines draw it: the rectangle of the line width centred on the
+// snapped segment p0 -> p1, its ends cut square at the endpoints. `offset` is half the width along the
+// segment's left normal, in subpixels, rounded once (as lavapipe rounds it), so the corners are
+// p0 - offset, p1 - offset, p1 + offset, p0 + offset and the rectangle is symmetric about the segment.
+// depth holds the (biased) window depths at p0 and p1, which the rectangle's two triangles interpolate:
+// every corner carries its endpoint's depth, so depth varies along the segment only.
+struct LineQuad {
+    ivec4 ends;    // p0.x, p0.y, p1.x, p1.y (subpixels)
+    ivec2 offset;  // half the width, perpendicular to the segment (subpixels)
+    vec2 depth;    // window depth at p0, at p1
+};
+
+// Snaps the clipped segment a -> b (clip space) and builds its rectangle for width `lineWidth` pixels.
+// depthBias b draws depth z as z - b (1 - z): an affine map of window depth, so it stays linear across
+// the rectangle; for a perspective camera 1 - z is about near / distance, so the bias brings a line
+// closer by the fraction b of its distance whatever the scene's scale (--wireframe). False when an end
+// leaves the guard band or the snapped segment has zero length (nothing drawn, as lavapipe).
+SR_FN bool setupLine(vec4 a, vec4 b, float lineWidth, float depthBias, uint width, uint height,
+                     SR_OUT(LineQuad) q)
+{
+    ivec2 p0, p1;
+    float z0, z1;
+    q.ends = ivec4(0, 0, 0, 0);
+    q.offset = ivec2(0, 0);
+    q.depth = vec2(0.0f, 0.0f);
+    if (!snapVertex(a, width, height, p0, z0) || !snapVertex(b, width, height, p1, z1)) return false;
+    if (p0.x == p1.x && p0.y == p1.y) return false;
+    // The segment's direction in float from exact integers (below 2^24 per axis inside the guard band).
+    float dx = float(p1.x - p0.x);
+    float dy = float(p1.y - p0.y);
+    SR_PRECISE float lengthSq = dx * dx + dy * dy;
+    SR_PRECISE float halfWidth = lineWidth * float(SUBPIXEL_SCALE / 2);
+    SR_PRECISE float scale = halfWidth * rsqrtDet(lengthSq);
+    SR_PRECISE float ox = -dy * scale;
+    SR_PRECISE float oy = dx * scale;
+    q.ends = ivec4(p0.x, p0.y, p1.x, p1.y);
+    q.offset = ivec2(int(roundEven(ox)), int(roundEven(oy)));
+    SR_PRECISE float b0 = z0 - depthBias * (1.0f - z0);
+    SR_PRECISE float b1 = z1 - depthBias * (1.0f - z1);
+    q.depth = vec2(max(b0, 0.0f), max(b1, 0.0f));
+    return true;
+}
+
+// Triangle k (0 or 1) of the line's rectangle: (p0 - o, p1 - o, p1 + o) and (p0 - o, p1 + o, p0 + o).
+// They share the diagonal, so the top-left rule gives each sample of the rectangle to exactly one.
+SR_FN bool setupLineTriangle(LineQuad q, uint k, uint id, uint width, uint height, uint bounds,
+                             SR_OUT(TriSetup) t)
+{
+    ivec2 p0 = ivec2(q.ends.x, q.ends.y);
+    ivec2 p1 = ivec2(q.ends.z, q.ends.w);
+    ivec2 o = q.offset;
+    ivec2 v0 = p0 - o;
+    ivec2 v1 = k == 0u ? p1 - o : p1 + o;
+    ivec2 v2 = k == 0u ? p1 + o : p0 + o;
+    float z2 = k == 0u ? q.depth.y : q.depth.x;
+    return setupSnappedTriangle(v0, v1, v2, q.depth.x, q.depth.y, z2, id, true, CULL_NONE, width, height, bounds,
+                                t);
 }
 
 SR_FN ivec2 setupV0(TriSetup t)

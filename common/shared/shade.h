@@ -234,6 +234,31 @@ SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 ba
                       vec3(baseColor.x, baseColor.y, baseColor.z));
 }
 
+// Parameter u (0 at the first vertex, 1 at the second) along the line segment with world-space ends
+// pos0 -> pos1 of the point the centre of raster pixel (px, py) shades: Vulkan's rule for lines, the
+// point of the drawn (clipped) segment nearest to the centre in screen space, its screen fraction s made
+// perspective-correct (s / w1) / ((1 - s) / w0 + s / w1) within the clipped part and mapped back to the
+// whole segment's parameter, in which clip space, and so every vertex attribute, is linear.
+SR_FN float lineParameter(RasterParams params, int px, int py, vec4 pos0, vec4 pos1)
+{
+    vec4 a, b;
+    vec2 u;
+    uint kind = prepareLine(mulPoint(params.clipFromWorld, pos0), mulPoint(params.clipFromWorld, pos1),
+                            params.guardBand, a, b, u);
+    if (kind == PREPARE_INVALID || kind == PREPARE_CULLED || !(a.w > 0.0f) || !(b.w > 0.0f)) return 0.0f;
+    vec2 ndc = pixelCenterNdc(px, py, params.width, params.height);
+    vec2 pa = vec2(a.x / a.w, a.y / a.w);
+    vec2 d = vec2(b.x / b.w, b.y / b.w) - pa;
+    // Aspect: NDC units differ per axis, so measure in pixels.
+    vec2 scale = vec2(float(params.width), float(params.height));
+    vec2 dPx = d * scale;
+    vec2 qPx = (ndc - pa) * scale;
+    float lengthSq = dot(dPx, dPx);
+    float s = lengthSq > 0.0f ? clamp(dot(qPx, dPx) / lengthSq, 0.0f, 1.0f) : 0.0f;
+    float t = (s / b.w) / ((1.0f - s) / a.w + s / b.w);
+    return u.x + t * (u.y - u.x);
+}
+
 // Colour of a line segment or point, primitive `id`, with base colour `baseColor` (vertex colour x
 // material factor): they are drawn unlit (they have no surface to light), in every shading mode but the
 // id view.

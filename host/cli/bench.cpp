@@ -88,6 +88,33 @@ Scene pointCloudScene(uint32_t count)
     return scene;
 }
 
+// `count` line segments of `length` pixels (1 px wide) in random directions, scattered over the screen at
+// random depths, each with its own two vertices: the line twin of the sweep.
+Scene lineSegmentsScene(uint32_t count, double length, uint32_t w, uint32_t h)
+{
+    std::mt19937 rng(count + 1);
+    std::uniform_real_distribution<double> px(2.0 + length, w - 2.0 - length),
+        py(2.0 + length, h - 2.0 - length), angle(0.0, 6.283185307179586);
+    std::uniform_real_distribution<float> depth(0.05f, 0.95f);
+    auto ndc = [&](double x, double y, float z) {
+        return glm::vec4(float(x * 2.0 / w - 1.0), float(y * 2.0 / h - 1.0), z, 1.0f);
+    };
+    Scene scene;
+    scene.positions.reserve(size_t(count) * 2);
+    scene.normals.assign(size_t(count) * 2, glm::vec4(0.0f));
+    scene.lines.reserve(size_t(count) * 2);
+    for (uint32_t i = 0; i < count; ++i) {
+        double x = px(rng), y = py(rng), a = angle(rng);
+        float z = depth(rng);
+        scene.lines.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(ndc(x, y, z));
+        scene.lines.push_back(uint32_t(scene.positions.size()));
+        scene.positions.push_back(ndc(x + length * std::cos(a), y + length * std::sin(a), z));
+    }
+    (void)finalizeScene(scene, "line segments");
+    return scene;
+}
+
 // `layers` full-screen quads at distinct depths, drawn in random depth order.
 Scene layerScene(int layers)
 {
@@ -153,6 +180,9 @@ Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, u
     if (wanted("layers-16")) scenes.push_back({"layers-16", layerScene(16), identityMatrices(), 0.0});
     if (wanted("points-1m"))
         scenes.push_back({"points-1m", pointCloudScene(o.sweepTriangles), identityMatrices(), 0.0});
+    if (wanted("lines-1m"))
+        scenes.push_back(
+            {"lines-1m", lineSegmentsScene(o.sweepTriangles, 8.0, w, h), identityMatrices(), 0.0});
     auto framed = [&](std::string name, Scene scene) -> Result<BenchScene> {
         auto camera = resolveCamera(CameraSpec{}, scene, w, h);
         if (!camera) return camera.error();
@@ -214,8 +244,8 @@ size_t sceneBytes(const Scene& s)
     for (const SceneTexture& t : s.textures) texels += t.texels.size();
     return (s.positions.size() + s.normals.size() + s.colors.size() + s.texcoords.size()) *
                sizeof(glm::vec4) +
-           (s.indices.size() + s.triFlags.size() + s.triMaterials.size() + s.points.size() +
-            s.pointMaterials.size() + texels) *
+           (s.indices.size() + s.triFlags.size() + s.triMaterials.size() + s.lines.size() +
+            s.lineMaterials.size() + s.points.size() + s.pointMaterials.size() + texels) *
                sizeof(uint32_t) +
            s.materials.size() * sizeof(GpuMaterial);
 }

@@ -1,7 +1,8 @@
 // bench.h - `raster bench`: the scene suite on several backends of one machine, in one run.
 //
 // Scenes: a triangle-size sweep (about 1M triangles of 0.5, 2, 8, 32 and 128 px area each, scattered at
-// random depths), as many 1-px points (`points-1m`; the triangle columns count primitives), 16
+// random depths), as many 1-px points (`points-1m`) and 8-px, 1-px wide line segments in random
+// directions (`lines-1m`; the triangle columns count primitives), 16
 // overlapping full-screen layers in random depth order, the Stanford bunny, a dense
 // tessellated sphere and the built-in scene; then textured scenes next to untextured twins: a
 // full-screen grazing checkerboard plane per texture filter and a textured sphere of about 1M triangles.

@@ -34,8 +34,10 @@ Status uploadMaterials(ComputeDevice& device, const Scene& scene)
 {
     if (scene.materials.empty()) return okStatus();
     SR_TRY(uploadVector(device, BUF_MATERIALS, gpuMaterials(scene)));
-    // One material per primitive id: the triangles', then the points'.
+    // One material per primitive id: the triangles', then the line segments', then the points'.
     std::vector<uint32_t> primitiveMaterials = scene.triMaterials;
+    primitiveMaterials.insert(primitiveMaterials.end(), scene.lineMaterials.begin(),
+                              scene.lineMaterials.end());
     primitiveMaterials.insert(primitiveMaterials.end(), scene.pointMaterials.begin(),
                               scene.pointMaterials.end());
     SR_TRY(uploadVector(device, BUF_TRI_MATERIALS, primitiveMaterials));
@@ -80,7 +82,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_CLEAR,
          groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
-        {STAGE_SETUP, groupsFor(uint64_t(p.triangleCount) + p.pointCount, GROUP_SIZE)},
+        {STAGE_SETUP, groupsFor(uint64_t(p.triangleCount) + p.lineCount + p.pointCount, GROUP_SIZE)},
         {STAGE_BIN_COUNT, work.binBig && work.countSplit ? p.binGroups : 0u},
         {STAGE_SCAN_BLOCKS, work.binBig ? scanGroups : 0u},
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
@@ -158,6 +160,9 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.samplePlane = p.width * p.height;
     p.pointCount = uint32_t(scene.pointCount());
     p.pointSize = s.pointSize;
+    p.lineCount = uint32_t(scene.lineCount());
+    p.lineWidth = s.lineWidth;
+    p.lineDepthBias = s.lineDepthBias;
     return p;
 }
 
@@ -205,18 +210,30 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
                          settings.width, settings.height, settings.ssaa, settings.msaa);
     if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
     if (scene.primitiveCount() == 0)
-        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, no points)");
+        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, lines or points)");
     // Primitive ids share 32 bits with EMPTY_ID and index math runs in uint.
     if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.primitiveCount() >= (uint64_t(1) << 31) ||
         scene.vertexCount() >= (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage, "the scene is too large ({} triangles, {} points, {} vertices)",
-                         scene.triangleCount(), scene.pointCount(), scene.vertexCount());
+        return makeError(ExitCode::Usage,
+                         "the scene is too large ({} triangles, {} line segments, {} points, {} vertices)",
+                         scene.triangleCount(), scene.lineCount(), scene.pointCount(), scene.vertexCount());
     // Point sides are multiples of 1/8 pixel (the granularity lavapipe offers), so half a side is a whole
     // number of subpixels.
     if (!(settings.pointSize >= 1.0f && settings.pointSize <= MAX_POINT_SIZE) ||
         settings.pointSize * 8.0f != std::floor(settings.pointSize * 8.0f))
         return makeError(ExitCode::Usage, "--point-size {} is not a multiple of 1/8 between 1 and {}",
                          settings.pointSize, MAX_POINT_SIZE);
+    // Line widths likewise (lavapipe's lineWidthGranularity is 1/8), so half a width is whole subpixels
+    // for axis-aligned lines.
+    if (!(settings.lineWidth >= 1.0f && settings.lineWidth <= MAX_LINE_WIDTH) ||
+        settings.lineWidth * 8.0f != std::floor(settings.lineWidth * 8.0f))
+        return makeError(ExitCode::Usage, "--line-width {} is not a multiple of 1/8 between 1 and {}",
+                         settings.lineWidth, MAX_LINE_WIDTH);
+    if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
+        return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
+    if (scene.lines.size() % 2 != 0)
+        return makeError(ExitCode::Usage, "the scene has an odd number ({}) of line indices",
+                         scene.lines.size());
     if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
         return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
                          scene.vertexCount());
@@ -233,7 +250,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     const uint64_t samples = rasterPixels * settings.msaa;
     const glm::uvec2 grid = tileGrid(settings.width * settings.ssaa, settings.height * settings.ssaa);
     const uint64_t tiles = uint64_t(grid.x) * grid.y;
-    const uint64_t tris = scene.triangleCount();
+    const uint64_t tris = scene.triangleCount() + 2 * scene.lineCount();  // a segment draws as two
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
     // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
     // A scene that needs more overflows once, in its first frame, and is grown and redrawn; nothing is
@@ -253,6 +270,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
     SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
+    SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
     SR_TRY(uploadMaterials(device, scene));
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
@@ -346,6 +364,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_BIG];
     st.smallTris = counters[COUNTER_SMALL];
     st.bigTris = counters[COUNTER_BIG];
+    st.linesIn = scene.lineCount();
+    st.lines = counters[COUNTER_LINES];
     st.pointsIn = scene.pointCount();
     st.points = counters[COUNTER_POINTS];
     st.records = counters[COUNTER_SETUP];

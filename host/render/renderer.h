@@ -21,6 +21,13 @@
 
 namespace sr {
 
+// The line depth bias of --wireframe (RenderSettings::lineDepthBias): depth z drawn as z - b (1 - z),
+// which with a perspective camera brings an edge 1/256 of its distance closer. An edge on its own
+// surface then wins the depth test wherever the surface's depth moves less than that across the line's
+// half width (surfaces up to about 80 degrees from facing the camera at 1080p); an edge hidden behind
+// another surface stays hidden unless the two lie within 0.4% of the distance.
+constexpr float kWireframeDepthBias = 1.0f / 256.0f;
+
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;

@@ -121,14 +121,17 @@ private:
     }
 
     Status createPipelines();
-    // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE.
+    // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE,
+    // SPEC_PRIMITIVES.
     struct Build {
         bool materials = false;
         uint32_t samples = 1;
         bool resolve = false;
+        bool linesPoints = false;
         bool operator<(const Build& o) const
         {
-            return std::tie(materials, samples, resolve) < std::tie(o.materials, o.samples, o.resolve);
+            return std::tie(materials, samples, resolve, linesPoints) <
+                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints);
         }
     };
     Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
@@ -212,25 +215,30 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of setup, raster_tiles
     // and shade: the sample count, which sizes each invocation's array of keys or ids. SPEC_RESOLVE of
     // shade: whether output pixels have several samples. The one-sample builds hold none of the
-    // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel.
+    // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. SPEC_PRIMITIVES
+    // of setup: whether the line and point paths are built in (only for scenes that have some), which
+    // on a GPU would otherwise cost a triangle scene's setup registers.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
         uint32_t samples;
         VkBool32 resolve;
+        VkBool32 linesPoints;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
-                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry entries[4] = {
+                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE,
+                   build.linesPoints ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[5] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
-        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
+        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)},
+        {SPEC_PRIMITIVES, offsetof(Constants, linesPoints), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     Result<VkShaderModule> module =
         context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 4;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 5;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
@@ -261,7 +269,8 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     if (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES || d.stage == STAGE_SHADE)
         build.samples = params.sampleCount;
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
-    if (build.samples == 1 && !build.resolve)
+    build.linesPoints = d.stage == STAGE_SETUP && params.lineCount + params.pointCount > 0;
+    if (build.samples == 1 && !build.resolve && !build.linesPoints)
         return build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
     VkPipeline& p = sampledPipelines_[{d.stage, build}];
     if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
