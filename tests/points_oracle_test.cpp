@@ -24,35 +24,7 @@ constexpr long kProjectedBound = 64;
 // lavapipe divides z by w of the unsnapped vertex with its own rounding: a few ulps at depth ~0.7.
 constexpr float kProjectedDepthBound = 1e-6f;
 
-class PointsOracleTest : public ComputeOracleTest {
-protected:
-    // Differing sample ids between the two pipelines (depth must agree within depthTolerance where the ids
-    // do); -1 when the device does not offer the sample count.
-    long differingSamples(const Scene& scene, RenderSettings s, const CameraMatrices& camera, size_t& covered,
-                          float depthTolerance = 0.0f)
-    {
-        s.aovSamples = true;
-        auto oracle = renderVulkanGraphics(scene, camera, s, -1);
-        if (!oracle.ok() && oracle.error().message.find("does not offer") != std::string::npos) return -1;
-        auto ours = renderScene(*compute_, scene, camera, s);
-        EXPECT_TRUE(ours.ok()) << (ours.ok() ? "" : ours.error().message);
-        EXPECT_TRUE(oracle.ok()) << (oracle.ok() ? "" : oracle.error().message);
-        if (!ours.ok() || !oracle.ok()) return 0;
-        const SampleAovs &a = ours->samples, &b = oracle->samples;
-        EXPECT_EQ(a.id.size(), b.id.size());
-        long differing = 0;
-        covered = 0;
-        for (size_t i = 0; i < std::min(a.id.size(), b.id.size()); ++i) {
-            covered += a.id[i] != EMPTY_ID;
-            if (a.id[i] != b.id[i]) {
-                ++differing;
-            } else if (a.id[i] != EMPTY_ID) {
-                EXPECT_NEAR(a.depth[i], b.depth[i], depthTolerance) << "sample " << i;
-            }
-        }
-        return differing;
-    }
-};
+using PointsOracleTest = ComputeOracleTest;
 
 // Points on and off every kind of grid position, in front of and behind two triangles.
 TEST_F(PointsOracleTest, PointsOfEverySizeAndPositionAgreeAtEverySample)

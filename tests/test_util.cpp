@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "vulkan/vulkan_device_internal.h"
+#include "vulkan/vulkan_graphics.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -168,6 +169,31 @@ int channelDifference(uint32_t a, uint32_t b)
 bool isOneLine(const std::string& message)
 {
     return !message.empty() && message.find('\n') == std::string::npos;
+}
+
+long ComputeOracleTest::differingSamples(const Scene& scene, RenderSettings s, const CameraMatrices& camera,
+                                         size_t& covered, float depthTolerance)
+{
+    s.aovSamples = true;
+    auto oracle = renderVulkanGraphics(scene, camera, s, -1);
+    if (!oracle.ok() && oracle.error().message.find("does not offer") != std::string::npos) return -1;
+    auto ours = renderScene(*compute_, scene, camera, s);
+    EXPECT_TRUE(ours.ok()) << (ours.ok() ? "" : ours.error().message);
+    EXPECT_TRUE(oracle.ok()) << (oracle.ok() ? "" : oracle.error().message);
+    if (!ours.ok() || !oracle.ok()) return 0;
+    const SampleAovs &a = ours->samples, &b = oracle->samples;
+    EXPECT_EQ(a.id.size(), b.id.size());
+    long differing = 0;
+    covered = 0;
+    for (size_t i = 0; i < std::min(a.id.size(), b.id.size()); ++i) {
+        covered += a.id[i] != EMPTY_ID;
+        if (a.id[i] != b.id[i]) {
+            ++differing;
+        } else if (a.id[i] != EMPTY_ID) {
+            EXPECT_NEAR(a.depth[i], b.depth[i], depthTolerance) << "sample " << i;
+        }
+    }
+    return differing;
 }
 
 void ComputeOracleTest::SetUp()

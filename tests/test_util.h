@@ -154,6 +154,12 @@ class ComputeOracleTest : public ::testing::Test {
 protected:
     void SetUp() override;
 
+    // Samples whose ids differ between compute_ and vulkan-graphics rendering `scene` with `s` (every
+    // sample: aovSamples is set); where the ids agree, depth must agree within depthTolerance. `covered`
+    // counts the compute side's covered samples. -1 when the device does not offer the sample count.
+    long differingSamples(const Scene& scene, RenderSettings s, const CameraMatrices& camera, size_t& covered,
+                          float depthTolerance = 0.0f);
+
     std::unique_ptr<ComputeDevice> compute_;
 };
 
