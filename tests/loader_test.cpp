@@ -251,6 +251,22 @@ template <typename V>
     return ::testing::AssertionSuccess();
 }
 
+// Checks segment k's endpoints, in index order.
+::testing::AssertionResult segmentIs(const Scene& scene, size_t k, glm::vec3 a, glm::vec3 b)
+{
+    if (2 * k + 1 >= scene.lines.size()) return ::testing::AssertionFailure() << "no segment " << k;
+    const glm::vec3 expected[2] = {a, b};
+    for (size_t e = 0; e < 2; ++e) {
+        uint32_t v = scene.lines[2 * k + e];
+        if (v >= scene.vertexCount())
+            return ::testing::AssertionFailure() << "segment " << k << " uses vertex " << v;
+        auto r = near(glm::vec3(scene.positions[v]), expected[e]);
+        if (!r)
+            return ::testing::AssertionFailure() << "segment " << k << " end " << e << ": " << r.message();
+    }
+    return ::testing::AssertionSuccess();
+}
+
 Result<Scene> loadText(const test::ScratchDir& dir, const std::string& name, const std::string& text)
 {
     writeFile(dir.file(name), text);
@@ -634,13 +650,29 @@ TEST(GltfLoader, OutOfRangeIndicesAndNanPositionsAreDropped)
     EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 0)));
 }
 
-TEST(GltfLoader, LinesAreSkippedWithOneWarningPerMode)
+// Segments after the triangle, in primitive order: LINES pairs (an odd last element is dropped with one
+// warning), LINE_STRIP joins neighbours, LINE_LOOP closes last; with and without indices of every type;
+// the node's transform on positions and normals; COLOR_0 and materials as triangles get them; zero
+// normals without NORMAL.
+TEST(GltfLoader, LineModesBecomeSegments)
 {
     GltfDoc doc;
-    int pos = doc.floats(kTriangle, "VEC3");
-    int mesh = doc.addMesh({primitive(pos, -1, -1, kLines), primitive(pos), primitive(pos, -1, -1, kLines),
-                            primitive(pos, -1, -1, kLineStrip), primitive(pos, -1, -1, kPoints)});
-    doc.setRoots({doc.addNode({{"mesh", mesh}})});
+    int tri = doc.floats(kTriangle, "VEC3");
+    // The unit square, counter-clockwise from the origin.
+    int square = doc.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3");
+    int nrm = doc.floats({1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 1, 0}, "VEC3");
+    int red = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+    Json coloured = primitive(square, -1, -1, kLines, red);
+    coloured["attributes"]["COLOR_0"] =
+        doc.floats({1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0.5f, 1, 1, 1, 1}, "VEC4");
+    int mesh = doc.addMesh(
+        {primitive(tri), coloured, primitive(square, -1, doc.integers<uint8_t>({3, 2, 1}), kLineStrip),
+         primitive(square, -1, doc.integers<uint16_t>({0, 1, 2}), kLineLoop),
+         primitive(square, -1, -1, kLineLoop),
+         primitive(square, -1, doc.integers<uint32_t>({0, 2, 1}), kLines),
+         primitive(square, -1, doc.integers<uint16_t>({1}), kLineStrip), primitive(square, nrm, -1, kLines)});
+    // World: x' = 2 x + 10; normals go through the cofactor matrix diag(1, 2, 2).
+    doc.setRoots({doc.addNode({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"scale", {2, 1, 1}}})});
     test::ScratchDir dir("sr_loader");
     std::string path = dir.file("lines.gltf");
     writeFile(path, doc.text());
@@ -648,28 +680,129 @@ TEST(GltfLoader, LinesAreSkippedWithOneWarningPerMode)
     Result<Scene> scene = loadScene(path);
     std::string warnings = ::testing::internal::GetCapturedStderr();
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    EXPECT_EQ(scene->triangleCount(), 1u);
-    EXPECT_EQ(scene->pointCount(), 3u);
     EXPECT_EQ(warnings, "warning: " + path +
-                            ": skipping 2 primitive(s) with mode LINES (lines are not rendered yet)\n"
-                            "warning: " +
-                            path +
-                            ": skipping 1 primitive(s) with mode LINE_STRIP (lines are not rendered yet)\n");
+                            ": dropped the unpaired last vertex of 1 LINES primitive(s) with an odd vertex "
+                            "count\n");
+    ASSERT_EQ(scene->triangleCount(), 1u);
+    EXPECT_TRUE(triangleIs(*scene, 0, {10, 0, 0}, {12, 0, 0}, {10, 1, 0}));
+    EXPECT_EQ(scene->pointCount(), 0u);
+    EXPECT_EQ(scene->droppedLines, 0u);
 
-    // With only lines there is nothing to draw: the warning, then the error.
+    // Square corner i of the file, in world space.
+    const glm::vec3 world[4] = {{10, 0, 0}, {12, 0, 0}, {12, 1, 0}, {10, 1, 0}};
+    // Per segment: its two square corners, and the primitive it comes from.
+    struct Expected {
+        int a, b;
+        int primitive;
+    };
+    const std::vector<Expected> expected = {
+        {0, 1, 1}, {2, 3, 1},                        // LINES, no indices
+        {3, 2, 2}, {2, 1, 2},                        // LINE_STRIP, u8 indices
+        {0, 1, 3}, {1, 2, 3}, {2, 0, 3},             // LINE_LOOP, u16 indices
+        {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4},  // LINE_LOOP, no indices
+        {0, 2, 5},                                   // LINES, u32 indices, odd count
+        {0, 1, 7}, {2, 3, 7}};                       // LINES with NORMAL (the one-index strip adds none)
+    ASSERT_EQ(scene->lineCount(), expected.size());
+    EXPECT_EQ(scene->primitiveCount(), 1 + expected.size());
+    const float r5 = 1.0f / std::sqrt(5.0f);
+    const glm::vec3 normals[4] = {{r5, 2 * r5, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}};
+    ASSERT_EQ(scene->colors.size(), scene->positions.size());
+    const glm::vec4 colours[4] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 0.5f}, {1, 1, 1, 1}};
+    for (size_t k = 0; k < expected.size(); ++k) {
+        const Expected& e = expected[k];
+        EXPECT_TRUE(segmentIs(*scene, k, world[e.a], world[e.b])) << k;
+        const int corners[2] = {e.a, e.b};
+        for (size_t end = 0; end < 2; ++end) {
+            uint32_t v = scene->lines[2 * k + end];
+            EXPECT_EQ(scene->positions[v].w, 1.0f);
+            glm::vec4 normal = e.primitive == 7 ? glm::vec4(normals[corners[end]], 0) : glm::vec4(0.0f);
+            EXPECT_TRUE(near(scene->normals[v], normal)) << "segment " << k << " end " << end;
+            glm::vec4 colour = e.primitive == 1 ? colours[corners[end]] : glm::vec4(1.0f);
+            EXPECT_TRUE(near(scene->colors[v], colour)) << "segment " << k << " end " << end;
+        }
+    }
+    // Materials in order of first use: the default (the triangle), then red (the first LINES).
+    ASSERT_EQ(scene->materials.size(), 2u);
+    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(1, 0, 0, 1)));
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0}));
+    std::vector<uint32_t> lineMaterials;
+    for (const Expected& e : expected) lineMaterials.push_back(e.primitive == 1 ? 1u : 0u);
+    EXPECT_EQ(scene->lineMaterials, lineMaterials);
+    EXPECT_TRUE(near(scene->boundsMin, glm::vec3(10, 0, 0)));
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(12, 1, 0)));
+
+    // A file of lines only loads, and its bounds are the lines'.
     GltfDoc linesOnly;
-    int linePos = linesOnly.floats(kTriangle, "VEC3");
+    int linePos = linesOnly.floats({0, 0, 0, 1, 0, 0, 0, 1, 3}, "VEC3");
     linesOnly.setRoots(
         {linesOnly.addNode({{"mesh", linesOnly.addMesh({primitive(linePos, -1, -1, kLineLoop)})}})});
-    std::string linesPath = dir.file("lines_only.gltf");
-    writeFile(linesPath, linesOnly.text());
     ::testing::internal::CaptureStderr();
-    Result<Scene> nothing = loadScene(linesPath);
+    Result<Scene> loop = loadText(dir, "lines_only.gltf", linesOnly.text());
     warnings = ::testing::internal::GetCapturedStderr();
-    expectLoadError(nothing, linesPath);
-    EXPECT_EQ(nothing.error().message, "cannot load '" + linesPath + "': no triangles or points to draw");
-    EXPECT_EQ(warnings, "warning: " + linesPath +
-                            ": skipping 1 primitive(s) with mode LINE_LOOP (lines are not rendered yet)\n");
+    ASSERT_TRUE(loop.ok()) << loop.error().message;
+    EXPECT_EQ(warnings, "");
+    EXPECT_EQ(loop->triangleCount(), 0u);
+    ASSERT_EQ(loop->lineCount(), 3u);
+    EXPECT_TRUE(segmentIs(*loop, 2, {0, 1, 3}, {0, 0, 0}));
+    EXPECT_TRUE(loop->materials.empty());
+    EXPECT_TRUE(loop->lineMaterials.empty());
+    EXPECT_TRUE(loop->colors.empty());
+    EXPECT_TRUE(near(loop->boundsMax, glm::vec3(1, 1, 3)));
+
+    // Fewer than two vertices make no segment, which leaves nothing to draw.
+    GltfDoc single;
+    int one = single.floats({0, 0, 0}, "VEC3");
+    single.setRoots({single.addNode(
+        {{"mesh", single.addMesh({primitive(one, -1, -1, kLineStrip), primitive(one, -1, -1, kLines)})}})});
+    std::string singlePath = dir.file("single.gltf");
+    writeFile(singlePath, single.text());
+    ::testing::internal::CaptureStderr();
+    Result<Scene> nothing = loadScene(singlePath);
+    warnings = ::testing::internal::GetCapturedStderr();
+    expectLoadError(nothing, singlePath);
+    EXPECT_EQ(nothing.error().message,
+              "cannot load '" + singlePath + "': no triangles, lines or points to draw");
+    EXPECT_EQ(warnings, "warning: " + singlePath +
+                            ": dropped the unpaired last vertex of 1 LINES primitive(s) with an odd vertex "
+                            "count\n");
+}
+
+// Segments with an out-of-range index or a non-finite endpoint are dropped with one warning, keeping
+// the order and the materials of the rest.
+TEST(GltfLoader, BadSegmentsAreDropped)
+{
+    GltfDoc doc;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    int pos = doc.floats({0, 0, 0, 1, 0, 0, nan, 0, 0}, "VEC3");
+    int red = doc.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+    // LINES (0 1) (1 7) (2 0) (1 0), then a strip 0-1-2 whose second segment reaches the NaN vertex.
+    int mesh = doc.addMesh({primitive(pos, -1, doc.integers<uint16_t>({0, 1, 1, 7, 2, 0, 1, 0}), kLines, red),
+                            primitive(pos, -1, -1, kLineStrip)});
+    doc.setRoots({doc.addNode({{"mesh", mesh}})});
+    test::ScratchDir dir("sr_loader");
+    std::string path = dir.file("bad_lines.gltf");
+    writeFile(path, doc.text());
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "warning: " + path +
+                            ": dropped 3 segment(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene->droppedLines, 3u);
+    EXPECT_EQ(scene->droppedTriangles, 0u);
+    EXPECT_EQ(scene->droppedPoints, 0u);
+    ASSERT_EQ(scene->lineCount(), 3u);
+    EXPECT_TRUE(segmentIs(*scene, 0, {0, 0, 0}, {1, 0, 0}));
+    EXPECT_TRUE(segmentIs(*scene, 1, {1, 0, 0}, {0, 0, 0}));
+    EXPECT_TRUE(segmentIs(*scene, 2, {0, 0, 0}, {1, 0, 0}));
+    ASSERT_EQ(scene->materials.size(), 2u);
+    EXPECT_EQ(scene->lineMaterials, (std::vector<uint32_t>{0, 0, 1}));
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(1, 0, 0, 1)));
+    EXPECT_TRUE(scene->triMaterials.empty());
+    EXPECT_TRUE(scene->pointMaterials.empty());
+    // Bounds of the kept segments only; the NaN vertex is not among them.
+    EXPECT_TRUE(near(scene->boundsMin, glm::vec3(0, 0, 0)));
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 0, 0)));
 }
 
 // Points after the triangle, in primitive order; every index type; the node's transform on positions
@@ -1489,7 +1622,7 @@ TEST(FinalizeScene, Errors)
     Scene empty;
     Status noTriangles = finalizeScene(empty, "nothing");
     ASSERT_FALSE(noTriangles.ok());
-    EXPECT_EQ(noTriangles.error().message, "nothing: no triangles or points to draw");
+    EXPECT_EQ(noTriangles.error().message, "nothing: no triangles, lines or points to draw");
 
     Scene allBad = twoTriangleScene();
     allBad.indices = {0, 1, 7};
@@ -1597,7 +1730,7 @@ TEST(FinalizeScene, PointsOnlySceneDropsBadPointsAndHasBounds)
     Status status = finalizeScene(allBad, "cloud");
     ::testing::internal::GetCapturedStderr();
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().message, "cloud: no triangles or points to draw");
+    EXPECT_EQ(status.error().message, "cloud: no triangles, lines or points to draw");
 }
 
 TEST(FinalizeScene, PointMaterials)
@@ -1654,6 +1787,86 @@ TEST(FinalizeScene, PointMaterials)
     Scene noMaterials = cloud;
     noMaterials.materials.clear();
     expectError(noMaterials, "point materials without materials");
+}
+
+TEST(FinalizeScene, LinesDropBadSegmentsAndKeepMaterialsAligned)
+{
+    // Triangles and segments together: segment materials stay aligned through a drop; bounds cover both.
+    Scene scene = twoTriangleScene();
+    for (glm::vec3 p : {glm::vec3(7, 0, 0), glm::vec3(NAN, 0, 0)}) {
+        scene.positions.emplace_back(p, 1.0f);
+        scene.normals.emplace_back(0.0f);
+    }
+    scene.materials.resize(2);
+    scene.materials[1].baseColorFactor = glm::vec4(1, 0, 0, 1);
+    scene.triMaterials = {0, 1};
+    scene.lines = {0, 4, 1, 99, 5, 0, 3, 4};
+    scene.lineMaterials = {1, 0, 0, 0};
+    ::testing::internal::CaptureStderr();
+    ASSERT_TRUE(finalizeScene(scene, "mixed").ok());
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+              "warning: mixed: dropped 2 segment(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene.lines, (std::vector<uint32_t>{0, 4, 3, 4}));
+    EXPECT_EQ(scene.lineMaterials, (std::vector<uint32_t>{1, 0}));
+    EXPECT_EQ(scene.droppedLines, 2u);
+    EXPECT_EQ(scene.droppedTriangles, 0u);
+    EXPECT_TRUE(near(scene.boundsMin, glm::vec3(-2, 0, 0)));
+    EXPECT_TRUE(near(scene.boundsMax, glm::vec3(7, 3, 4)));
+
+    // Materials that change nothing are dropped with every index list.
+    Scene plain = twoTriangleScene();
+    plain.materials.resize(2);
+    plain.triMaterials = {0, 1};
+    plain.lines = {0, 1};
+    plain.lineMaterials = {1};
+    ASSERT_TRUE(finalizeScene(plain, "plain").ok());
+    EXPECT_TRUE(plain.materials.empty());
+    EXPECT_TRUE(plain.lineMaterials.empty());
+
+    // Lines only: bounds of the segments' vertices; all bad is nothing to draw.
+    Scene wire;
+    for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 2, 3), glm::vec3(-1, 5, 0)}) {
+        wire.positions.emplace_back(p, 1.0f);
+        wire.normals.emplace_back(0.0f);
+    }
+    wire.lines = {0, 1, 1, 2};
+    Scene allBad = wire;
+    ASSERT_TRUE(finalizeScene(wire, "wire").ok());
+    EXPECT_TRUE(wire.triFlags.empty());
+    EXPECT_TRUE(near(wire.boundsMin, glm::vec3(-1, 0, 0)));
+    EXPECT_TRUE(near(wire.boundsMax, glm::vec3(1, 5, 3)));
+    allBad.lines = {0, 3, 4, 1};
+    ::testing::internal::CaptureStderr();
+    Status status = finalizeScene(allBad, "wire");
+    ::testing::internal::GetCapturedStderr();
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().message, "wire: no triangles, lines or points to draw");
+    EXPECT_EQ(allBad.droppedLines, 2u);
+
+    auto expectError = [](Scene s, const std::string& what) {
+        Status result = finalizeScene(s, "scene");
+        ASSERT_FALSE(result.ok()) << what;
+        EXPECT_EQ(result.error().message.rfind("scene: ", 0), 0u) << result.error().message;
+        EXPECT_EQ(result.error().message.find('\n'), std::string::npos) << result.error().message;
+    };
+    Scene coloured = wire;
+    coloured.materials.resize(1);
+    coloured.materials[0].baseColorFactor = glm::vec4(0, 1, 0, 1);
+    coloured.lineMaterials = {0, 0};
+    Scene check = coloured;
+    EXPECT_TRUE(finalizeScene(check, "scene").ok());
+    Scene odd = wire;
+    odd.lines.push_back(0);
+    expectError(odd, "odd line index count");
+    Scene shortList = coloured;
+    shortList.lineMaterials.pop_back();
+    expectError(shortList, "one material index per segment");
+    Scene badIndex = coloured;
+    badIndex.lineMaterials[1] = 1;
+    expectError(badIndex, "segment material index out of range");
+    Scene noMaterials = coloured;
+    noMaterials.materials.clear();
+    expectError(noMaterials, "segment materials without materials");
 }
 
 // ---- OBJ ------------------------------------------------------------------------------------
@@ -1887,7 +2100,7 @@ TEST(ObjLoader, PointsInFileOrderWithMaterials)
     EXPECT_TRUE(near(scene->materials[scene->triMaterials[0]].baseColorFactor, glm::vec4(0, 1, 0, 1)));
 }
 
-TEST(ObjLoader, BadPointsAreDroppedAndLinesSkipped)
+TEST(ObjLoader, BadPointsAreDropped)
 {
     test::ScratchDir dir("sr_loader");
     std::string path = dir.file("bad_points.obj");
@@ -1897,17 +2110,77 @@ TEST(ObjLoader, BadPointsAreDroppedAndLinesSkipped)
     Result<Scene> scene = loadScene(path);
     std::string warnings = ::testing::internal::GetCapturedStderr();
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    EXPECT_EQ(warnings, "warning: " + path + ": skipping 1 line element(s) (lines are not rendered yet)\n" +
-                            "warning: " + path +
+    EXPECT_EQ(warnings, "warning: " + path +
                             ": dropped 2 point(s) with out-of-range indices or non-finite positions\n");
     EXPECT_EQ(scene->triangleCount(), 0u);
     EXPECT_EQ(scene->droppedPoints, 2u);
     ASSERT_EQ(scene->pointCount(), 2u);
     EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[0]]), glm::vec3(0, 0, 0)));
     EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[1]]), glm::vec3(1, 1, 1)));
+    ASSERT_EQ(scene->lineCount(), 1u);
+    EXPECT_TRUE(segmentIs(*scene, 0, {0, 0, 0}, {1, 1, 1}));
     EXPECT_TRUE(scene->materials.empty());
     EXPECT_TRUE(scene->pointMaterials.empty());
+    EXPECT_TRUE(scene->lineMaterials.empty());
     EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 1)));
+}
+
+// Every `l` statement is a polyline of consecutive segments in file order, each with the `usemtl` in
+// force; "v/vt" references and negative (relative) indices as for `p`; a one-vertex `l` is skipped with
+// one warning; segments reaching a missing or non-finite vertex are dropped and counted.
+TEST(ObjLoader, PolylinesInFileOrderWithMaterials)
+{
+    test::ScratchDir dir("sr_loader");
+    writeFile(dir.file("m.mtl"), "newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n");
+    std::string path = dir.file("lines.obj");
+    writeFile(path,
+              "mtllib m.mtl\n"
+              "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
+              "vt 0.25 0\nvt 1 0.75\n"
+              "usemtl red\nl 1 2 3\n"
+              "usemtl green\nl 4/1 -4/2\n"
+              "f 1 2 3\n"
+              "l -1 -2 -3 -4\n"
+              "l 2\n"
+              "p 4\n"
+              "usemtl red\n  l 1 9\r\n"
+              "v 1e400 0 0 1 1 1\n"
+              "l 5 1 2\n");
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings, "warning: " + path + ": skipped 1 line element(s) with fewer than 2 vertices\n" +
+                            "warning: " + path +
+                            ": dropped 2 segment(s) with out-of-range indices or non-finite positions\n");
+    EXPECT_EQ(scene->triangleCount(), 1u);
+    EXPECT_EQ(scene->pointCount(), 1u);
+    EXPECT_EQ(scene->droppedLines, 2u);
+    const glm::vec3 place[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const glm::vec4 color[4] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}};
+    const glm::vec4 red(1, 0, 0, 1), green(0, 1, 0, 1);
+    struct Expected {
+        int a, b;
+        glm::vec4 kd;
+    };
+    const std::vector<Expected> expected = {{0, 1, red},   {1, 2, red},   {3, 0, green}, {3, 2, green},
+                                            {2, 1, green}, {1, 0, green}, {0, 1, red}};
+    ASSERT_EQ(scene->lineCount(), expected.size());
+    ASSERT_EQ(scene->lineMaterials.size(), expected.size());
+    ASSERT_EQ(scene->colors.size(), scene->positions.size());
+    for (size_t k = 0; k < expected.size(); ++k) {
+        const Expected& e = expected[k];
+        EXPECT_TRUE(segmentIs(*scene, k, place[e.a], place[e.b])) << k;
+        EXPECT_TRUE(near(scene->materials[scene->lineMaterials[k]].baseColorFactor, e.kd)) << k;
+        const int corners[2] = {e.a, e.b};
+        for (size_t end = 0; end < 2; ++end) {
+            uint32_t v = scene->lines[2 * k + end];
+            EXPECT_TRUE(near(scene->colors[v], color[corners[end]])) << k;
+            // Lines are unlit: no `vn` given, no normal.
+            EXPECT_EQ(scene->normals[v], glm::vec4(0.0f)) << k;
+        }
+    }
+    EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 0)));
 }
 
 TEST(ObjLoader, BareVertexListIsAPointCloud)
@@ -2109,14 +2382,14 @@ TEST(AssimpModels, SpiderObj)
 }
 
 // The glTF-Asset-Generator's Mesh_PrimitiveMode set: one primitive per file, its mode and accessors
-// read from the JSON and the .bin here, independently of tinygltf. POINTS (00 without indices, 07
-// with 1024 unsigned int indices) load as one point per element; the line modes (01-03, 08-10) are
-// skipped with a warning, which leaves nothing to draw; the triangle modes load without points.
-TEST(AssimpModels, MeshPrimitiveModePoints)
+// read from the JSON and the .bin here, independently of tinygltf, and the expected primitives derived
+// from them by the spec's rules. POINTS (00 without indices, 07 with 1024 unsigned int indices) load as
+// one point per element; the line modes (01-03 without indices, 08-10 with) as segments; the triangle
+// modes as triangles.
+TEST(AssimpModels, MeshPrimitiveMode)
 {
     const std::string folder = "glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode/";
-    const char* kModeNames[4] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
-    size_t pointFiles = 0;
+    size_t pointFiles = 0, lineFiles = 0, triangleFiles = 0;
     for (int file = 0; file <= 15; ++file) {
         std::string path = assimpModel(folder + fmt::format("Mesh_PrimitiveMode_{:02}.gltf", file));
         Json doc = Json::parse(readBytes(path));
@@ -2141,54 +2414,83 @@ TEST(AssimpModels, MeshPrimitiveModePoints)
         };
         int position = prim["attributes"]["POSITION"].get<int>();
         size_t positions = doc["accessors"][position]["count"].get<size_t>();
+        auto filePosition = [&](uint32_t v) {
+            float p[3];
+            std::memcpy(p, element(position, v, 12), 12);
+            return glm::vec3(p[0], p[1], p[2]);
+        };
+        // The primitive's vertex sequence: its indices (of any unsigned type), or 0..count-1.
+        std::vector<uint32_t> sequence(positions);
+        for (size_t i = 0; i < positions; ++i) sequence[i] = uint32_t(i);
+        if (prim.contains("indices")) {
+            int indices = prim["indices"].get<int>();
+            int type = doc["accessors"][indices]["componentType"].get<int>();
+            size_t size = type == kU8 ? 1 : type == kU16 ? 2 : 4;
+            ASSERT_TRUE(type == kU8 || type == kU16 || type == kU32) << path;
+            sequence.assign(doc["accessors"][indices]["count"].get<size_t>(), 0u);
+            for (size_t i = 0; i < sequence.size(); ++i)
+                std::memcpy(&sequence[i], element(indices, i, size), size);
+        }
+        size_t n = sequence.size();
 
         ::testing::internal::CaptureStderr();
         Result<Scene> scene = loadScene(path);
         std::string warnings = ::testing::internal::GetCapturedStderr();
+        ASSERT_TRUE(scene.ok()) << scene.error().message;
+        EXPECT_EQ(warnings, "") << path;
         if (mode == kPoints) {
             ++pointFiles;
-            ASSERT_TRUE(scene.ok()) << scene.error().message;
-            EXPECT_EQ(warnings, "") << path;
             EXPECT_EQ(scene->triangleCount(), 0u) << path;
-            std::vector<uint32_t> order(positions);
-            for (size_t i = 0; i < positions; ++i) order[i] = uint32_t(i);
-            if (prim.contains("indices")) {
-                int indices = prim["indices"].get<int>();
-                ASSERT_EQ(doc["accessors"][indices]["componentType"].get<int>(), kU32) << path;
-                order.resize(doc["accessors"][indices]["count"].get<size_t>());
-                for (size_t i = 0; i < order.size(); ++i) std::memcpy(&order[i], element(indices, i, 4), 4);
-            }
-            ASSERT_EQ(scene->pointCount(), order.size()) << path;
-            for (size_t k = 0; k < order.size(); ++k) {
-                float p[3];
-                std::memcpy(p, element(position, order[k], 12), 12);
-                ASSERT_EQ(glm::vec3(scene->positions[scene->points[k]]), glm::vec3(p[0], p[1], p[2]))
+            EXPECT_EQ(scene->lineCount(), 0u) << path;
+            ASSERT_EQ(scene->pointCount(), n) << path;
+            for (size_t k = 0; k < n; ++k)
+                ASSERT_EQ(glm::vec3(scene->positions[scene->points[k]]), filePosition(sequence[k]))
                     << path << " point " << k;
-            }
             // No NORMAL in these files: the points' vertices have zero normals.
             for (uint32_t v : scene->points) EXPECT_EQ(scene->normals[v], glm::vec4(0.0f)) << path;
-        } else if (mode <= 3) {
-            expectLoadError(scene, path);
-            EXPECT_NE(scene.error().message.find("no triangles or points to draw"), std::string::npos)
-                << scene.error().message;
-            EXPECT_EQ(warnings,
-                      fmt::format("warning: {}: skipping 1 primitive(s) with mode {} (lines are not "
-                                  "rendered yet)\n",
-                                  path, kModeNames[mode]));
-        } else {
-            ASSERT_TRUE(scene.ok()) << scene.error().message;
+        } else if (mode == kLines || mode == kLineLoop || mode == kLineStrip) {
+            ++lineFiles;
+            EXPECT_EQ(scene->triangleCount(), 0u) << path;
             EXPECT_EQ(scene->pointCount(), 0u) << path;
+            // Segments as the spec (3.7.2.1) pairs the sequence: LINES (0 1) (2 3) ..., LINE_STRIP
+            // (0 1) (1 2) ..., LINE_LOOP the strip and then (n-1 0).
+            std::vector<uint32_t> ends;
+            if (mode == kLines) {
+                ends.assign(sequence.begin(), sequence.begin() + ptrdiff_t(n / 2 * 2));
+            } else {
+                for (size_t i = 0; i + 1 < n; ++i) ends.insert(ends.end(), {sequence[i], sequence[i + 1]});
+                if (mode == kLineLoop) ends.insert(ends.end(), {sequence[n - 1], sequence[0]});
+            }
+            ASSERT_EQ(scene->lines.size(), ends.size()) << path;
+            for (size_t e = 0; e < ends.size(); ++e) {
+                uint32_t v = scene->lines[e];
+                ASSERT_EQ(glm::vec3(scene->positions[v]), filePosition(ends[e])) << path << " end " << e;
+                EXPECT_EQ(scene->normals[v], glm::vec4(0.0f)) << path;
+            }
+            // Every line file draws the outline of the README's square.
+            EXPECT_EQ(scene->lineCount(), 4u) << path;
+        } else {
+            ++triangleFiles;
+            EXPECT_EQ(scene->pointCount(), 0u) << path;
+            EXPECT_EQ(scene->lineCount(), 0u) << path;
+            EXPECT_EQ(scene->triangleCount(), mode == 4 ? n / 3 : n - 2) << path;
             EXPECT_EQ(scene->triangleCount(), 2u) << path;  // every triangle file draws the same quad
         }
     }
-    EXPECT_EQ(pointFiles, 2u);  // 00 and 07, as the set's README lists them
+    // As the set's README lists them: 00 and 07; 01-03 and 08-10; the rest.
+    EXPECT_EQ(pointFiles, 2u);
+    EXPECT_EQ(lineFiles, 6u);
+    EXPECT_EQ(triangleFiles, 8u);
 }
 
-// assimp-testmodels' OBJ files with `p` and `l`: the expected points are counted in the file text.
+// assimp-testmodels' OBJ files with `p` and `l`: the expected points and segments are read from the
+// file text.
 TEST(AssimpModels, ObjPointsLinesAndPointCloud)
 {
-    // "v x y z" lines and the vertex numbers of every `p` statement, read from the text here.
-    auto readObj = [](const std::string& path, std::vector<glm::vec3>& vertices, std::vector<int>& points) {
+    // "v x y z" lines, the vertex numbers of every `p` statement and the segments of every `l` polyline
+    // (consecutive vertex numbers), read from the text here.
+    auto readObj = [](const std::string& path, std::vector<glm::vec3>& vertices, std::vector<int>& points,
+                      std::vector<int>& segments) {
         std::istringstream text(readBytes(path));
         std::string line;
         while (std::getline(text, line)) {
@@ -2201,14 +2503,20 @@ TEST(AssimpModels, ObjPointsLinesAndPointCloud)
                 vertices.push_back(v);
             } else if (keyword == "p") {
                 for (int i; words >> i;) points.push_back(i);
+            } else if (keyword == "l") {
+                std::vector<int> polyline;
+                for (int i; words >> i;) polyline.push_back(i);
+                for (size_t k = 0; k + 1 < polyline.size(); ++k)
+                    segments.insert(segments.end(), {polyline[k], polyline[k + 1]});
             }
         }
     };
 
     std::string testpoints = assimpModel("OBJ/testpoints.obj");
     std::vector<glm::vec3> vertices;
-    std::vector<int> points;
-    readObj(testpoints, vertices, points);
+    std::vector<int> points, segments;
+    readObj(testpoints, vertices, points, segments);
+    EXPECT_TRUE(segments.empty());
     EXPECT_EQ(points.size(), 24u);  // six `p` statements of four vertices (the cube's faces)
     ::testing::internal::CaptureStderr();
     Result<Scene> scene = loadScene(testpoints);
@@ -2224,8 +2532,9 @@ TEST(AssimpModels, ObjPointsLinesAndPointCloud)
     std::string cloud = assimpModel("OBJ/point_cloud.obj");
     vertices.clear();
     points.clear();
-    readObj(cloud, vertices, points);
+    readObj(cloud, vertices, points, segments);
     EXPECT_TRUE(points.empty());
+    EXPECT_TRUE(segments.empty());
     EXPECT_EQ(vertices.size(), 3u);
     Result<Scene> cloudScene = loadScene(cloud);
     ASSERT_TRUE(cloudScene.ok()) << cloudScene.error().message;
@@ -2233,16 +2542,28 @@ TEST(AssimpModels, ObjPointsLinesAndPointCloud)
     for (size_t k = 0; k < vertices.size(); ++k)
         EXPECT_TRUE(near(glm::vec3(cloudScene->positions[cloudScene->points[k]]), vertices[k])) << k;
 
-    // Lines only: skipped with a warning, which leaves nothing to draw.
+    // Lines only: each `l` walks four corners of a cube face, three segments (it does not close).
     std::string lines = assimpModel("OBJ/testline.obj");
+    vertices.clear();
+    points.clear();
+    readObj(lines, vertices, points, segments);
+    EXPECT_TRUE(points.empty());
+    EXPECT_EQ(segments.size(), 2u * 18);  // six `l` statements of four vertices
     ::testing::internal::CaptureStderr();
     Result<Scene> lineScene = loadScene(lines);
-    std::string warnings = ::testing::internal::GetCapturedStderr();
-    expectLoadError(lineScene, lines);
-    EXPECT_NE(
-        warnings.find("warning: " + lines + ": skipping 6 line element(s) (lines are not rendered yet)\n"),
-        std::string::npos)
-        << warnings;
+    ::testing::internal::GetCapturedStderr();  // "usemtl Default" names no .mtl: tinyobjloader warns
+    ASSERT_TRUE(lineScene.ok()) << lineScene.error().message;
+    EXPECT_EQ(lineScene->triangleCount(), 0u);
+    EXPECT_EQ(lineScene->pointCount(), 0u);
+    EXPECT_EQ(lineScene->droppedLines, 0u);
+    ASSERT_EQ(lineScene->lines.size(), segments.size());
+    for (size_t e = 0; e < segments.size(); ++e) {
+        uint32_t v = lineScene->lines[e];
+        EXPECT_TRUE(near(glm::vec3(lineScene->positions[v]), vertices[size_t(segments[e] - 1)])) << e;
+        EXPECT_EQ(lineScene->normals[v], glm::vec4(0.0f)) << e;
+    }
+    EXPECT_TRUE(near(lineScene->boundsMin, glm::vec3(-0.5f)));
+    EXPECT_TRUE(near(lineScene->boundsMax, glm::vec3(0.5f)));
 }
 
 // ---- shipped assets -------------------------------------------------------------------------

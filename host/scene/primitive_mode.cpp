@@ -1,7 +1,73 @@
 // primitive_mode.cpp - see primitive_mode.h.
 #include "scene/primitive_mode.h"
 
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <unordered_set>
+
 namespace sr {
+namespace {
+
+// An undirected edge by the bit patterns of its endpoints' xyz, the smaller endpoint first so that
+// both directions give one key. -0 is stored as +0, so that bit equality is float equality (NaN aside,
+// which finalizeScene drops anyway).
+using EdgeKey = std::array<uint32_t, 6>;
+
+struct EdgeKeyHash {
+    size_t operator()(const EdgeKey& key) const
+    {
+        uint64_t h = 0x9e3779b97f4a7c15ull;
+        for (uint32_t word : key) {
+            h ^= word;
+            h *= 0xff51afd7ed558ccdull;
+            h ^= h >> 32;
+        }
+        return size_t(h);
+    }
+};
+
+std::array<uint32_t, 3> positionBits(const glm::vec4& p)
+{
+    std::array<uint32_t, 3> bits;
+    for (int c = 0; c < 3; ++c) {
+        float value = p[c] + 0.0f;  // -0 + 0 is +0
+        std::memcpy(&bits[size_t(c)], &value, sizeof value);
+    }
+    return bits;
+}
+
+// The unique edges of the scene's triangles as segments (two vertex indices each), with the triangle
+// each one came from. Edges with an out-of-range vertex index have no position to compare and are left
+// out, as meshAsPoints leaves such vertices out.
+struct Edges {
+    std::vector<uint32_t> lines;
+    std::vector<size_t> triangles;
+};
+
+Edges uniqueEdges(const Scene& scene)
+{
+    Edges edges;
+    std::unordered_set<EdgeKey, EdgeKeyHash> seen;
+    seen.reserve(scene.indices.size());
+    for (size_t t = 0; t < scene.triangleCount(); ++t) {
+        const uint32_t* tri = &scene.indices[3 * t];
+        for (size_t c = 0; c < 3; ++c) {
+            uint32_t a = tri[c], b = tri[(c + 1) % 3];
+            if (a >= scene.vertexCount() || b >= scene.vertexCount()) continue;
+            std::array<uint32_t, 3> pa = positionBits(scene.positions[a]);
+            std::array<uint32_t, 3> pb = positionBits(scene.positions[b]);
+            if (pb < pa) std::swap(pa, pb);
+            EdgeKey key = {pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]};
+            if (!seen.insert(key).second) continue;
+            edges.lines.insert(edges.lines.end(), {a, b});
+            edges.triangles.push_back(t);
+        }
+    }
+    return edges;
+}
+
+}  // namespace
 
 Scene meshAsPoints(Scene scene)
 {
@@ -27,6 +93,47 @@ Scene meshAsPoints(Scene scene)
     scene.indices.clear();
     scene.triFlags.clear();
     scene.triMaterials.clear();
+    return scene;
+}
+
+Scene meshAsLines(Scene scene)
+{
+    Edges edges = uniqueEdges(scene);
+    std::vector<uint32_t> lineMaterials;
+    if (!scene.materials.empty()) {
+        lineMaterials.reserve(edges.triangles.size() + scene.lineMaterials.size());
+        for (size_t t : edges.triangles) lineMaterials.push_back(scene.triMaterials[t]);
+    }
+    edges.lines.insert(edges.lines.end(), scene.lines.begin(), scene.lines.end());
+    lineMaterials.insert(lineMaterials.end(), scene.lineMaterials.begin(), scene.lineMaterials.end());
+    scene.lines = std::move(edges.lines);
+    scene.lineMaterials = std::move(lineMaterials);
+    scene.indices.clear();
+    scene.triFlags.clear();
+    scene.triMaterials.clear();
+    return scene;
+}
+
+Scene withWireframe(Scene scene)
+{
+    Edges edges = uniqueEdges(scene);
+    if (scene.materials.empty()) {
+        // Scene's emptiness rule: no materials means every primitive is white and opaque, which is
+        // what this material says, so the scene looks the same with one index per primitive added.
+        SceneMaterial white;
+        white.name = "default";
+        scene.materials.push_back(white);
+        scene.triMaterials.assign(scene.triangleCount(), 0u);
+        scene.lineMaterials.assign(scene.lineCount(), 0u);
+        scene.pointMaterials.assign(scene.pointCount(), 0u);
+    }
+    SceneMaterial wireframe;
+    wireframe.name = "wireframe";
+    wireframe.baseColorFactor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    auto wireframeIndex = uint32_t(scene.materials.size());
+    scene.materials.push_back(wireframe);
+    scene.lines.insert(scene.lines.end(), edges.lines.begin(), edges.lines.end());
+    scene.lineMaterials.insert(scene.lineMaterials.end(), edges.triangles.size(), wireframeIndex);
     return scene;
 }
 

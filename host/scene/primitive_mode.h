@@ -1,5 +1,5 @@
 // primitive_mode.h - the display modes of the original course projects: a triangle mesh drawn as its
-// vertices (`--primitive-mode points`).
+// vertices (`--primitive-mode points`), as its edges, or with its edges drawn over it.
 #ifndef RASTER_PRIMITIVE_MODE_H
 #define RASTER_PRIMITIVE_MODE_H
 
@@ -11,6 +11,17 @@ namespace sr {
 // with the material of the first triangle (in triangle order) that uses it; the scene's own points
 // follow. Everything else (vertices, materials, textures, cameras, bounds) is kept.
 Scene meshAsPoints(Scene scene);
+
+// The scene's triangles replaced by their edges, one segment per geometric edge: triangles in order,
+// edges (i0, i1), (i1, i2), (i2, i0), the first occurrence of an edge (its two endpoint positions,
+// compared exactly and in either order) kept with its triangle's vertex indices, orientation and
+// material; the scene's own segments follow; points and everything else are kept.
+Scene meshAsLines(Scene scene);
+
+// The scene with meshAsLines's edges appended after its own segments, all with one added last material
+// "wireframe" of linear black (lines are unlit), so they draw as black edges over the kept triangles; a
+// scene without materials first gets a white opaque material 0 for all its primitives.
+Scene withWireframe(Scene scene);
 
 }  // namespace sr
 

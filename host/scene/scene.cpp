@@ -13,8 +13,9 @@ namespace {
 // Limits that keep every index, primitive id and byte offset the backends compute inside 31 bits.
 constexpr uint64_t kMaxIndices = (uint64_t(1) << 31) / 3;
 constexpr uint64_t kMaxVertices = uint64_t(1) << 31;
-// Points get the index limit too, so triangle ids plus point ids (at most kMaxIndices / 3 +
-// kMaxIndices) stay below 2^31.
+// Segment indices and points get the index limit too, so triangle, segment and point ids together (at
+// most kMaxIndices / 3 + kMaxIndices / 2 + kMaxIndices) stay below 2^31.
+constexpr uint64_t kMaxLineIndices = kMaxIndices;
 constexpr uint64_t kMaxPoints = kMaxIndices;
 
 std::string lowerExtension(const std::string& path)
@@ -70,7 +71,8 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
                              m.alphaMode);
         anyTexture = anyTexture || m.baseColorTexture >= 0;
     }
-    // One material index per triangle and per point when there are materials, none otherwise.
+    // One material index per triangle, per segment and per point when there are materials, none
+    // otherwise.
     bool haveMaterials = !scene.materials.empty();
     if (scene.triMaterials.size() != (haveMaterials ? triangles : 0))
         return makeError(ExitCode::Usage,
@@ -80,6 +82,16 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
         if (scene.triMaterials[t] >= scene.materials.size())
             return makeError(ExitCode::Usage, "{}: triangle {} uses material {}, but there are {} materials",
                              errorPrefix, t, scene.triMaterials[t], scene.materials.size());
+    }
+    size_t segments = scene.lines.size() / 2;
+    if (scene.lineMaterials.size() != (haveMaterials ? segments : 0))
+        return makeError(ExitCode::Usage,
+                         "{}: {} per-segment material indices for {} segments and {} materials", errorPrefix,
+                         scene.lineMaterials.size(), segments, scene.materials.size());
+    for (size_t k = 0; k < scene.lineMaterials.size(); ++k) {
+        if (scene.lineMaterials[k] >= scene.materials.size())
+            return makeError(ExitCode::Usage, "{}: segment {} uses material {}, but there are {} materials",
+                             errorPrefix, k, scene.lineMaterials[k], scene.materials.size());
     }
     if (scene.pointMaterials.size() != (haveMaterials ? scene.points.size() : 0))
         return makeError(ExitCode::Usage, "{}: {} per-point material indices for {} points and {} materials",
@@ -114,6 +126,7 @@ void dropUnusedMaterials(Scene& scene)
     if (allDefault) {
         scene.materials.clear();
         scene.triMaterials.clear();
+        scene.lineMaterials.clear();
         scene.pointMaterials.clear();
     }
     if (!anyTexture) {
@@ -130,6 +143,10 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         return makeError(ExitCode::Usage, "{}: scene too large ({} vertices, {} triangles)", errorPrefix,
                          scene.positions.size(), scene.indices.size() / 3);
     }
+    if (scene.lines.size() > kMaxLineIndices) {
+        return makeError(ExitCode::Usage, "{}: scene too large ({} segments)", errorPrefix,
+                         scene.lines.size() / 2);
+    }
     if (scene.points.size() > kMaxPoints) {
         return makeError(ExitCode::Usage, "{}: scene too large ({} points)", errorPrefix,
                          scene.points.size());
@@ -137,6 +154,10 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     if (scene.indices.size() % 3 != 0) {
         return makeError(ExitCode::Usage, "{}: index count {} is not a multiple of 3", errorPrefix,
                          scene.indices.size());
+    }
+    if (scene.lines.size() % 2 != 0) {
+        return makeError(ExitCode::Usage, "{}: line index count {} is not a multiple of 2", errorPrefix,
+                         scene.lines.size());
     }
     if (scene.normals.size() != scene.positions.size()) {
         return makeError(ExitCode::Usage, "{}: {} normals for {} vertices", errorPrefix, scene.normals.size(),
@@ -153,18 +174,15 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     dropUnusedMaterials(scene);
     bool hasTriMaterials = !scene.triMaterials.empty();
 
+    auto usable = [&](uint32_t v) {
+        return v < scene.positions.size() && finitePosition(scene.positions[v]);
+    };
+
     // Compact in place; the relative order of the kept triangles (their ids) is preserved.
     size_t kept = 0;
     for (size_t t = 0; t < triangles; ++t) {
         const uint32_t* tri = &scene.indices[3 * t];
-        bool valid = true;
-        for (int k = 0; k < 3; ++k) {
-            if (tri[k] >= scene.positions.size() || !finitePosition(scene.positions[tri[k]])) {
-                valid = false;
-                break;
-            }
-        }
-        if (!valid) continue;
+        if (!usable(tri[0]) || !usable(tri[1]) || !usable(tri[2])) continue;
         if (kept != t) {
             std::copy(tri, tri + 3, &scene.indices[3 * kept]);
             scene.triFlags[kept] = scene.triFlags[t];
@@ -184,12 +202,34 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
                    warnAs, dropped);
     }
 
-    // Points are compacted the same way, keeping their order (their ids) and materials aligned.
+    // Segments and points are compacted the same way, keeping their order (their ids) and materials
+    // aligned.
+    bool hasLineMaterials = !scene.lineMaterials.empty();
+    size_t segments = scene.lines.size() / 2;
+    size_t keptLines = 0;
+    for (size_t k = 0; k < segments; ++k) {
+        uint32_t a = scene.lines[2 * k], b = scene.lines[2 * k + 1];
+        if (!usable(a) || !usable(b)) continue;
+        scene.lines[2 * keptLines] = a;
+        scene.lines[2 * keptLines + 1] = b;
+        if (hasLineMaterials) scene.lineMaterials[keptLines] = scene.lineMaterials[k];
+        ++keptLines;
+    }
+    uint64_t droppedLines = segments - keptLines;
+    scene.lines.resize(2 * keptLines);
+    if (hasLineMaterials) scene.lineMaterials.resize(keptLines);
+    if (droppedLines > 0) {
+        scene.droppedLines += droppedLines;
+        fmt::print(stderr,
+                   "warning: {}: dropped {} segment(s) with out-of-range indices or non-finite positions\n",
+                   warnAs, droppedLines);
+    }
+
     bool hasPointMaterials = !scene.pointMaterials.empty();
     size_t keptPoints = 0;
     for (size_t k = 0; k < scene.points.size(); ++k) {
         uint32_t v = scene.points[k];
-        if (v >= scene.positions.size() || !finitePosition(scene.positions[v])) continue;
+        if (!usable(v)) continue;
         scene.points[keptPoints] = v;
         if (hasPointMaterials) scene.pointMaterials[keptPoints] = scene.pointMaterials[k];
         ++keptPoints;
@@ -203,8 +243,8 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
                    "warning: {}: dropped {} point(s) with out-of-range indices or non-finite positions\n",
                    warnAs, droppedPoints);
     }
-    if (kept == 0 && keptPoints == 0)
-        return makeError(ExitCode::Usage, "{}: no triangles or points to draw", errorPrefix);
+    if (kept == 0 && keptLines == 0 && keptPoints == 0)
+        return makeError(ExitCode::Usage, "{}: no triangles, lines or points to draw", errorPrefix);
 
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     auto include = [&](uint32_t i) {
@@ -213,6 +253,7 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         hi = glm::max(hi, p);
     };
     for (uint32_t i : scene.indices) include(i);
+    for (uint32_t i : scene.lines) include(i);
     for (uint32_t i : scene.points) include(i);
     scene.boundsMin = lo;
     scene.boundsMax = hi;

@@ -1,9 +1,9 @@
-// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle and point lists, through
-// tinygltf.
+// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle, segment and point lists,
+// through tinygltf.
 //
-// Primitives of mode POINTS become Scene::points in document order, after the same attribute
-// validation, node transform, COLOR_0 and material handling as triangles; the line modes (LINES,
-// LINE_LOOP, LINE_STRIP) are skipped with one warning per mode.
+// Primitives of mode POINTS become Scene::points and those of the line modes (LINES, LINE_LOOP,
+// LINE_STRIP) Scene::lines as segments, in document order, after the same attribute validation, node
+// transform, COLOR_0 and material handling as triangles.
 //
 // tinygltf parses the JSON and resolves buffers (external files, data URIs, the GLB chunk); every
 // index, offset and count it hands over is validated here before any byte is read, so a malformed
@@ -29,7 +29,8 @@
 namespace sr {
 namespace {
 
-// Stands for "no such vertex"; finalizeScene drops every triangle or point that uses it and counts it.
+// Stands for "no such vertex"; finalizeScene drops every triangle, segment or point that uses it and
+// counts it.
 constexpr uint32_t kInvalidIndex = 0xffffffffu;
 // Same bound as finalizeScene's, checked early so a huge count fails before it is allocated.
 constexpr size_t kMaxVertices = size_t(1) << 31;
@@ -322,13 +323,22 @@ glm::vec3 safeNormalize(glm::dvec3 v)
     return glm::vec3(v / len);
 }
 
-const char* lineModeName(int mode)
+// A line primitive's vertex sequence as segments, two sequence elements each, following the glTF spec
+// (section 3.7.2.1): LINES pairs elements (a trailing odd one is left out), LINE_STRIP joins neighbours
+// and LINE_LOOP adds the closing segment last. Fewer than two elements make no segment.
+std::vector<uint32_t> lineSegments(int mode, const std::vector<uint32_t>& sequence)
 {
-    switch (mode) {
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    default: return "LINE_STRIP";
+    std::vector<uint32_t> segments;
+    size_t n = sequence.size();
+    if (n < 2) return segments;
+    if (mode == TINYGLTF_MODE_LINE) {
+        segments.assign(sequence.begin(), sequence.begin() + ptrdiff_t(n / 2 * 2));
+        return segments;
     }
+    segments.reserve(2 * n);
+    for (size_t i = 0; i + 1 < n; ++i) segments.insert(segments.end(), {sequence[i], sequence[i + 1]});
+    if (mode == TINYGLTF_MODE_LINE_LOOP) segments.insert(segments.end(), {sequence[n - 1], sequence[0]});
+    return segments;
 }
 
 class GltfFlattener {
@@ -355,7 +365,7 @@ private:
     const std::string& path_;
     Scene scene_;
     std::vector<bool> visited_;
-    std::array<size_t, 4> skippedLineModes_{};  // indexed by mode, TINYGLTF_MODE_LINE..LINE_STRIP used
+    size_t oddLinePrimitives_ = 0;  // LINES primitives whose last element had no partner
     size_t skippedWithoutPositions_ = 0;
     bool anyNonWhite_ = false;
     // glTF material / texture index -> Scene::materials / Scene::textures index; -1 not yet used.
@@ -552,11 +562,11 @@ Status GltfFlattener::run()
     textureTried_.assign(model_.textures.size(), false);
     for (int root : roots) SR_TRY(visitTree(root));
 
-    for (int mode = TINYGLTF_MODE_LINE; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
-        if (skippedLineModes_[size_t(mode)] == 0) continue;
+    if (oddLinePrimitives_ > 0) {
         fmt::print(stderr,
-                   "warning: {}: skipping {} primitive(s) with mode {} (lines are not rendered yet)\n", path_,
-                   skippedLineModes_[size_t(mode)], lineModeName(mode));
+                   "warning: {}: dropped the unpaired last vertex of {} LINES primitive(s) with an odd "
+                   "vertex count\n",
+                   path_, oddLinePrimitives_);
     }
     if (skippedWithoutPositions_ > 0) {
         fmt::print(stderr, "warning: {}: skipping {} primitive(s) without POSITION\n", path_,
@@ -633,11 +643,9 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
                                    const glm::dmat4& world, const glm::dmat3& normalMatrix, bool flip)
 {
     int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-    if (mode >= TINYGLTF_MODE_LINE && mode <= TINYGLTF_MODE_LINE_STRIP) {
-        ++skippedLineModes_[size_t(mode)];
-        return okStatus();
-    }
-    if (mode != TINYGLTF_MODE_POINTS && mode != TINYGLTF_MODE_TRIANGLES &&
+    bool lineMode =
+        mode == TINYGLTF_MODE_LINE || mode == TINYGLTF_MODE_LINE_LOOP || mode == TINYGLTF_MODE_LINE_STRIP;
+    if (mode != TINYGLTF_MODE_POINTS && !lineMode && mode != TINYGLTF_MODE_TRIANGLES &&
         mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
         return fail(fmt::format("{} has unknown mode {}", where, mode));
 
@@ -767,9 +775,9 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
     };
     size_t base = scene_.positions.size();
 
-    if (mode == TINYGLTF_MODE_POINTS) {
-        // One point per element of the sequence, on the primitive's vertices stored once. Points are
-        // shaded unlit, so a primitive without NORMAL gets zero normals rather than invented ones.
+    // Points and segments use the primitive's vertices stored once. They are shaded unlit, so a
+    // primitive without NORMAL gets zero normals rather than invented ones.
+    auto pushUnlitVertices = [&]() -> Status {
         if (vertexCount > kMaxVertices - base)
             return fail(fmt::format("{}: the scene has more than {} vertices", where, kMaxVertices));
         for (size_t v = 0; v < vertexCount; ++v) {
@@ -777,9 +785,26 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
             if (hasNormals) normal = safeNormalize(normalMatrix * glm::dvec3(normals.vec3(v)));
             pushVertex(worldPosition(v), normal, colorOf(v), uvOf(v));
         }
-        for (uint32_t local : sequence)
-            scene_.points.push_back(local < vertexCount ? uint32_t(base + local) : kInvalidIndex);
+        return okStatus();
+    };
+    auto sceneIndex = [&](uint32_t local) {
+        return local < vertexCount ? uint32_t(base + local) : kInvalidIndex;
+    };
+
+    if (mode == TINYGLTF_MODE_POINTS) {
+        // One point per element of the sequence.
+        SR_TRY(pushUnlitVertices());
+        for (uint32_t local : sequence) scene_.points.push_back(sceneIndex(local));
         scene_.pointMaterials.insert(scene_.pointMaterials.end(), sequence.size(), *materialId);
+        return okStatus();
+    }
+    if (lineMode) {
+        if (mode == TINYGLTF_MODE_LINE && sequence.size() % 2 != 0) ++oddLinePrimitives_;
+        std::vector<uint32_t> segments = lineSegments(mode, sequence);
+        if (segments.empty()) return okStatus();
+        SR_TRY(pushUnlitVertices());
+        for (uint32_t local : segments) scene_.lines.push_back(sceneIndex(local));
+        scene_.lineMaterials.insert(scene_.lineMaterials.end(), segments.size() / 2, *materialId);
         return okStatus();
     }
 

@@ -1,13 +1,15 @@
-// scene_obj.cpp - Wavefront OBJ to the flat triangle and point lists, through tinyobjloader.
+// scene_obj.cpp - Wavefront OBJ to the flat triangle, segment and point lists, through tinyobjloader.
 //
 // tinyobjloader's own triangulation is off so that the triangle order (the ids in the `id` AOV) is
 // defined here: polygons are fanned as (v0, vi, vi+1) in file order. Every face corner becomes its
 // own vertex, because OBJ indexes positions, normals, texture coordinates and colours separately.
 //
 // Points: every vertex of every `p` statement, in file order, with the material of the `usemtl` in
-// force and its own vertex (a zero normal unless it names a `vn`: points are shaded unlit). A file
-// with vertices but no `f`, `l` or `p` statement at all (Meshlab's point clouds) is drawn as one point
-// per vertex, as assimp does. `l` statements are skipped with one warning.
+// force and its own vertex (a zero normal unless it names a `vn`: points are shaded unlit). Lines: every
+// `l` statement is a polyline, stored as the segments between its consecutive vertices in file order,
+// with vertices made like the points'; one with fewer than two vertices is skipped with one warning. A
+// file with vertices but no `f`, `l` or `p` statement at all (Meshlab's point clouds) is drawn as one
+// point per vertex, as assimp does.
 //
 // Materials come from the .mtl files: Kd is the base colour factor, map_Kd the base colour texture
 // (sRGB, repeat, trilinear), resolved relative to the folder of the .mtl that names it. A missing .mtl
@@ -31,7 +33,8 @@
 namespace sr {
 namespace {
 
-// Stands for "no such vertex"; finalizeScene drops every triangle or point that uses it and counts it.
+// Stands for "no such vertex"; finalizeScene drops every triangle, segment or point that uses it and
+// counts it.
 constexpr uint32_t kInvalidIndex = 0xffffffffu;
 constexpr size_t kMaxVertices = size_t(1) << 31;
 
@@ -92,8 +95,8 @@ std::string texturePath(const std::string& folder, std::string name)
     return std::filesystem::path(path).lexically_normal().string();
 }
 
-// One vertex of a `p` statement: 0-based indices as tinyobjloader resolves them (-1: not given or
-// invalid, negative ones relative to the vertices read so far), and the tinyobjloader material id in
+// One vertex of a `p` or `l` statement: 0-based indices as tinyobjloader resolves them (-1: not given
+// or invalid, negative ones relative to the vertices read so far), and the tinyobjloader material id in
 // force (-1: none).
 struct ObjPointRef {
     int v = -1, vt = -1, vn = -1;
@@ -102,8 +105,8 @@ struct ObjPointRef {
 
 struct ObjElements {
     std::vector<ObjPointRef> points;
-    size_t faces = 0;  // `f` statements
-    size_t lines = 0;  // `l` statements
+    std::vector<std::vector<ObjPointRef>> polylines;  // one per `l` statement, short ones included
+    size_t faces = 0;                                 // `f` statements
 };
 
 // One index of tinyobjloader's parseTriple: atoi, 1-based or negative (relative to `count`), 0 invalid.
@@ -116,11 +119,39 @@ int objIndex(const char*& token, int count)
     return -1;
 }
 
+// The "v", "v/vt", "v//vn" or "v/vt/vn" references after a `p` or `l` keyword, up to the line's end.
+std::vector<ObjPointRef> readObjRefs(const char* token, int vertices, int texcoords, int normals,
+                                     int material)
+{
+    std::vector<ObjPointRef> refs;
+    while (token[0] != '\0' && token[0] != '\r' && token[0] != '\n') {
+        ObjPointRef ref;
+        ref.material = material;
+        ref.v = objIndex(token, vertices);
+        if (token[0] == '/') {
+            ++token;
+            if (token[0] == '/') {
+                ++token;
+                ref.vn = objIndex(token, normals);
+            } else {
+                ref.vt = objIndex(token, texcoords);
+                if (token[0] == '/') {
+                    ++token;
+                    ref.vn = objIndex(token, normals);
+                }
+            }
+        }
+        refs.push_back(ref);
+        token += std::strspn(token, " \t\r");
+    }
+    return refs;
+}
+
 // Reads the `p`, `l` and `f` statements of an OBJ file that tinyobjloader has already accepted.
-// tinyobjloader 2.0.0rc10 keeps points badly: a `usemtl` between `p` statements exports the pending
-// points a second time, a `g` line loses the points of a group without faces, and points carry no
-// material. So points are read here, line by line with tinyobjloader's own tokenisation (its line
-// ends, leading blanks, a keyword followed by a blank, "v/vt/vn" triples read with atoi, negative
+// tinyobjloader 2.0.0rc10 keeps points and lines badly: a `usemtl` between `p` statements exports the
+// pending points a second time, a `g` line loses the points of a group without faces, and neither
+// carries a material. So they are read here, line by line with tinyobjloader's own tokenisation (its
+// line ends, leading blanks, a keyword followed by a blank, "v/vt/vn" triples read with atoi, negative
 // indices relative to the lines read so far), and `usemtl` is resolved with tinyobjloader's material
 // map, as it does for faces.
 ObjElements readObjElements(const std::string& text, const std::map<std::string, int>& materialIds)
@@ -145,29 +176,10 @@ ObjElements readObjElements(const std::string& text, const std::map<std::string,
         } else if (token[0] == 'f' && isSpace(token[1])) {
             ++out.faces;
         } else if (token[0] == 'l' && isSpace(token[1])) {
-            ++out.lines;
+            out.polylines.push_back(readObjRefs(token + 2, vertices, texcoords, normals, material));
         } else if (token[0] == 'p' && isSpace(token[1])) {
-            token += 2;
-            while (token[0] != '\0' && token[0] != '\r' && token[0] != '\n') {
-                ObjPointRef ref;
-                ref.material = material;
-                ref.v = objIndex(token, vertices);
-                if (token[0] == '/') {
-                    ++token;
-                    if (token[0] == '/') {
-                        ++token;
-                        ref.vn = objIndex(token, normals);
-                    } else {
-                        ref.vt = objIndex(token, texcoords);
-                        if (token[0] == '/') {
-                            ++token;
-                            ref.vn = objIndex(token, normals);
-                        }
-                    }
-                }
-                out.points.push_back(ref);
-                token += std::strspn(token, " \t\r");
-            }
+            std::vector<ObjPointRef> refs = readObjRefs(token + 2, vertices, texcoords, normals, material);
+            out.points.insert(out.points.end(), refs.begin(), refs.end());
         } else if (std::strncmp(token, "usemtl", 6) == 0) {
             token += 6;
             token += std::strspn(token, " \t");
@@ -353,16 +365,13 @@ Result<Scene> loadObj(const std::string& path)
         }
     }
 
-    // Every point gets its own vertex, like every face corner.
-    auto pushPoint = [&](int v, int vt, int vn, uint32_t material) -> Status {
-        scene.pointMaterials.push_back(material);
-        if (v < 0 || size_t(v) >= positionCount) {
-            scene.points.push_back(kInvalidIndex);
-            return okStatus();
-        }
+    // Every point and every polyline vertex gets its own vertex, like every face corner; kInvalidIndex
+    // for a position that does not exist.
+    auto pushUnlitVertex = [&](int v, int vt, int vn) -> Result<uint32_t> {
+        if (v < 0 || size_t(v) >= positionCount) return kInvalidIndex;
         if (scene.positions.size() >= kMaxVertices)
             return makeError(ExitCode::Usage, "cannot load '{}': more than {} vertices", path, kMaxVertices);
-        scene.points.push_back(uint32_t(scene.positions.size()));
+        auto index = uint32_t(scene.positions.size());
         scene.positions.emplace_back(glm::vec3(position(v)), 1.0f);
         glm::vec3 normal(0.0f);
         if (vn >= 0 && size_t(vn) < normalCount) {
@@ -374,14 +383,40 @@ Result<Scene> loadObj(const std::string& path)
         scene.normals.emplace_back(normal, 0.0f);
         scene.texcoords.push_back(texcoord(vt));
         scene.colors.push_back(color(size_t(v)));
+        return index;
+    };
+    auto pushPoint = [&](int v, int vt, int vn, uint32_t material) -> Status {
+        Result<uint32_t> vertex = pushUnlitVertex(v, vt, vn);
+        if (!vertex) return vertex.error();
+        scene.points.push_back(*vertex);
+        scene.pointMaterials.push_back(material);
         return okStatus();
     };
+
+    size_t shortLines = 0;
+    for (const std::vector<ObjPointRef>& polyline : elements.polylines) {
+        if (polyline.size() < 2) {
+            ++shortLines;
+            continue;
+        }
+        Result<uint32_t> materialId = useMaterial(polyline[0].material);
+        if (!materialId) return materialId.error();
+        Result<uint32_t> previous = pushUnlitVertex(polyline[0].v, polyline[0].vt, polyline[0].vn);
+        if (!previous) return previous.error();
+        for (size_t k = 1; k < polyline.size(); ++k) {
+            Result<uint32_t> vertex = pushUnlitVertex(polyline[k].v, polyline[k].vt, polyline[k].vn);
+            if (!vertex) return vertex.error();
+            scene.lines.insert(scene.lines.end(), {*previous, *vertex});
+            scene.lineMaterials.push_back(*materialId);
+            previous = vertex;
+        }
+    }
     for (const ObjPointRef& ref : elements.points) {
         Result<uint32_t> materialId = useMaterial(ref.material);
         if (!materialId) return materialId.error();
         SR_TRY(pushPoint(ref.v, ref.vt, ref.vn, *materialId));
     }
-    if (elements.faces == 0 && elements.lines == 0 && elements.points.empty() && positionCount > 0) {
+    if (elements.faces == 0 && elements.polylines.empty() && elements.points.empty() && positionCount > 0) {
         // A bare vertex list is a point cloud. Meshlab writes a `vn` before each `v`, so equal counts
         // pair them by position in the file.
         Result<uint32_t> materialId = useMaterial(-1);
@@ -395,9 +430,9 @@ Result<Scene> loadObj(const std::string& path)
     if (shortFaces > 0) {
         fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
     }
-    if (elements.lines > 0) {
-        fmt::print(stderr, "warning: {}: skipping {} line element(s) (lines are not rendered yet)\n", path,
-                   elements.lines);
+    if (shortLines > 0) {
+        fmt::print(stderr, "warning: {}: skipped {} line element(s) with fewer than 2 vertices\n", path,
+                   shortLines);
     }
     SR_TRY(finalizeLoadedScene(scene, path));
     return scene;
