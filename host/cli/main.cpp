@@ -5,8 +5,8 @@
 //                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
 //                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
 //                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
-//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples] [--primitive-mode triangles|points]
-//                 [--point-size PX]
+//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
+//                 [--primitive-mode triangles|lines|points] [--wireframe] [--point-size PX] [--line-width PX]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
@@ -49,6 +49,7 @@ struct RenderCommand {
     std::string textureFilter = "auto";
     std::string uvInterpolation = "perspective";
     std::string primitiveMode = "triangles";
+    bool wireframe = false;
     std::string lightDir, lightColor, background;
     bool quiet = false;
     RenderSettings settings;
@@ -130,6 +131,12 @@ Status runRender(RenderCommand& cmd)
     if (!cameraSpec) return cameraSpec.error();
     Result<Scene> scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
     if (!scene) return scene.error();
+    // The overlay takes the mesh's edges before a display mode replaces its triangles.
+    if (cmd.wireframe) {
+        *scene = withWireframe(std::move(*scene));
+        s.lineDepthBias = kWireframeDepthBias;
+    }
+    if (cmd.primitiveMode == "lines") *scene = meshAsLines(std::move(*scene));
     if (cmd.primitiveMode == "points") *scene = meshAsPoints(std::move(*scene));
     auto camera = resolveCamera(*cameraSpec, *scene, s.width, s.height);
     if (!camera) return camera.error();
@@ -150,10 +157,12 @@ Status runRender(RenderCommand& cmd)
     if (!cmd.statsPath.empty()) SR_TRY(writeJson(cmd.statsPath, statsJson(*out, s, sceneName)));
     if (!cmd.quiet) {
         const RenderStats& st = out->stats;
+        std::string lines =
+            st.linesIn ? fmt::format(", {} line segments ({} drawn)", st.linesIn, st.lines) : "";
         std::string points = st.pointsIn ? fmt::format(", {} points ({} drawn)", st.pointsIn, st.points) : "";
-        fmt::print("{}: {}x{} on {} ({}), {} triangles{}: {} culled, {} clipped, {} triangles rasterized\n",
+        fmt::print("{}: {}x{} on {} ({}), {} triangles{}{}: {} culled, {} clipped, {} triangles rasterized\n",
                    cmd.output, s.width, s.height, out->device.backend, out->device.name, st.trianglesIn,
-                   points, st.culled, st.clipped, st.rasterized);
+                   lines, points, st.culled, st.clipped, st.rasterized);
         printStageTable(*out);
     }
     return okStatus();
@@ -287,10 +296,16 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, MAX_SSAA));
     render
         ->add_option("--primitive-mode", cmd.primitiveMode,
-                     "triangles (as the file says) or points (a triangle mesh drawn as its vertices)")
-        ->check(CLI::IsMember({"triangles", "points"}));
+                     "triangles (as the file says), lines (a triangle mesh drawn as its edges, each once) or "
+                     "points (drawn as its vertices)")
+        ->check(CLI::IsMember({"triangles", "lines", "points"}));
+    render->add_flag("--wireframe", cmd.wireframe,
+                     "overlay the mesh's edges (black lines, each edge once) on the shaded image, drawn "
+                     "1/256 of their distance closer so edges on the surface win its depth test");
     render->add_option("--point-size", cmd.settings.pointSize,
                        "side of the square a point covers, in pixels (1..64, a multiple of 1/8)");
+    render->add_option("--line-width", cmd.settings.lineWidth,
+                       "width of the rectangle a line covers, in pixels (1..64, a multiple of 1/8)");
     render->add_flag("--aov-samples", cmd.settings.aovSamples,
                      "with --aov: also every sample's id and depth as channels id.s<k>, Z.s<k>");
     render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
@@ -320,7 +335,7 @@ int main(int argc, char** argv)
     benchApp->add_option(
         "--scenes", bench.scenes,
         "comma-separated subset of sweep-0.5px, sweep-2px, sweep-8px, sweep-32px, sweep-128px, "
-        "points-1m, layers-16, bunny, dense, builtin, checker-*, sphere-* (default: all)");
+        "points-1m, lines-1m, layers-16, bunny, dense, builtin, checker-*, sphere-* (default: all)");
     benchApp->add_option("--msaa", bench.msaa,
                          "comma-separated sample counts, each run on every scene (default 1)");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
