@@ -97,6 +97,17 @@ void expectCubeEdgesOnce(const Scene& lines)
     for (const auto& f : kFaces) expected.insert(pair(f[0], f[2]));
     EXPECT_EQ(seen, expected);
 }
+// meshAsPoints on a cube with hard edges: its 24 vertices sit on 8 corners, drawn once each.
+TEST(PrimitiveMode, MeshAsPointsDrawsEachCornerOnce)
+{
+    Scene points = meshAsPoints(splitCube());
+    ASSERT_EQ(points.pointCount(), 8u);
+    std::set<std::array<float, 3>> corners;
+    for (uint32_t v : points.points)
+        corners.insert({points.positions[v].x, points.positions[v].y, points.positions[v].z});
+    EXPECT_EQ(corners.size(), 8u);
+    EXPECT_EQ(meshAsPoints(sharedCube()).pointCount(), 8u);
+}
 
 TEST(PrimitiveMode, MeshAsLinesDrawsEachCubeEdgeOnce)
 {

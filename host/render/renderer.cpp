@@ -357,7 +357,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     out.peakDeviceBytes = device.peakAllocatedBytes();
 
     RenderStats& st = out.stats;
-    st.trianglesIn = tris;
+    st.trianglesIn = scene.triangleCount();
     st.culled = counters[COUNTER_CULLED];
     st.clipped = counters[COUNTER_CLIPPED];
     st.invalid = counters[COUNTER_INVALID];

@@ -13,9 +13,11 @@ namespace {
 // both directions give one key. -0 is stored as +0, so that bit equality is float equality (NaN aside,
 // which finalizeScene drops anyway).
 using EdgeKey = std::array<uint32_t, 6>;
+using PositionKey = std::array<uint32_t, 3>;
 
-struct EdgeKeyHash {
-    size_t operator()(const EdgeKey& key) const
+struct BitsHash {
+    template <size_t N>
+    size_t operator()(const std::array<uint32_t, N>& key) const
     {
         uint64_t h = 0x9e3779b97f4a7c15ull;
         for (uint32_t word : key) {
@@ -48,7 +50,7 @@ struct Edges {
 Edges uniqueEdges(const Scene& scene)
 {
     Edges edges;
-    std::unordered_set<EdgeKey, EdgeKeyHash> seen;
+    std::unordered_set<EdgeKey, BitsHash> seen;
     seen.reserve(scene.indices.size());
     for (size_t t = 0; t < scene.triangleCount(); ++t) {
         const uint32_t* tri = &scene.indices[3 * t];
@@ -80,9 +82,12 @@ Scene meshAsPoints(Scene scene)
             if (v < material.size() && material[v] == kUnused)
                 material[v] = materials ? scene.triMaterials[t] : 0u;
         }
+    // One point per position: a mesh with split vertices (hard normals, texture seams) repeats a
+    // corner's position in several vertices, which would draw the same square several times.
+    std::unordered_set<PositionKey, BitsHash> seen;
     std::vector<uint32_t> points, pointMaterials;
     for (uint32_t v = 0; v < material.size(); ++v) {
-        if (material[v] == kUnused) continue;
+        if (material[v] == kUnused || !seen.insert(positionBits(scene.positions[v])).second) continue;
         points.push_back(v);
         if (materials) pointMaterials.push_back(material[v]);
     }

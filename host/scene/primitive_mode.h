@@ -7,8 +7,9 @@
 
 namespace sr {
 
-// The scene's triangles replaced by one point per vertex they use, each vertex once, in vertex order,
-// with the material of the first triangle (in triangle order) that uses it; the scene's own points
+// The scene's triangles replaced by one point per position their vertices take (compared exactly, so
+// split vertices at one corner give one point), the position's first vertex in vertex order, with the
+// material of the first triangle (in triangle order) that uses that vertex; the scene's own points
 // follow. Everything else (vertices, materials, textures, cameras, bounds) is kept.
 Scene meshAsPoints(Scene scene);
 
