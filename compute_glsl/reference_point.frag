@@ -1,9 +1,10 @@
 // reference_point.frag - fragment stage of the `vulkan-graphics` point draw without anti-aliasing
 // (host/vulkan/vulkan_graphics.cpp): the point's unlit colour (shadeUnlit of pointBaseColor, the code the
 // compute shade stage runs for a point) as the packed sRGB RGBA8 word, and its primitive id,
-// params.triangleCount + gl_PrimitiveID, into the R32_UINT attachments. In the visibility pass
-// (kVisibilityOnly) the colour is the background word, as reference_visibility.frag writes it. Points
-// have no facing and no alpha test, so the depth test may run before the shader.
+// params.triangleCount + params.lineCount + gl_PrimitiveID (point ids follow the segments'), into the
+// R32_UINT attachments. In the visibility pass (kVisibilityOnly) the colour is the background word, as
+// reference_visibility.frag writes it. Points have no facing and no alpha test, so the depth test may
+// run before the shader.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -18,7 +19,7 @@ layout(location = 1) out uint outId;
 
 void main()
 {
-    uint id = params.triangleCount + uint(gl_PrimitiveID);
+    uint id = params.triangleCount + params.lineCount + uint(gl_PrimitiveID);
     outColor = kVisibilityOnly ? kBackgroundWord : packRgba8(shadeUnlit(params, id, pointBaseColor(id)));
     outId = id;
 }

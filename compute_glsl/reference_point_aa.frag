@@ -21,7 +21,7 @@ layout(location = 1) out float outId;
 
 void main()
 {
-    uint id = params.triangleCount + uint(gl_PrimitiveID);
+    uint id = params.triangleCount + params.lineCount + uint(gl_PrimitiveID);
     vec3 color = kVisibilityOnly ? vec3(kBackgroundR, kBackgroundG, kBackgroundB)
                                  : clamp(shadeUnlit(params, id, pointBaseColor(id)), vec3(0.0f), vec3(1.0f));
     outColor = vec4(color, 1.0f);

@@ -60,6 +60,38 @@ VkDebugUtilsMessengerCreateInfoEXT messengerCreateInfo(ValidationLog* log)
     return info;
 }
 
+// The KHR promotion of VK_EXT_line_rasterization keeps the EXT's structure types and enum values, so the
+// EXT declarations serve both; the Vulkan headers this builds with may predate the KHR name.
+const char* const kKhrLineRasterization = "VK_KHR_line_rasterization";
+
+// The extension that gives `device` Vulkan's rectangular line rasterization (VK_LINE_RASTERIZATION_MODE_
+// RECTANGULAR_EXT): VK_KHR_line_rasterization where offered, else VK_EXT_line_rasterization, provided that
+// the device reports the rectangularLines feature; nullptr when it has neither or lacks the feature. The
+// instance asks for Vulkan 1.2, so a Vulkan 1.4 device's core line rasterization is reached through the
+// extension too.
+Result<const char*> rectangularLineExtension(VkPhysicalDevice device)
+{
+    uint32_t count = 0;
+    SR_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
+    std::vector<VkExtensionProperties> offered(count);
+    SR_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, offered.data()));
+    const char* chosen = nullptr;
+    for (const char* name : {kKhrLineRasterization, VK_EXT_LINE_RASTERIZATION_EXTENSION_NAME})
+        if (chosen == nullptr &&
+            std::any_of(offered.begin(), offered.end(), [&](const VkExtensionProperties& e) {
+                return std::strcmp(e.extensionName, name) == 0;
+            }))
+            chosen = name;
+    if (chosen == nullptr) return static_cast<const char*>(nullptr);
+    VkPhysicalDeviceLineRasterizationFeaturesEXT line{};
+    line.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_LINE_RASTERIZATION_FEATURES_EXT;
+    VkPhysicalDeviceFeatures2 features{};
+    features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    features.pNext = &line;
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    return line.rectangularLines ? chosen : nullptr;
+}
+
 // Position of a device type in the selection order: real GPUs first, CPU implementations last.
 int deviceTypeRank(VkPhysicalDeviceType type)
 {
@@ -381,7 +413,9 @@ Status VulkanContext::createDevice(QueueKind kind)
     // Exactly the features the shaders use: 64-bit integers for the edge functions and the
     // visibility key, 64-bit buffer atomics for the depth test, and for graphics the Geometry
     // capability that gl_PrimitiveID in a fragment shader declares and, where offered, points larger
-    // than one pixel (vulkan-graphics refuses them on a device without).
+    // than one pixel, lines wider than one pixel and rectangular line rasterization with its
+    // extension (vulkan-graphics refuses what a device lacks when a scene needs it).
+    const bool graphics = kind == QueueKind::Graphics;
     VkPhysicalDeviceShaderAtomicInt64Features atomics{};
     atomics.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES;
     atomics.shaderBufferInt64Atomics = VK_TRUE;
@@ -389,16 +423,31 @@ Status VulkanContext::createDevice(QueueKind kind)
     features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
     features.pNext = &atomics;
     features.features.shaderInt64 = VK_TRUE;
-    features.features.geometryShader = kind == QueueKind::Graphics ? VK_TRUE : VK_FALSE;
+    features.features.geometryShader = graphics ? VK_TRUE : VK_FALSE;
     VkPhysicalDeviceFeatures offered{};
     vkGetPhysicalDeviceFeatures(physical_, &offered);
-    features.features.largePoints = kind == QueueKind::Graphics ? offered.largePoints : VK_FALSE;
+    features.features.largePoints = graphics ? offered.largePoints : VK_FALSE;
+    features.features.wideLines = graphics ? offered.wideLines : VK_FALSE;
+
+    const char* lineExtension = nullptr;
+    if (graphics) {
+        Result<const char*> found = rectangularLineExtension(physical_);
+        if (!found.ok()) return found.error();
+        lineExtension = *found;
+    }
+    VkPhysicalDeviceLineRasterizationFeaturesEXT lineFeatures{};
+    lineFeatures.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_LINE_RASTERIZATION_FEATURES_EXT;
+    lineFeatures.rectangularLines = VK_TRUE;
+    if (lineExtension != nullptr) atomics.pNext = &lineFeatures;
+    rectangularLines_ = lineExtension != nullptr;
 
     VkDeviceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     info.pNext = &features;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queueInfo;
+    info.enabledExtensionCount = lineExtension != nullptr ? 1 : 0;
+    info.ppEnabledExtensionNames = &lineExtension;
     SR_VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
     return okStatus();

@@ -119,6 +119,11 @@ public:
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     // Largest buffer a storage descriptor can cover whole.
     VkDeviceSize maxStorageBytes() const { return maxStorageBytes_; }
+    // Whether pipelines may ask for VK_LINE_RASTERIZATION_MODE_RECTANGULAR_EXT (a
+    // VkPipelineRasterizationLineStateCreateInfoEXT): a graphics context on a device that offers
+    // VK_KHR_line_rasterization or VK_EXT_line_rasterization with the rectangularLines feature, which
+    // are then enabled. The wideLines feature is enabled on graphics contexts wherever it is offered.
+    bool rectangularLines() const { return rectangularLines_; }
 
     // Creates `b`, which must be empty, with memory of the first of `preferredMemory` the device
     // has; host-visible memory stays mapped. On failure `b` may hold part of what was created, and
@@ -197,6 +202,7 @@ private:
     VkDeviceSize maxStorageBytes_ = 0;
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
+    bool rectangularLines_ = false;
 
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;

@@ -15,11 +15,13 @@
 // buffer, so a compute pass (reference_samples.comp) reads every sample. The host averages the linear
 // colours of each output pixel's samples and takes the ids and depths per sample.
 //
-// Points (Scene::points) are a second draw in the same render pass, after the triangles, through a
-// second pipeline (POINT_LIST, reference_point.vert and reference_point*.frag) with the same
-// attachments, depth test and descriptor sets: the depth test sees triangles and points in one buffer,
-// and a point at a triangle's depth loses to it, as the lower id wins in the compute visibility key.
-// A scene without triangles skips the triangle draw; one without points skips the point draw.
+// Line segments (Scene::lines) and points (Scene::points) are further draws in the same render pass,
+// in id order (triangles, segments, points), each through a pipeline of its own (LINE_LIST with
+// reference_line.vert and reference_line*.frag, POINT_LIST with reference_point.vert and
+// reference_point*.frag) with the same attachments, depth test and descriptor sets: the depth test
+// sees every primitive in one buffer, and a primitive at an earlier one's depth loses to it, as the
+// lower id wins in the compute visibility key. A scene without triangles, segments or points skips
+// that draw.
 #include "vulkan/vulkan_graphics.h"
 
 #include <vulkan/vulkan.h>
@@ -44,6 +46,9 @@ namespace {
 // The generated headers define one `const uint32_t kSpv_<shader>[]` each, e.g. kSpv_reference_vert.
 #include "reference_aa_frag.spv.h"
 #include "reference_frag.spv.h"
+#include "reference_line_aa_frag.spv.h"
+#include "reference_line_frag.spv.h"
+#include "reference_line_vert.spv.h"
 #include "reference_point_aa_frag.spv.h"
 #include "reference_point_frag.spv.h"
 #include "reference_point_vert.spv.h"
@@ -75,12 +80,13 @@ constexpr VkFormatFeatureFlags kTextureFeatures = VK_FORMAT_FEATURE_SAMPLED_IMAG
 
 // Specialization constant ids: the visibility shader's background word, the vertex shader's
 // texcoords switch, the fragment shader's texture array size, the anti-aliased visibility shader's
-// linear background (three ids from this one) and the point fragment shaders' visibility switch.
+// linear background (three ids from this one) and the point and line fragment shaders' visibility
+// switch.
 constexpr uint32_t kBackgroundConstant = 0;
 constexpr uint32_t kHasTexcoordsConstant = 1;
 constexpr uint32_t kTextureSlotsConstant = 2;
 constexpr uint32_t kBackgroundRgbConstant = 3;
-constexpr uint32_t kPointVisibilityConstant = 6;
+constexpr uint32_t kUnlitVisibilityConstant = 6;
 
 // Attachment indices of the render pass and the framebuffer.
 constexpr uint32_t kColorAttachment = 0;
@@ -135,14 +141,35 @@ Status checkInputs(const Scene& scene, const RenderSettings& settings)
     if (!scene.materials.empty() && scene.triMaterials.size() != scene.triangleCount())
         return makeError(ExitCode::Usage, "the scene has {} triangle materials for {} triangles",
                          scene.triMaterials.size(), scene.triangleCount());
+    if (scene.lines.size() % 2 != 0)
+        return makeError(ExitCode::Usage, "the scene has {} line indices, not two per segment",
+                         scene.lines.size());
+    if (!scene.materials.empty() && scene.lineMaterials.size() != scene.lineCount())
+        return makeError(ExitCode::Usage, "the scene has {} line materials for {} segments",
+                         scene.lineMaterials.size(), scene.lineCount());
     if (!scene.materials.empty() && scene.pointMaterials.size() != scene.pointCount())
         return makeError(ExitCode::Usage, "the scene has {} point materials for {} points",
                          scene.pointMaterials.size(), scene.pointCount());
-    // The point vertex shader fetches through the point list without a bounds check.
+    // The line and point vertex shaders fetch through their lists without a bounds check.
+    for (size_t k = 0; k < scene.lines.size(); ++k)
+        if (scene.lines[k] >= scene.vertexCount())
+            return makeError(ExitCode::Usage, "segment {} names vertex {} of {}", k / 2, scene.lines[k],
+                             scene.vertexCount());
     for (size_t k = 0; k < scene.points.size(); ++k)
         if (scene.points[k] >= scene.vertexCount())
             return makeError(ExitCode::Usage, "point {} names vertex {} of {}", k, scene.points[k],
                              scene.vertexCount());
+    // The line settings as RenderSettings defines them: widths are multiples of 1/8 pixel, and the bias
+    // enters the depth arithmetic.
+    if (scene.lineCount() > 0) {
+        if (!(settings.lineWidth >= 1.0f && settings.lineWidth <= MAX_LINE_WIDTH) ||
+            settings.lineWidth * 8.0f != std::floor(settings.lineWidth * 8.0f))
+            return makeError(ExitCode::Usage, "line width {} is not a multiple of 1/8 between 1 and {}",
+                             settings.lineWidth, MAX_LINE_WIDTH);
+        if (!std::isfinite(settings.lineDepthBias))
+            return makeError(ExitCode::Usage, "line depth bias {} is not a finite number",
+                             settings.lineDepthBias);
+    }
     const bool textured =
         std::any_of(scene.materials.begin(), scene.materials.end(), [&](const SceneMaterial& m) {
             return m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size();
@@ -290,6 +317,7 @@ private:
     Status checkDevice(const Scene& scene) const;
     Status checkAntialiasing(const Scene& scene) const;
     Status checkPoints() const;
+    Status checkLines() const;
     bool offersSamples(uint32_t samples) const;
     Status uploadSceneBuffer(uint32_t binding, const void* data, VkDeviceSize bytes,
                              VkBufferUsageFlags extraUsage);
@@ -302,7 +330,8 @@ private:
     Status createRenderPass();
     Status createFramebuffer();
     Status createPipeline();
-    Status createPointPipeline();
+    Status createUnlitPipeline(const uint32_t* vertexCode, size_t vertexBytes, const uint32_t* fragmentCode,
+                               size_t fragmentBytes, VkPrimitiveTopology topology, VkPipeline& pipeline);
     Status buildPipeline(VkShaderModule vertex, const VkSpecializationInfo* vertexConstants,
                          VkShaderModule fragment, const VkSpecializationInfo* fragmentConstants,
                          VkPrimitiveTopology topology, VkCullModeFlags cullMode, VkPipeline& pipeline);
@@ -322,6 +351,7 @@ private:
     uint32_t samples_ = 1;      // rasterization samples per pixel (params.sampleCount)
     bool antialiased_ = false;  // float attachments and the host resolve: MSAA, SSAA or both
     uint32_t indexCount_ = 0;
+    uint32_t lineCount_ = 0;
     uint32_t pointCount_ = 0;
     bool visibilityOnly_ = false;
     VkBool32 hasTexcoords_ = VK_FALSE;  // BUF_TEXCOORDS holds the scene's texcoords
@@ -341,6 +371,7 @@ private:
     VkRenderPass renderPass_ = VK_NULL_HANDLE;
     VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;       // triangles; none without triangles
+    VkPipeline linePipeline_ = VK_NULL_HANDLE;   // segments; none without segments
     VkPipeline pointPipeline_ = VK_NULL_HANDLE;  // points; none without points
     // The readback of multisampled attachments (reference_samples.comp): its own set of the three
     // attachments and three output buffers, sized for bands of bandRows_ rows.
@@ -364,6 +395,7 @@ GraphicsRender::~GraphicsRender()
     vkDestroyDescriptorSetLayout(device, readSetLayout_, nullptr);
     for (GpuBuffer* b : {&readColors_, &readIds_, &readDepths_}) ctx_.destroyBuffer(*b);
     vkDestroyPipeline(device, pointPipeline_, nullptr);
+    vkDestroyPipeline(device, linePipeline_, nullptr);
     vkDestroyPipeline(device, pipeline_, nullptr);
     vkDestroyFramebuffer(device, framebuffer_, nullptr);
     vkDestroyRenderPass(device, renderPass_, nullptr);
@@ -393,6 +425,7 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, bool
     samples_ = params.sampleCount;
     antialiased_ = params.sampleCount > 1 || params.ssaa > 1;
     indexCount_ = static_cast<uint32_t>(scene.indices.size());
+    lineCount_ = static_cast<uint32_t>(scene.lineCount());
     pointCount_ = static_cast<uint32_t>(scene.pointCount());
     SR_TRY(checkDevice(scene));
     SR_TRY(uploadScene(scene));
@@ -401,7 +434,18 @@ Status GraphicsRender::init(const Scene& scene, const RasterParams& params, bool
     SR_TRY(createRenderPass());
     SR_TRY(createFramebuffer());
     if (indexCount_ > 0) SR_TRY(createPipeline());
-    if (pointCount_ > 0) SR_TRY(createPointPipeline());
+    if (lineCount_ > 0)
+        SR_TRY(createUnlitPipeline(
+            kSpv_reference_line_vert, sizeof kSpv_reference_line_vert,
+            antialiased_ ? kSpv_reference_line_aa_frag : kSpv_reference_line_frag,
+            antialiased_ ? sizeof kSpv_reference_line_aa_frag : sizeof kSpv_reference_line_frag,
+            VK_PRIMITIVE_TOPOLOGY_LINE_LIST, linePipeline_));
+    if (pointCount_ > 0)
+        SR_TRY(createUnlitPipeline(
+            kSpv_reference_point_vert, sizeof kSpv_reference_point_vert,
+            antialiased_ ? kSpv_reference_point_aa_frag : kSpv_reference_point_frag,
+            antialiased_ ? sizeof kSpv_reference_point_aa_frag : sizeof kSpv_reference_point_frag,
+            VK_PRIMITIVE_TOPOLOGY_POINT_LIST, pointPipeline_));
     if (samples_ > 1) SR_TRY(createSampleReadback());
     SR_TRY(ctx_.ensureQueryPool(2));
     return ctx_.validationStatus();
@@ -424,6 +468,7 @@ Status GraphicsRender::checkDevice(const Scene& scene) const
         return makeError(ExitCode::Usage,
                          "vulkan-graphics: {} vertices exceed the device's index limit of {}",
                          scene.vertexCount(), uint64_t(limits.maxDrawIndexedIndexValue) + 1);
+    if (scene.lineCount() > 0) SR_TRY(checkLines());
     if (scene.pointCount() > 0) SR_TRY(checkPoints());
 
     if (antialiased_)
@@ -531,6 +576,41 @@ Status GraphicsRender::checkPoints() const
     return okStatus();
 }
 
+// What lines need from the device: Vulkan's rectangular lines (a rectangle of the line width centred on
+// the segment, its ends cut square at the endpoints, covering the samples inside), which the compute
+// pipeline draws, and their width drawn exactly. Rectangular mode comes from the line rasterization
+// extension (VulkanContext::rectangularLines); without it, DEFAULT mode is rectangular only where
+// limits.strictLines says so, and lines are refused elsewhere. Widths follow checkPoints' rules, with
+// the wideLines feature for widths other than 1.
+Status GraphicsRender::checkLines() const
+{
+    const VkPhysicalDeviceLimits& limits = ctx_.properties().limits;
+    const char* name = ctx_.properties().deviceName;
+    if (!ctx_.rectangularLines() && !limits.strictLines)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} draws no rectangular lines (no line rasterization extension "
+                         "with rectangularLines, and strictLines is false)",
+                         name);
+    const float width = params_.lineWidth;
+    VkPhysicalDeviceFeatures features{};
+    vkGetPhysicalDeviceFeatures(ctx_.physicalDevice(), &features);
+    const float low = limits.lineWidthRange[0], high = limits.lineWidthRange[1];
+    const float step = limits.lineWidthGranularity;
+    const double steps = step > 0.0f ? double(width - low) / step : 0.0;
+    const bool onStep = step > 0.0f ? std::abs(steps - std::round(steps)) <= 1e-3 : width == low;
+    if (!(width >= low && width <= high) || !onStep)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} cannot draw lines of width {} exactly (it draws {} to {} in "
+                         "steps of {})",
+                         name, width, low, high, step);
+    if (width != 1.0f && !features.wideLines)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: {} lacks the wideLines feature and draws lines of width 1 only, "
+                         "not {}",
+                         name, width);
+    return okStatus();
+}
+
 // Whether the device can rasterize `samples` samples per pixel into the anti-aliased attachments at
 // this size and sample them in reference_samples.comp: the framebuffer and sampled-image limits, and
 // each format's features and sample counts for that use.
@@ -608,16 +688,21 @@ Status GraphicsRender::uploadScene(const Scene& scene)
         SR_TRY(uploadSceneBuffer(BUF_TRI_FLAGS, scene.triFlags.data(),
                                  scene.triFlags.size() * sizeof(uint32_t), 0));
     }
-    // The point vertex stage fetches each point's vertex through the point list.
+    // The line and point vertex stages fetch each vertex through their lists, and the line fragment
+    // stage reads the segment's two vertices to mix their colours.
+    if (scene.lineCount() > 0)
+        SR_TRY(uploadSceneBuffer(BUF_LINES, scene.lines.data(), scene.lines.size() * sizeof(uint32_t), 0));
     if (scene.pointCount() > 0)
         SR_TRY(uploadSceneBuffer(BUF_POINTS, scene.points.data(), scene.points.size() * sizeof(uint32_t), 0));
-    // The fragment shaders read the material of their primitive, by primitive id: the triangles', then
-    // the points' (as the compute pipeline lays BUF_TRI_MATERIALS out). The texels go to images instead
-    // (createTextures), so BUF_TEXTURES and BUF_TEXELS stay placeholders.
+    // The fragment shaders read the material of their primitive, by primitive id: the triangles', the
+    // segments', then the points' (as the compute pipeline lays BUF_TRI_MATERIALS out). The texels go to
+    // images instead (createTextures), so BUF_TEXTURES and BUF_TEXELS stay placeholders.
     if (!scene.materials.empty()) {
         const std::vector<GpuMaterial> materials = gpuMaterials(scene);
         SR_TRY(uploadSceneBuffer(BUF_MATERIALS, materials.data(), materials.size() * sizeof(GpuMaterial), 0));
         std::vector<uint32_t> primitiveMaterials = scene.triMaterials;
+        primitiveMaterials.insert(primitiveMaterials.end(), scene.lineMaterials.begin(),
+                                  scene.lineMaterials.end());
         primitiveMaterials.insert(primitiveMaterials.end(), scene.pointMaterials.begin(),
                                   scene.pointMaterials.end());
         SR_TRY(uploadSceneBuffer(BUF_TRI_MATERIALS, primitiveMaterials.data(),
@@ -963,22 +1048,21 @@ Status GraphicsRender::createPipeline()
     return status;
 }
 
-// The point pipeline: reference_point.vert and the point fragment shader of the attachments' kind, in
-// the visibility pass writing the background as the triangle pipeline's visibility shaders do.
-Status GraphicsRender::createPointPipeline()
+// The pipeline of the unlit primitives of `topology`, points or segments: their vertex shader and the
+// fragment shader of the attachments' kind (the caller picks it), in the visibility pass writing the
+// background as the triangle pipeline's visibility shaders do.
+Status GraphicsRender::createUnlitPipeline(const uint32_t* vertexCode, size_t vertexBytes,
+                                           const uint32_t* fragmentCode, size_t fragmentBytes,
+                                           VkPrimitiveTopology topology, VkPipeline& pipeline)
 {
-    Result<VkShaderModule> vertex =
-        ctx_.createShaderModule(kSpv_reference_point_vert, sizeof kSpv_reference_point_vert);
+    Result<VkShaderModule> vertex = ctx_.createShaderModule(vertexCode, vertexBytes);
     if (!vertex.ok()) return vertex.error();
-    Result<VkShaderModule> fragment =
-        antialiased_
-            ? ctx_.createShaderModule(kSpv_reference_point_aa_frag, sizeof kSpv_reference_point_aa_frag)
-            : ctx_.createShaderModule(kSpv_reference_point_frag, sizeof kSpv_reference_point_frag);
+    Result<VkShaderModule> fragment = ctx_.createShaderModule(fragmentCode, fragmentBytes);
     if (!fragment.ok()) {
         vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
         return fragment.error();
     }
-    // One block of every constant either shader may declare: the background word, the linear
+    // One block of every constant the fragment shaders may declare: the background word, the linear
     // background and the visibility switch.
     struct Constants {
         uint32_t backgroundWord;
@@ -993,19 +1077,20 @@ Status GraphicsRender::createPointPipeline()
         {kBackgroundRgbConstant, offsetof(Constants, backgroundRgb), sizeof(float)},
         {kBackgroundRgbConstant + 1, offsetof(Constants, backgroundRgb) + sizeof(float), sizeof(float)},
         {kBackgroundRgbConstant + 2, offsetof(Constants, backgroundRgb) + 2 * sizeof(float), sizeof(float)},
-        {kPointVisibilityConstant, offsetof(Constants, visibilityOnly), sizeof(VkBool32)}};
+        {kUnlitVisibilityConstant, offsetof(Constants, visibilityOnly), sizeof(VkBool32)}};
     const VkSpecializationInfo fragmentConstants{5, entries, sizeof constants, &constants};
-    // Facing culling applies to polygons only: a point has no facing.
-    Status status = buildPipeline(*vertex, nullptr, *fragment, &fragmentConstants,
-                                  VK_PRIMITIVE_TOPOLOGY_POINT_LIST, VK_CULL_MODE_NONE, pointPipeline_);
+    // Facing culling applies to polygons only: points and segments have no facing.
+    Status status =
+        buildPipeline(*vertex, nullptr, *fragment, &fragmentConstants, topology, VK_CULL_MODE_NONE, pipeline);
     vkDestroyShaderModule(ctx_.device(), *vertex, nullptr);
     vkDestroyShaderModule(ctx_.device(), *fragment, nullptr);
     return status;
 }
 
 // A pipeline of the render pass's one subpass from the two modules with their constants, drawing
-// `topology` with facing culling `cullMode`; every other state is common to the triangle and point
-// pipelines, so that both draws rasterize, test depth and write the attachments alike.
+// `topology` with facing culling `cullMode`; every other state is common to the triangle, line and point
+// pipelines, so that all draws rasterize, test depth and write the attachments alike. Lines get the
+// line width and rectangular rasterization (checkLines).
 Status GraphicsRender::buildPipeline(VkShaderModule vertex, const VkSpecializationInfo* vertexConstants,
                                      VkShaderModule fragment, const VkSpecializationInfo* fragmentConstants,
                                      VkPrimitiveTopology topology, VkCullModeFlags cullMode,
@@ -1049,7 +1134,15 @@ Status GraphicsRender::buildPipeline(VkShaderModule vertex, const VkSpecializati
     rasterization.polygonMode = VK_POLYGON_MODE_FILL;
     rasterization.cullMode = cullMode;
     rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    rasterization.lineWidth = 1.0f;
+    // Lines: RECTANGULAR mode where the context enabled it; else checkLines has found strictLines, which
+    // makes DEFAULT mode rectangular. The width is ignored by the other topologies.
+    const bool lines = topology == VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    rasterization.lineWidth = lines ? params_.lineWidth : 1.0f;
+    VkPipelineRasterizationLineStateCreateInfoEXT lineState{};
+    lineState.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_LINE_STATE_CREATE_INFO_EXT;
+    lineState.lineRasterizationMode = VK_LINE_RASTERIZATION_MODE_RECTANGULAR_EXT;
+    lineState.stippledLineEnable = VK_FALSE;
+    if (lines && ctx_.rectangularLines()) rasterization.pNext = &lineState;
 
     // The standard sample locations (RasterParams.sampleCount of them) and no sample shading: one
     // fragment shader invocation per pixel and primitive, its outputs written to every covered sample.
@@ -1058,7 +1151,7 @@ Status GraphicsRender::buildPipeline(VkShaderModule vertex, const VkSpecializati
     multisample.rasterizationSamples = sampleCountBit(samples_);
     multisample.sampleShadingEnable = VK_FALSE;
 
-    // LESS keeps the first of equal depths, and primitives are drawn in order (triangles, then
+    // LESS keeps the first of equal depths, and primitives are drawn in id order (triangles, segments,
     // points), so a tie resolves to the lowest primitive id, as the compute pipeline's visibility key
     // does.
     VkPipelineDepthStencilStateCreateInfo depthStencil{};
@@ -1124,7 +1217,7 @@ Status GraphicsRender::drawFrame(double& ms)
     // The clears are part of the timed pass, as the compute pipeline's clear stage is part of its frame.
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, 0);
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    // Both pipelines share the layout, so the sets stay bound across the two draws.
+    // The pipelines share the layout, so the sets stay bound across the draws.
     const VkDescriptorSet sets[2] = {ctx_.descriptorSet(), textureSet_};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 2, sets, 0, nullptr);
     if (indexCount_ > 0) {
@@ -1133,10 +1226,16 @@ Status GraphicsRender::drawFrame(double& ms)
         // One draw of the whole list: gl_PrimitiveID counts triangles from 0, the compute pipeline's ids.
         vkCmdDrawIndexed(cmd, indexCount_, 1, 0, 0, 0);
     }
+    if (lineCount_ > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, linePipeline_);
+        // One draw of every segment after the triangles, two vertices each: gl_PrimitiveID counts
+        // segments from 0, and the fragment shader adds the triangle count.
+        vkCmdDraw(cmd, 2 * lineCount_, 1, 0, 0);
+    }
     if (pointCount_ > 0) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointPipeline_);
-        // One draw of every point after the triangles: gl_PrimitiveID counts points from 0, and the
-        // fragment shader adds the triangle count.
+        // One draw of every point after the segments: gl_PrimitiveID counts points from 0, and the
+        // fragment shader adds the triangle and segment counts.
         vkCmdDraw(cmd, pointCount_, 1, 0, 0);
     }
     vkCmdEndRenderPass(cmd);
@@ -1393,6 +1492,11 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     SR_TRY(context.init(deviceIndex, QueueKind::Graphics));
     RenderOutput out;
     out.params = frameParams(scene, camera, settings, ListCapacities{}, GroupCounts{});
+    // The line fields as this backend's shaders and checks read them (the segment count also places
+    // the point ids), whatever frameParams has filled in.
+    out.params.lineCount = uint32_t(scene.lineCount());
+    out.params.lineWidth = settings.lineWidth;
+    out.params.lineDepthBias = settings.lineDepthBias;
     out.device = context.deviceInfo("vulkan-graphics");
 
     GraphicsRender render(context);
@@ -1416,6 +1520,7 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.total = draw;
     out.total.name = "total";
     out.stats.trianglesIn = scene.triangleCount();
+    out.stats.linesIn = scene.lineCount();
     out.stats.pointsIn = scene.pointCount();
     // No device memory is freed before the render ends, so the render's own adds to the context's peak.
     out.peakDeviceBytes = context.peakAllocatedBytes() + render.ownDeviceBytes();
