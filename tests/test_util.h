@@ -150,9 +150,21 @@ bool isOneLine(const std::string& message);
 
 // A test comparing the Vulkan compute backend (compute_) with the vulkan-graphics reference, skipped
 // under SR_ALLOW_MISSING_BACKENDS=vulkan without a Vulkan device.
+// How two renders of the same scene agree, sample by sample.
+struct SampleAgreement {
+    bool offered = false;          // the reference offers the sample count (else nothing was compared)
+    long differingIds = 0;         // samples whose ids differ
+    long differingCoverage = 0;    // samples covered in one render and empty in the other
+    size_t covered = 0;            // samples the compute render covers
+    float maxDepthDifference = 0;  // largest depth difference where the ids agree
+};
+
 class ComputeOracleTest : public ::testing::Test {
 protected:
     void SetUp() override;
+
+    // compute_ against vulkan-graphics rendering `scene` with `s`, every sample (aovSamples is set).
+    SampleAgreement compareSamples(const Scene& scene, RenderSettings s, const CameraMatrices& camera);
 
     // Samples whose ids differ between compute_ and vulkan-graphics rendering `scene` with `s` (every
     // sample: aovSamples is set); where the ids agree, depth must agree within depthTolerance. `covered`
