@@ -5,6 +5,7 @@
 // points; unlit colour interpolated perspective-correctly; the wireframe depth bias. The conformant
 // rasterizer's lines are compared in lines_oracle_test.cpp.
 #include <cmath>
+#include <cstdlib>
 
 #include <gtest/gtest.h>
 
@@ -257,6 +258,38 @@ TEST_P(LinesTest, BadLinesAreDroppedAndBadWidthsRefused)
         ASSERT_FALSE(bad.ok()) << width;
         EXPECT_EQ(bad.error().code, ExitCode::Usage);
         EXPECT_TRUE(isOneLine(bad.error().message));
+    }
+}
+
+// The acceptance models: every glTF-Asset-Generator Mesh_PrimitiveMode file (points, lines, loops,
+// strips, triangles, with and without indices) and assimp-testmodels' OBJ files with `l` and `p`
+// render, and every kind of primitive the file has shows in the ids.
+TEST_P(LinesTest, PrimitiveModeModelsAndObjLinesAndPointsRender)
+{
+    const char* env = std::getenv("SR_ASSIMP_MODELS");
+    const std::string root = std::string(env ? env : "/usr/share/assimp/models");
+    std::vector<std::string> files = {root + "/OBJ/testline.obj", root + "/OBJ/testpoints.obj",
+                                      root + "/OBJ/point_cloud.obj"};
+    for (int k = 0; k <= 15; ++k)
+        files.push_back(
+            root +
+            fmt::format("/glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_{:02d}.gltf", k));
+    for (const std::string& file : files) {
+        auto scene = loadScene(file);
+        ASSERT_TRUE(scene.ok()) << scene.error().message;
+        auto camera = resolveCamera(CameraSpec{}, *scene, 64, 64);
+        ASSERT_TRUE(camera.ok()) << file;
+        RenderSettings s = testSettings(64, 64);
+        s.cullMode = CULL_NONE;
+        RenderOutput out = render(*scene, s, *camera);
+        const size_t tris = scene->triangleCount(), lineEnd = tris + scene->lineCount();
+        size_t kinds[3] = {0, 0, 0};
+        for (uint32_t id : out.aov.id)
+            if (id != EMPTY_ID) ++kinds[id < tris ? 0 : id < lineEnd ? 1 : 2];
+        EXPECT_EQ(kinds[0] > 0, tris > 0) << file;
+        EXPECT_EQ(kinds[1] > 0, scene->lineCount() > 0) << file;
+        EXPECT_EQ(kinds[2] > 0, scene->pointCount() > 0) << file;
+        EXPECT_EQ(out.stats.lines, scene->lineCount()) << file;
     }
 }
 
