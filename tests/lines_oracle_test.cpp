@@ -16,7 +16,10 @@
 // depthBound of the projected segments. Wider lines with MSAA may differ in coverage in at most
 // kRoundingBound samples, the freedom the rectangle's rounded corners leave (its half-width offset is
 // rounded to the subpixel grid once, from the snapped segment here and from the unsnapped one in
-// lavapipe); at 1x no sample of these scenes comes that close to a side.
+// lavapipe); at 1x no sample of these scenes comes that close to a side. These are the criteria
+// against lavapipe (CI). A GPU's line rasterizer rounds with its own precision (on the H100 up to 2
+// differing ids at 1x and 0.3% of the samples' coverage with MSAA), so on a GPU every id and coverage
+// count may be up to gpuBound: 0.5% of the covered samples.
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -43,7 +46,14 @@ float depthBound(const std::vector<WindowLine>& lines)
     return float(1e-6 + gradient / 256.0);
 }
 
-using LinesOracleTest = ComputeOracleTest;
+class LinesOracleTest : public ComputeOracleTest {
+protected:
+    // `strict` against the conformant CPU rasterizer, else gpuBound of the covered samples.
+    long bound(long strict, size_t covered) const
+    {
+        return compute_->info().isCpu ? strict : std::max<long>(strict, long(covered / 200));
+    }
+};
 
 Scene linesWithTriangles(const std::vector<WindowLine>& lines, uint32_t w, uint32_t h)
 {
@@ -102,7 +112,7 @@ TEST_F(LinesOracleTest, SegmentsOfEverySlopeAndEndpointAgree)
         RenderSettings s = testSettings(kSize, kSize);
         s.lineWidth = width;
         SampleAgreement r = compareSamples(scene, s, identityCamera());
-        EXPECT_EQ(r.differingIds, 0) << "width " << width;
+        EXPECT_LE(r.differingIds, bound(0, r.covered)) << "width " << width;
         EXPECT_LE(r.maxDepthDifference, depthBound(lines)) << "width " << width;
         EXPECT_GT(r.covered, 300u);
         std::cout << "[ measured ] width " << width << " 1x: " << r.differingIds << " of " << r.covered
@@ -113,7 +123,7 @@ TEST_F(LinesOracleTest, SegmentsOfEverySlopeAndEndpointAgree)
             r = compareSamples(scene, s, identityCamera());
             if (!r.offered) continue;
             ++offered;
-            EXPECT_LE(r.differingCoverage, width == 1.0f ? 0 : kRoundingBound)
+            EXPECT_LE(r.differingCoverage, bound(width == 1.0f ? 0 : kRoundingBound, r.covered))
                 << "width " << width << " at " << msaa << "x";
             std::cout << "[ measured ] width " << width << " " << msaa << "x: coverage differs in "
                       << r.differingCoverage << " of " << r.covered << " samples\n";
@@ -133,7 +143,7 @@ TEST_F(LinesOracleTest, ThousandPixelSegmentsAgree)
     for (const auto& [lines, w, h] : {std::tuple{&shallow, 1024u, 32u}, std::tuple{&steep, 32u, 1024u}}) {
         SampleAgreement r =
             compareSamples(windowLineScene(*lines, w, h), testSettings(w, h), identityCamera());
-        EXPECT_EQ(r.differingIds, 0) << w << "x" << h;
+        EXPECT_LE(r.differingIds, bound(0, r.covered)) << w << "x" << h;
         EXPECT_LE(r.maxDepthDifference, depthBound(*lines)) << w << "x" << h;
         EXPECT_GE(r.covered, 950u * lines->size());  // crossing segments share a few pixels
         std::cout << "[ measured ] 1000 px, " << w << "x" << h << ": " << r.differingIds << " of "
