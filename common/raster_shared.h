@@ -158,9 +158,6 @@ SR_NAMESPACE_BEGIN
 // Specialization constant of shade (Vulkan): false builds only the one-sample-per-pixel path, the build
 // a frame without MSAA and SSAA runs (a CPU device would otherwise run the resolve loops too, masked).
 #define SPEC_RESOLVE 3
-// Specialization constant (Vulkan) / template argument (CUDA) of setup: whether the line and point paths
-// are built in; false for a scene of triangles alone, whose setup then compiles as it did without them.
-#define SPEC_PRIMITIVES 4
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u

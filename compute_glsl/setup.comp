@@ -20,8 +20,13 @@ layout(local_size_x = GROUP_SIZE) in;
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 // Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): the one-sample build has no MSAA loop.
 layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
-// Whether the line and point paths are built in (SPEC_PRIMITIVES): not for scenes of triangles alone.
-layout(constant_id = SPEC_PRIMITIVES) const bool LINES_POINTS = true;
+// SETUP_LINES_POINTS (a preprocessor definition, 0 or 1): whether the line and point paths are built
+// in. This shader is compiled twice (CMakeLists.txt), and scenes of triangles alone run the module
+// without them: a specialization constant that disables them is not enough on NVIDIA's compiler, whose
+// triangle path ran 35-95% slower with the point code merely present (H100, measured).
+#ifndef SETUP_LINES_POINTS
+#define SETUP_LINES_POINTS 0
+#endif
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
@@ -32,7 +37,9 @@ void emitTriangle(TriSetup t, bool clipped)
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
-        bool masked = MATERIALS && params.materialCount != 0u && id < params.triangleCount &&
+        // Lines have no alpha test (and no triangle flags).
+        bool masked = MATERIALS && params.materialCount != 0u &&
+                      (SETUP_LINES_POINTS == 0 || id < params.triangleCount) &&
                       (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (SAMPLES == 1u) {
             for (int y = bounds.y; y <= bounds.w; ++y) {
@@ -84,6 +91,7 @@ void emitTriangle(TriSetup t, bool clipped)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
+#if SETUP_LINES_POINTS
 // Rasterizes point k (primitive triangleCount + lineCount + k) by its invocation: every sample of the pixels its
 // square reaches, merged like a small triangle's. Points are opaque and have no facing.
 void rasterPoint(uint k)
@@ -118,54 +126,75 @@ void rasterPoint(uint k)
     }
 }
 
-void main()
+// Sets up line segment k (primitive triangleCount + k): clipped like a triangle, snapped, and drawn as
+// its rectangle's two triangles, which are never named by input index (they are not input triangles).
+void setupLineSegment(uint k)
 {
-    uint prim = gl_GlobalInvocationID.x;
-    uint lineEnd = params.triangleCount + (LINES_POINTS ? params.lineCount : 0u);
-    if (prim >= lineEnd) {
-        if (LINES_POINTS && prim < lineEnd + params.pointCount) rasterPoint(prim - lineEnd);
+    vec4 c0, c1;
+    if (!loadClipLine(k, c0, c1)) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
-    bool line = LINES_POINTS && prim >= params.triangleCount;
-    vec4 poly[MAX_CLIP_VERTS];
-    uint count = 0u;
-    uint kind;
-    LineQuad q;
-    if (line) {
-        vec4 c0, c1;
-        vec2 u;
-        kind = loadClipLine(prim - params.triangleCount, c0, c1)
-                   ? prepareLine(c0, c1, params.guardBand, poly[0], poly[1], u)
-                   : PREPARE_INVALID;
-        // The rectangle as a fan of its four corners: two triangles.
-        if (kind != PREPARE_INVALID && kind != PREPARE_CULLED &&
-            setupLine(poly[0], poly[1], params.lineWidth, params.lineDepthBias, params.width, params.height, q))
-            count = 4u;
-    } else {
-        vec4 c0, c1, c2;
-        kind = loadClipTriangle(prim, c0, c1, c2) ? prepareTriangle(c0, c1, c2, params.guardBand, poly, count)
-                                                  : PREPARE_INVALID;
-    }
+    vec4 a, b;
+    vec2 u;
+    uint kind = prepareLine(c0, c1, params.guardBand, a, b, u);
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
     if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
-    bool doubleSided = line || (triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    LineQuad q;
+    uint emitted = 0u;
+    if (kind != PREPARE_CULLED &&
+        setupLine(a, b, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
+        for (uint side = 0u; side < 2u; ++side) {
+            TriSetup t;
+            if (setupLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
+                                  params.sampleBounds, t)) {
+                emitTriangle(t, true);
+                ++emitted;
+            }
+        }
+    }
+    atomicAdd(counters[emitted == 0u ? COUNTER_CULLED : COUNTER_LINES], 1u);
+}
+#endif
+
+void main()
+{
+    uint tri = gl_GlobalInvocationID.x;
+    if (tri >= params.triangleCount) {
+#if SETUP_LINES_POINTS
+        uint k = tri - params.triangleCount;
+        if (k < params.lineCount)
+            setupLineSegment(k);
+        else if (k < params.lineCount + params.pointCount)
+            rasterPoint(k - params.lineCount);
+#endif
+        return;
+    }
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(tri, c0, c1, c2)) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    if (kind == PREPARE_INVALID) {
+        atomicAdd(counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        bool drawn = line ? setupLineTriangle(q, k - 1u, prim, params.width, params.height, params.sampleBounds, t)
-                          : setupTriangle(poly[0], poly[k], poly[k + 1u], prim, doubleSided, params.cullMode,
-                                          params.width, params.height, params.sampleBounds, t);
-        if (drawn) {
-            // A line's triangles are never named by input index: they are not input triangles.
-            emitTriangle(t, line || kind == PREPARE_CLIPPED);
+        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                          params.height, params.sampleBounds, t)) {
+            emitTriangle(t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }
-    if (emitted == 0u)
-        atomicAdd(counters[COUNTER_CULLED], 1u);
-    else if (line)
-        atomicAdd(counters[COUNTER_LINES], 1u);
+    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
 }

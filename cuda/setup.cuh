@@ -14,7 +14,7 @@ namespace sr {
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
-template <bool kMaterials, bool kMultisample>
+template <bool kMaterials, bool kMultisample, bool kLinesPoints>
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
                                     bool clipped)
 {
@@ -22,7 +22,9 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
-        bool masked = kMaterials && params.materialCount != 0u && id < params.triangleCount &&
+        // Lines have no alpha test (and no triangle flags).
+        bool masked = kMaterials && params.materialCount != 0u &&
+                      (!kLinesPoints || id < params.triangleCount) &&
                       (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (!kMultisample) {
             for (int y = bounds.y; y <= bounds.w; ++y) {
@@ -75,8 +77,8 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
 
-// Rasterizes point k (primitive triangleCount + lineCount + k) by its thread: every sample of the pixels its square
-// reaches, merged like a small triangle's. Points are opaque and have no facing.
+// Rasterizes point k (primitive triangleCount + lineCount + k) by its thread: every sample of the pixels its
+// square reaches, merged like a small triangle's. Points are opaque and have no facing.
 template <bool kMultisample>
 __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b, uint k)
 {
@@ -112,60 +114,79 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
     }
 }
 
-// kLinesPoints (SPEC_PRIMITIVES): whether the line and point paths are built in.
-template <bool kMaterials, bool kMultisample, bool kLinesPoints>
-__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
+// Sets up line segment k (primitive triangleCount + k): clipped like a triangle, snapped, and drawn as
+// its rectangle's two triangles, which are never named by input index (they are not input triangles).
+template <bool kMaterials, bool kMultisample>
+__device__ inline void setupLineSegment(const RasterParams& params, const Buffers& b, uint k)
 {
-    uint prim = globalThreadId();
-    uint lineEnd = params.triangleCount + (kLinesPoints ? params.lineCount : 0u);
-    if (prim >= lineEnd) {
-        if (kLinesPoints && prim < lineEnd + params.pointCount)
-            rasterPoint<kMultisample>(params, b, prim - lineEnd);
+    vec4 c0, c1;
+    if (!loadClipLine(params, b, k, c0, c1)) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
-    bool line = kLinesPoints && prim >= params.triangleCount;
-    vec4 poly[MAX_CLIP_VERTS];
-    uint count = 0u;
-    uint kind;
-    LineQuad q;
-    if (line) {
-        vec4 c0, c1;
-        vec2 u;
-        kind = loadClipLine(params, b, prim - params.triangleCount, c0, c1)
-                   ? prepareLine(c0, c1, params.guardBand, poly[0], poly[1], u)
-                   : PREPARE_INVALID;
-        // The rectangle as a fan of its four corners: two triangles.
-        if (kind != PREPARE_INVALID && kind != PREPARE_CULLED &&
-            setupLine(poly[0], poly[1], params.lineWidth, params.lineDepthBias, params.width, params.height, q))
-            count = 4u;
-    } else {
-        vec4 c0, c1, c2;
-        kind = loadClipTriangle(params, b, prim, c0, c1, c2)
-                   ? prepareTriangle(c0, c1, c2, params.guardBand, poly, count)
-                   : PREPARE_INVALID;
-    }
+    vec4 a, e;
+    vec2 u;
+    uint kind = prepareLine(c0, c1, params.guardBand, a, e, u);
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
     if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
-    bool doubleSided = line || (b.triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    LineQuad q;
+    uint emitted = 0u;
+    if (kind != PREPARE_CULLED &&
+        setupLine(a, e, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
+        for (uint side = 0u; side < 2u; ++side) {
+            TriSetup t;
+            if (setupLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
+                                  params.sampleBounds, t)) {
+                emitTriangle<kMaterials, kMultisample, true>(params, b, t, true);
+                ++emitted;
+            }
+        }
+    }
+    atomicAdd(&b.counters[emitted == 0u ? COUNTER_CULLED : COUNTER_LINES], 1u);
+}
+
+// kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp).
+template <bool kMaterials, bool kMultisample, bool kLinesPoints>
+__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
+{
+    uint tri = globalThreadId();
+    if (tri >= params.triangleCount) {
+        if constexpr (kLinesPoints) {
+            uint k = tri - params.triangleCount;
+            if (k < params.lineCount)
+                setupLineSegment<kMaterials, kMultisample>(params, b, k);
+            else if (k < params.lineCount + params.pointCount)
+                rasterPoint<kMultisample>(params, b, k - params.lineCount);
+        }
+        return;
+    }
+    vec4 c0, c1, c2;
+    if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    if (kind == PREPARE_INVALID) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+    bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        bool drawn = line ? setupLineTriangle(q, k - 1u, prim, params.width, params.height, params.sampleBounds, t)
-                          : setupTriangle(poly[0], poly[k], poly[k + 1u], prim, doubleSided, params.cullMode,
-                                          params.width, params.height, params.sampleBounds, t);
-        if (drawn) {
-            // A line's triangles are never named by input index: they are not input triangles.
-            emitTriangle<kMaterials, kMultisample>(params, b, t, line || kind == PREPARE_CLIPPED);
+        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                          params.height, params.sampleBounds, t)) {
+            emitTriangle<kMaterials, kMultisample, kLinesPoints>(params, b, t, kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }
-    if (emitted == 0u)
-        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
-    else if (line)
-        atomicAdd(&b.counters[COUNTER_LINES], 1u);
+    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
 }
 
 }  // namespace sr

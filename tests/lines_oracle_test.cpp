@@ -116,7 +116,8 @@ TEST_F(LinesOracleTest, SegmentsOfEverySlopeAndEndpointAgree)
         EXPECT_LE(r.maxDepthDifference, depthBound(lines)) << "width " << width;
         EXPECT_GT(r.covered, 300u);
         std::cout << "[ measured ] width " << width << " 1x: " << r.differingIds << " of " << r.covered
-                  << " samples differ, depth within " << r.maxDepthDifference << "\n";
+                  << " samples differ, depth within " << r.maxDepthDifference << " (bound "
+                  << depthBound(lines) << ")\n";
         int offered = 0;
         for (uint32_t msaa : {2u, 4u, 8u, 16u}) {
             s.msaa = msaa;

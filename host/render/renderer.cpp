@@ -269,8 +269,8 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
     SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
     SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
-    SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
-    SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
+    if (!scene.points.empty()) SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
+    if (!scene.lines.empty()) SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
     SR_TRY(uploadMaterials(device, scene));
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.

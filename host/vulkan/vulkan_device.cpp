@@ -37,6 +37,7 @@ namespace {
 #include "scan_blocks.spv.h"
 #include "scan_sums.spv.h"
 #include "setup.spv.h"
+#include "setup_lines_points.spv.h"
 #include "shade.spv.h"
 #include "vertex.spv.h"
 
@@ -58,6 +59,8 @@ const StageSpirv kStageSpirv[] = {
     {kSpv_shade, sizeof kSpv_shade},
 };
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
+// setup with the line and point paths (SETUP_LINES_POINTS), for scenes that have lines or points.
+const StageSpirv kSetupLinesPointsSpirv = {kSpv_setup_lines_points, sizeof kSpv_setup_lines_points};
 
 // raster_tiles groups on a CPU device (DeviceInfo::rasterGroups): a few per thread balance the load.
 constexpr uint32_t kCpuRasterGroups = 64;
@@ -121,8 +124,8 @@ private:
     }
 
     Status createPipelines();
-    // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE,
-    // SPEC_PRIMITIVES.
+    // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE, and
+    // for setup its module (kSpv_setup_lines_points with the line and point paths).
     struct Build {
         bool materials = false;
         uint32_t samples = 1;
@@ -215,30 +218,27 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of setup, raster_tiles
     // and shade: the sample count, which sizes each invocation's array of keys or ids. SPEC_RESOLVE of
     // shade: whether output pixels have several samples. The one-sample builds hold none of the
-    // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. SPEC_PRIMITIVES
-    // of setup: whether the line and point paths are built in (only for scenes that have some), which
-    // on a GPU would otherwise cost a triangle scene's setup registers.
+    // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. setup's line and
+    // point paths are a second module rather than a constant: NVIDIA's compiler slowed the triangle
+    // path by 35-95% with the point code present behind a false constant (compute_glsl/setup.comp).
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
         uint32_t samples;
         VkBool32 resolve;
-        VkBool32 linesPoints;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
-                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE,
-                   build.linesPoints ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry entries[5] = {
+                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[4] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
-        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)},
-        {SPEC_PRIMITIVES, offsetof(Constants, linesPoints), sizeof(VkBool32)}};
+        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
-    Result<VkShaderModule> module =
-        context_.createShaderModule(kStageSpirv[stage].code, kStageSpirv[stage].bytes);
+    const StageSpirv& spirv = build.linesPoints ? kSetupLinesPointsSpirv : kStageSpirv[stage];
+    Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 5;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 4;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
