@@ -349,3 +349,42 @@ TEST(SharedMath, PiecesCoverEveryTileOnce)
 }
 
 }  // namespace sr
+
+namespace sr::test {
+namespace {
+
+// setupTriangle repeats setupSnappedTriangle's body (for NVIDIA's Vulkan compiler, setup.h): the two must
+// give the same record for the snapped corners, or the same refusal.
+TEST(SharedMath, SetupTriangleEqualsSetupOfTheSnappedCorners)
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> coord(-1.3f, 1.3f), w(0.5f, 2.0f), z(-0.1f, 1.1f);
+    int agreed = 0;
+    for (int i = 0; i < 2000; ++i) {
+        vec4 c[3];
+        ivec2 v[3];
+        float depth[3];
+        bool snapped = true;
+        for (int k = 0; k < 3; ++k) {
+            float wk = w(rng);
+            c[k] = vec4(coord(rng) * wk, coord(rng) * wk, z(rng) * wk, wk);
+            snapped = snapVertex(c[k], 64, 48, v[k], depth[k]) && snapped;
+        }
+        ASSERT_TRUE(snapped);
+        uint cull = uint(i % 3);
+        TriSetup a{}, b{};
+        bool okA = setupTriangle(c[0], c[1], c[2], 7u, false, cull, 64, 48, PIXEL_CENTER_BOUNDS, a);
+        bool okB = setupSnappedTriangle(v[0], v[1], v[2], depth[0], depth[1], depth[2], 7u, false, cull, 64,
+                                        48, PIXEL_CENTER_BOUNDS, b);
+        ASSERT_EQ(okA, okB) << i;
+        if (!okA) continue;
+        ++agreed;
+        EXPECT_EQ(a.xy01, b.xy01);
+        EXPECT_EQ(a.xy2Id, b.xy2Id);
+        EXPECT_EQ(a.depthPlane, b.depthPlane);
+    }
+    EXPECT_GT(agreed, 500);
+}
+
+}  // namespace
+}  // namespace sr::test
