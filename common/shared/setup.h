@@ -111,7 +111,7 @@ SR_FN float recipArea(int64_t area)
 // (samples of the pattern with extent `bounds`, RasterParams.sampleBounds).
 // setupSnappedTriangle does the part after snapping, for triangles whose corners are already in fixed
 // point (a line's rectangle). setupTriangle repeats its body instead of calling it: on the H100,
-// NVIDIA's Vulkan compiler ran the triangle path of `setup` 35-95% slower through the extra call with
+// NVIDIA's Vulkan compiler ran the triangle path of `setup` twice as slow through the extra call with
 // its output record (sweep-2px setup 0.100 -> 0.200 ms), CUDA not at all.
 SR_FN bool setupSnappedTriangle(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1, float z2, uint triId,
                                 bool doubleSided, uint cullMode, uint width, uint height, uint bounds,

@@ -219,8 +219,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // and shade: the sample count, which sizes each invocation's array of keys or ids. SPEC_RESOLVE of
     // shade: whether output pixels have several samples. The one-sample builds hold none of the
     // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. setup's line and
-    // point paths are a second module rather than a constant: NVIDIA's compiler slowed the triangle
-    // path by 35-95% with the point code present behind a false constant (compute_glsl/setup.comp).
+    // point paths are a second module (kSetupLinesPointsSpirv): NVIDIA's compiler slowed the triangle
+    // path by 35-95% with the point code in the same module (compute_glsl/setup.comp).
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
