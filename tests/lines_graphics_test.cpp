@@ -144,13 +144,6 @@ bool clipToViewport(WindowLine& l)
 
 class LinesGraphicsTest : public GraphicsTest {
 protected:
-    RenderOutput render(const Scene& scene, const RenderSettings& settings)
-    {
-        auto out = renderVulkanGraphics(scene, identityCamera(), settings, -1);
-        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
-        return out.ok() ? std::move(*out) : RenderOutput{};
-    }
-
     // Renders the segments alone at 1x and width `width` and checks every pixel: the nearest segment
     // whose rectangle covers the pixel centre (the first of equal depths), with its depth at the
     // centre, else empty.

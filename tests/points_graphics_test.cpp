@@ -64,13 +64,6 @@ Scene pointScene(const std::vector<WindowPoint>& points, const std::vector<glm::
 
 class PointsGraphicsTest : public GraphicsTest {
 protected:
-    RenderOutput render(const Scene& scene, const RenderSettings& settings)
-    {
-        auto out = renderVulkanGraphics(scene, identityCamera(), settings, -1);
-        EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
-        return out.ok() ? std::move(*out) : RenderOutput{};
-    }
-
     // Renders the points alone at 1x and point size `size` and checks every pixel: the first point in
     // the view volume whose square covers the pixel centre (all points share one depth or are apart),
     // with that point's depth, else empty.

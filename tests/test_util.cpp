@@ -206,6 +206,14 @@ long ComputeOracleTest::differingSamples(const Scene& scene, RenderSettings s, c
     return r.differingIds;
 }
 
+RenderOutput GraphicsTest::render(const Scene& scene, const RenderSettings& settings,
+                                  const CameraMatrices& camera)
+{
+    auto out = renderVulkanGraphics(scene, camera, settings, -1);
+    EXPECT_TRUE(out.ok()) << (out.ok() ? "" : out.error().message);
+    return out.ok() ? std::move(*out) : RenderOutput{};
+}
+
 void ComputeOracleTest::SetUp()
 {
     bool skip = false;

@@ -183,6 +183,11 @@ protected:
     void SetUp() override;
     void TearDown() override;
 
+    // The scene through vulkan-graphics on the default device, or an empty output after a failure that
+    // the test reports.
+    RenderOutput render(const Scene& scene, const RenderSettings& settings,
+                        const CameraMatrices& camera = identityCamera());
+
 private:
     size_t errorsBefore_ = 0;
 };
