@@ -12,6 +12,8 @@
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
 //                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
 //                [--json F]
+//   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
+//                [--bunny PATH] [--warmup N] [--repeat N] [--json F]
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -22,6 +24,7 @@
 
 #include "cli/backend.h"
 #include "cli/bench.h"
+#include "cli/study.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
 #include "io/compare.h"
@@ -234,6 +237,24 @@ Status runBenchCommand(BenchCommand& cmd)
     return okStatus();
 }
 
+struct StudyCommand {
+    std::string backends = "vulkan";
+    std::string axes = "magnitude,slivers,near,coplanar";
+    std::string jsonPath;
+    StudyOptions options;
+};
+
+Status runStudyCommand(StudyCommand& cmd)
+{
+    cmd.options.backends = splitList(cmd.backends);
+    cmd.options.axes = splitList(cmd.axes);
+    auto study = runStudy(cmd.options);
+    if (!study) return study.error();
+    if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *study));
+    fmt::print("{}", studyMarkdown(*study));
+    return okStatus();
+}
+
 }  // namespace
 }  // namespace sr
 
@@ -349,6 +370,25 @@ int main(int argc, char** argv)
     benchApp->add_option("--device", bench.options.device, "device index within each backend");
     benchApp->add_option("--json", bench.jsonPath, "all results as JSON");
 
+    StudyCommand study;
+    CLI::App* studyApp = app.add_subcommand(
+        "study",
+        "speed against accuracy per setting and failures per stress axis (ci/study-chart draws them)");
+    studyApp->add_option("--backends", study.backends, "comma-separated: cuda, vulkan");
+    studyApp->add_option("--width", study.options.width, "accuracy renders: width")
+        ->check(CLI::Range(8, 4096));
+    studyApp->add_option("--height", study.options.height, "accuracy renders: height")
+        ->check(CLI::Range(8, 4096));
+    studyApp->add_option("--stress-size", study.options.stressSize, "stress cases: side in pixels")
+        ->check(CLI::Range(16, 1024));
+    studyApp->add_option("--axes", study.axes,
+                         "comma-separated stress axes: magnitude, slivers, near, coplanar");
+    studyApp->add_option("--bunny", study.options.bunnyPath, "the Stanford bunny OBJ (skipped when absent)");
+    studyApp->add_option("--warmup", study.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
+    studyApp->add_option("--repeat", study.options.repeat, "timed runs")->check(CLI::Range(1, 100000));
+    studyApp->add_option("--device", study.options.device, "device index within each backend");
+    studyApp->add_option("--json", study.jsonPath, "all results as JSON (ci/study-chart draws them)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -360,6 +400,7 @@ int main(int argc, char** argv)
     Status status = okStatus();
     if (render->parsed()) status = runRender(cmd);
     if (benchApp->parsed()) status = runBenchCommand(bench);
+    if (studyApp->parsed()) status = runStudyCommand(study);
     if (cmp->parsed()) {
         auto pass = runCompare(compare);
         if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);
