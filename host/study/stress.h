@@ -23,7 +23,7 @@ namespace sr {
 // silhouette), the pixel centre lies in exactly one of its triangles, so its hit count must be 1 (0 is a
 // crack, 2 or more a double hit). kEmpty: outside, 0 hits. kFree: within a pixel of the silhouette or
 // otherwise left to the rule's ties; not counted. kNearId: (coplanar axis) the pixel must show the
-// nearer surface's triangles (ids below StressCase::nearIdEnd).
+// nearer surface's triangles (ids in [StressCase::nearIdBegin, nearIdEnd)).
 enum class PixelDemand : uint8_t { kFree = 0, kCoverOnce = 1, kEmpty = 2, kNearId = 3 };
 
 struct StressCase {
@@ -31,9 +31,12 @@ struct StressCase {
     double x = 0.0;    // the stress parameter: 2^k px, sliver count, min w, separation in depth units
     Scene scene;
     CameraMatrices camera;
-    RenderSettings settings;            // width x height, countHits on, unlit
-    std::vector<PixelDemand> demand;    // width * height, row-major from the top row
-    uint32_t nearIdEnd = 0;             // coplanar axis: ids < nearIdEnd belong to the nearer surface
+    RenderSettings settings;          // width x height, countHits on, unlit
+    std::vector<PixelDemand> demand;  // width * height, row-major from the top row
+    // Coplanar axis: ids in [nearIdBegin, nearIdEnd) belong to the nearer surface. It is drawn second
+    // (after the farther one), so a depth tie resolves to the farther surface's lower ids and shows.
+    uint32_t nearIdBegin = 0;
+    uint32_t nearIdEnd = 0;
 };
 
 // The cases of one axis, in increasing stress, at `size` x `size` pixels.
@@ -41,7 +44,9 @@ std::vector<StressCase> stressCases(const std::string& axis, uint32_t size);
 
 // Failures of one render of a case: cracks (kCoverOnce pixels hit 0 times), double hits (kCoverOnce
 // pixels hit 2+ times, or kEmpty pixels hit at all), wrong depth order (kNearId pixels showing another
-// id). Needs RenderOutput::hitCount (countHits) except for the coplanar axis, which reads the ids.
+// id). Needs RenderOutput::hitCount (countHits) except for the coplanar axis, which reads the ids; a
+// kNearId pixel left empty counts as a crack. Without hitCount, coverage is read from the ids (double
+// hits inside then go unseen). Pixels the output lacks (a failed render) read as empty.
 struct StressFailures {
     uint64_t cracks = 0;
     uint64_t doubleHits = 0;

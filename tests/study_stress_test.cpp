@@ -1,0 +1,205 @@
+// study_stress_test.cpp - the stress cases of `raster study` (host/study/stress.h) on each backend: the
+// claims the study makes for today's fixed-point rasterizer (vertices snapped to 1/256 px, exact int64
+// edge functions, the top-left rule, a guard band of 16384 px), and the failure counter itself on
+// hand-made outputs.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "study/stress.h"
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+// 64 x 64 keeps the whole file to a few seconds on lavapipe; the 10^5-sliver fan is the slowest case.
+constexpr uint32_t kSize = 64;
+
+size_t countDemand(const StressCase& c, PixelDemand d)
+{
+    size_t n = 0;
+    for (PixelDemand p : c.demand) n += p == d;
+    return n;
+}
+
+// A case rendered on the backend with its failures, printed so that a run shows the measured counts.
+class StudyStressTest : public BackendTest {
+protected:
+    StressFailures measure(const StressCase& c)
+    {
+        RenderOutput out = render(c.scene, c.settings, c.camera);
+        EXPECT_EQ(out.hitCount.size(), c.demand.size()) << c.axis << " x=" << c.x;
+        StressFailures f = countFailures(c, out);
+        std::printf("[ stress   ] %s %s x=%g: cracks %llu, double hits %llu, wrong depth order %llu\n",
+                    GetParam().c_str(), c.axis.c_str(), c.x, (unsigned long long)f.cracks,
+                    (unsigned long long)f.doubleHits, (unsigned long long)f.wrongDepthOrder);
+        return f;
+    }
+
+    // Every case of the axis draws each covered pixel centre exactly once and nothing outside.
+    void expectWatertight(const std::string& axis, size_t cases)
+    {
+        std::vector<StressCase> all = stressCases(axis, kSize);
+        ASSERT_EQ(all.size(), cases);
+        for (const StressCase& c : all) {
+            ASSERT_EQ(c.demand.size(), size_t(kSize) * kSize);
+            EXPECT_GT(countDemand(c, PixelDemand::kCoverOnce) + countDemand(c, PixelDemand::kEmpty), 0u);
+            StressFailures f = measure(c);
+            EXPECT_EQ(f.cracks, 0u) << axis << " x=" << c.x;
+            EXPECT_EQ(f.doubleHits, 0u) << axis << " x=" << c.x;
+        }
+    }
+};
+
+// Vertices 2^k px from the viewport, k = 0..14: int64 edge functions of snapped coordinates are exact up
+// to the guard band (products below 2^48), so magnitude alone can neither crack nor double a shared edge.
+TEST_P(StudyStressTest, MagnitudeUpToTheGuardBandIsWatertight)
+{
+    expectWatertight("magnitude", 15);
+}
+
+// Slivers with rim steps down to 1/620 px (at 10^5, about half snap to zero area and draw nothing): exactness
+// does not depend on the shape, and the top-left rule gives a pixel centre on a shared edge or on the
+// shared hub to exactly one triangle.
+TEST_P(StudyStressTest, SliverFansAreWatertight)
+{
+    expectWatertight("slivers", 5);
+}
+
+// Vertices at clip w = 1 .. 10^-6: the guard-band clipper cuts each shared edge from its nearer endpoint
+// whichever triangle it belongs to, so the two sides of the edge get the same cut vertex.
+TEST_P(StudyStressTest, NearPlaneProximityIsWatertight)
+{
+    expectWatertight("near", 7);
+}
+
+// Two surfaces at window depths z = 0.75 and z + d, the farther drawn first. A flat triangle's depth is
+// its vertices' float z exactly (zero depth slopes), so the order survives exactly while float(z + d) >
+// float(z): for d = 2^-e that is e <= 24, since ulp(0.75) = 2^-24 and 0.75 + 2^-25 is a halfway case
+// that rounds to the even 0.75. Below, the depths are equal floats and the visibility key's tie goes to
+// the lowest id, the farther surface's: then every overlapped pixel shows it, a count that follows from
+// the key's definition, not from rounding noise.
+TEST_P(StudyStressTest, CoplanarSurfacesKeepTheirOrderDownToOneUlp)
+{
+    std::vector<StressCase> all = stressCases("coplanar", kSize);
+    ASSERT_EQ(all.size(), 23u);
+    const float z = 0.75f;
+    for (const StressCase& c : all) {
+        const size_t overlapped = countDemand(c, PixelDemand::kNearId);
+        ASSERT_GT(overlapped, 0u);
+        const bool separated = float(double(z) + c.x) > z;
+        EXPECT_EQ(separated, c.x >= std::ldexp(1.0, -24)) << c.x;
+        StressFailures f = measure(c);
+        EXPECT_EQ(f.cracks, 0u) << c.x;
+        EXPECT_EQ(f.doubleHits, 0u) << c.x;
+        EXPECT_EQ(f.wrongDepthOrder, separated ? 0u : overlapped) << c.x;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, StudyStressTest, ::testing::Values("vulkan", "cuda"),
+                         [](const auto& info) { return info.param; });
+
+// The cases are built from geometry alone: sizes, parameters and a few demands checked by hand.
+TEST(StudyStressCases, ParametersAndDemands)
+{
+    std::vector<StressCase> magnitude = stressCases("magnitude", kSize);
+    ASSERT_EQ(magnitude.size(), 15u);
+    for (size_t k = 0; k < magnitude.size(); ++k) EXPECT_EQ(magnitude[k].x, std::ldexp(1.0, int(k)));
+    // R = 1 px around the centre: the centre pixels' centres lie within a pixel of the outline, the
+    // corner is empty; R = 2^14: every pixel is inside, far from the rim.
+    EXPECT_EQ(countDemand(magnitude[0], PixelDemand::kCoverOnce), 0u);
+    EXPECT_EQ(magnitude[0].demand[0], PixelDemand::kEmpty);
+    EXPECT_EQ(countDemand(magnitude[14], PixelDemand::kCoverOnce), size_t(kSize) * kSize);
+    for (const glm::vec4& p : magnitude[14].scene.positions) {
+        EXPECT_LE(std::abs(p.x), 1.0f + 16384.0f / (kSize / 2)) << "inside the guard band";
+        EXPECT_LE(std::abs(p.y), 1.0f + 16384.0f / (kSize / 2));
+    }
+
+    std::vector<StressCase> slivers = stressCases("slivers", kSize);
+    ASSERT_EQ(slivers.size(), 5u);
+    EXPECT_EQ(slivers[4].x, 1e5);
+    EXPECT_EQ(slivers[4].scene.triangleCount(), 100000u);
+    const size_t hub = (kSize / 2) * kSize + kSize / 2;  // the hub sits on this pixel's centre
+    for (const StressCase& c : slivers) {
+        EXPECT_EQ(c.demand[hub], PixelDemand::kCoverOnce);
+        EXPECT_EQ(c.demand[0], PixelDemand::kEmpty);
+    }
+
+    // The near cases: top rows empty, bottom rows covered, the horizon rows free.
+    for (const StressCase& c : stressCases("near", kSize)) {
+        EXPECT_EQ(c.demand[0], PixelDemand::kEmpty) << c.x;
+        EXPECT_EQ(c.demand[(kSize - 2) * kSize + 5], PixelDemand::kCoverOnce) << c.x;
+        EXPECT_EQ(c.demand[(kSize / 2) * kSize + 5], PixelDemand::kFree) << c.x;
+    }
+
+    std::vector<StressCase> coplanar = stressCases("coplanar", kSize);
+    EXPECT_EQ(coplanar.front().x, std::ldexp(1.0, -8));
+    EXPECT_EQ(coplanar.back().x, std::ldexp(1.0, -30));
+    EXPECT_EQ(coplanar.front().nearIdBegin, 32u);
+    EXPECT_EQ(coplanar.front().nearIdEnd, 64u);
+    EXPECT_TRUE(stressCases("unknown", kSize).empty());
+}
+
+// countFailures on hand-made 2 x 2 outputs: one failure of each kind where it is planted.
+StressCase handMadeCase(std::vector<PixelDemand> demand)
+{
+    StressCase c;
+    c.settings.width = 2;
+    c.settings.height = 2;
+    c.demand = std::move(demand);
+    c.nearIdBegin = 4;
+    c.nearIdEnd = 8;
+    return c;
+}
+
+RenderOutput handMadeOutput(std::vector<uint32_t> ids, std::vector<uint32_t> hits)
+{
+    RenderOutput out;
+    out.aov.width = 2;
+    out.aov.height = 2;
+    out.aov.id = std::move(ids);
+    out.hitCount = std::move(hits);
+    return out;
+}
+
+TEST(StudyStressFailures, CountsCracksDoubleHitsAndEmptyPixelsHit)
+{
+    using D = PixelDemand;
+    StressCase c = handMadeCase({D::kCoverOnce, D::kCoverOnce, D::kEmpty, D::kFree});
+    StressFailures clean = countFailures(c, handMadeOutput({0, 1, EMPTY_ID, 3}, {1, 1, 0, 5}));
+    EXPECT_EQ(clean.total(), 0u);
+    StressFailures crack = countFailures(c, handMadeOutput({EMPTY_ID, 1, EMPTY_ID, 3}, {0, 1, 0, 0}));
+    EXPECT_EQ(crack.cracks, 1u);
+    EXPECT_EQ(crack.total(), 1u);
+    StressFailures twice = countFailures(c, handMadeOutput({0, 1, EMPTY_ID, 3}, {1, 2, 0, 0}));
+    EXPECT_EQ(twice.doubleHits, 1u);
+    EXPECT_EQ(twice.total(), 1u);
+    StressFailures spill = countFailures(c, handMadeOutput({0, 1, 2, 3}, {1, 1, 1, 0}));
+    EXPECT_EQ(spill.doubleHits, 1u);
+    EXPECT_EQ(spill.total(), 1u);
+    // A failed render (no pixels at all): every pixel that must be covered is a crack.
+    StressFailures nothing = countFailures(c, RenderOutput{});
+    EXPECT_EQ(nothing.cracks, 2u);
+    EXPECT_EQ(nothing.total(), 2u);
+}
+
+TEST(StudyStressFailures, CountsWrongIdsOnNearPixels)
+{
+    using D = PixelDemand;
+    StressCase c = handMadeCase({D::kNearId, D::kNearId, D::kNearId, D::kEmpty});
+    // Ids 4..7 are the nearer surface's; 3 and 8 lie just outside the range, EMPTY_ID is a crack.
+    StressFailures f = countFailures(c, handMadeOutput({4, 3, 8, EMPTY_ID}, {}));
+    EXPECT_EQ(f.wrongDepthOrder, 2u);
+    EXPECT_EQ(f.cracks, 0u);
+    StressFailures hole = countFailures(c, handMadeOutput({7, EMPTY_ID, 5, EMPTY_ID}, {}));
+    EXPECT_EQ(hole.cracks, 1u);
+    EXPECT_EQ(hole.total(), 1u);
+    // Without hit counts an empty pixel is read from its id.
+    StressFailures spill = countFailures(c, handMadeOutput({7, 6, 5, 0}, {}));
+    EXPECT_EQ(spill.doubleHits, 1u);
+    EXPECT_EQ(spill.total(), 1u);
+}
+
+}  // namespace
+}  // namespace sr::test
