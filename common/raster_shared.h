@@ -75,7 +75,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_SPLIT 10         // big triangles of more than one piece (their pieces need bin_count)
 #define COUNTER_POINTS 11        // points rasterized (not culled) by setup
 #define COUNTER_LINES 12         // line segments set up (not culled, not clipped away) by setup
-#define COUNTER_COUNT 13
+#define COUNTER_MAX_BIN 13       // the largest bin of a screen tile (written only when rasterChunk != 0)
+#define COUNTER_COUNT 14
 
 // Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
 // (compute_glsl/<name>.comp).
@@ -100,6 +101,12 @@ SR_NAMESPACE_BEGIN
 #define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
 #define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
+// Bin entries per raster_tiles work item on a CPU device at one sample per pixel. llvmpipe ends every
+// loop of a shader invocation after 65,535 iterations in all (its loop limiter), and one entry costs an
+// invocation up to about 35 loop iterations at 1x (more with more samples), so a group resolves at
+// most this many entries of a tile; the rest of the tile's bin goes to further groups, merged with
+// 64-bit atomicMin.
+#define RASTER_CPU_CHUNK 1024
 #define MAX_PIXELS_PER_LANE \
     (TILE_SIZE * TILE_SIZE / MIN_RASTER_LANES)  // pixels a raster_tiles invocation owns
 #define BIN_REF_RECORD 0x80000000u  // bin ref bit: the rest indexes BUF_SETUP_TRIS, else an input triangle
@@ -200,7 +207,7 @@ struct RasterParams {
     uint binCapacity;       // capacity of BUF_BIN_ENTRIES
     uint tilesX;            // screen tiles per row: ceil(width / TILE_SIZE)
     uint tilesY;            // screen tile rows: ceil(height / TILE_SIZE)
-    uint rasterGroups;      // groups raster_tiles runs; group g takes active tiles g, g + rasterGroups, ...
+    uint rasterGroups;      // groups raster_tiles runs; group g takes work items g, g + rasterGroups, ...
     uint debugFlags;        // DEBUG_* bits
     uint transformInSetup;  // 1: no vertex is shared, setup transforms positions itself (no vertex stage)
     uint binGroups;         // groups bin_count and bin_fill run; thread i takes pieces i, i + binGroups *
@@ -218,6 +225,8 @@ struct RasterParams {
     uint lineCount;         // segments in BUF_LINES (primitive ids triangleCount .. + lineCount - 1)
     float lineWidth;        // line width in pixels, 1..MAX_LINE_WIDTH, a multiple of 1/8
     float lineDepthBias;    // b: a line's window depth z is drawn as z - b (1 - z) (0 unless --wireframe)
+    uint rasterChunk;       // raster_tiles work item: 0 = a tile's whole bin (GPUs); else at most this many
+                            // bin entries (CPU devices, RASTER_CPU_CHUNK / sampleCount)
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -255,7 +264,7 @@ struct TriSetup {
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 29 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 30 * 4, "RasterParams must match std140");
 static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");

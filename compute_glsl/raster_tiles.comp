@@ -10,13 +10,20 @@
 // LANES is specialization constant 0: TILE_SIZE^2 on a GPU (one pixel per invocation, as the CUDA
 // twin), the SIMD width on a CPU device, where every invocation of a group that synchronizes becomes a
 // coroutine and fewer, longer invocations cost far less.
-// groups = RasterParams.rasterGroups: on a GPU one per tile active in the previous frame; on a CPU
-// device a few per thread (each group that synchronizes costs it about a microsecond). Group g takes
-// the active tiles g, g + rasterGroups, ...
+// groups = RasterParams.rasterGroups: one per work item of the previous frame. On a GPU a work item is an
+// active tile. On a CPU device (RASTER_TILES_CHUNKED, a second module, RasterParams.rasterChunk) it is
+// a chunk of at most rasterChunk entries of an active tile's bin, so that no invocation runs into
+// llvmpipe's loop limiter (65,535 loop iterations per invocation, after which every loop silently
+// ends); the chunks of one tile merge their keys with 64-bit atomicMin, and the host draws a frame
+// again if it had more work items than groups. Group g takes the items g, g + rasterGroups, ...
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
 #include "buffers.glsl"
+
+#ifndef RASTER_TILES_CHUNKED
+#define RASTER_TILES_CHUNKED 0
+#endif
 
 layout(local_size_x_id = 0) in;
 // Whether the alpha test of MASK materials is built in (SPEC_MATERIALS).
@@ -32,7 +39,12 @@ shared uint masked[TILE_SIZE * TILE_SIZE];  // TRI_FLAG_ALPHA_MASK of each: cove
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels' SAMPLES samples each.
 // Uniform across the group. Sample s of the invocation's j-th pixel has its key at j * SAMPLES + s.
+#if RASTER_TILES_CHUNKED
+// `merge`: other groups resolve other chunks of the tile's bin, so the keys merge with atomicMin.
+void rasterTile(uint tile, uint lane, uint begin, uint end, bool merge)
+#else
 void rasterTile(uint tile, uint lane, uint begin, uint end)
+#endif
 {
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
     int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
@@ -111,6 +123,13 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         if (px[j] < 0) continue;
         uint pixel = uint(py[j]) * params.width + uint(px[j]);
         for (uint s = 0u; s < SAMPLES; ++s) {
+#if RASTER_TILES_CHUNKED
+            if (merge) {
+                atomicMin(visibility[s * params.samplePlane + pixel], key[j * SAMPLES + s]);
+                if (countHits) atomicAdd(hitCount[s * params.samplePlane + pixel], hits[j * SAMPLES + s]);
+                continue;
+            }
+#endif
             visibility[s * params.samplePlane + pixel] = key[j * SAMPLES + s];
             if (countHits) hitCount[s * params.samplePlane + pixel] += hits[j * SAMPLES + s];
         }
@@ -121,10 +140,22 @@ void main()
 {
     uint lane = gl_LocalInvocationID.x;
     uint activeCount = counters[COUNTER_ACTIVE_TILES];
+#if RASTER_TILES_CHUNKED
+    uint chunks = rasterChunksPerTile(params.rasterChunk, counters[COUNTER_MAX_BIN]);
+    for (uint item = gl_WorkGroupID.x; item < activeCount * chunks; item += params.rasterGroups) {
+        uint tile = activeTiles[item / chunks];
+        uint begin = tile == 0u ? 0u : min(binEnd(tile - 1u), params.binCapacity);
+        uint end = min(binEnd(tile), params.binCapacity);
+        begin = min(end, begin + (item % chunks) * params.rasterChunk);
+        end = min(end, begin + params.rasterChunk);
+        if (begin < end) rasterTile(tile, lane, begin, end, chunks > 1u);
+    }
+#else
     for (uint index = gl_WorkGroupID.x; index < activeCount; index += params.rasterGroups) {
         uint tile = activeTiles[index];
         uint begin = tile == 0u ? 0u : min(binEnd(tile - 1u), params.binCapacity);
         uint end = min(binEnd(tile), params.binCapacity);
         if (begin < end) rasterTile(tile, lane, begin, end);
     }
+#endif
 }

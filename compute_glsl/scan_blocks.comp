@@ -21,5 +21,6 @@ void main()
     blockInclusiveScan(lane);
     if (i < count) tileBins[i] = partial[lane] - value;
     if (value > 0u) activeTiles[atomicAdd(counters[COUNTER_ACTIVE_TILES], 1u)] = i;
+    if (params.rasterChunk != 0u && value > 0u) atomicMax(counters[COUNTER_MAX_BIN], value);
     if (lane == uint(SCAN_GROUP_SIZE) - 1u) scanSums[gl_WorkGroupID.x] = partial[lane];
 }

@@ -16,6 +16,8 @@ __device__ inline void scanBlocksStage(const RasterParams& params, const Buffers
     blockInclusiveScan(partial, lane);
     if (i < count) b.tileBins[i] = partial[lane] - value;
     if (value > 0u) b.activeTiles[atomicAdd(&b.counters[COUNTER_ACTIVE_TILES], 1u)] = i;
+    // Only CPU devices split bins (RasterParams.rasterChunk); a CUDA device never does.
+    if (params.rasterChunk != 0u && value > 0u) atomicMax(&b.counters[COUNTER_MAX_BIN], value);
     if (lane == uint(SCAN_GROUP_SIZE) - 1u) b.scanSums[blockIdx.x] = partial[lane];
 }
 

@@ -311,6 +311,13 @@ SR_FN uint pieceCount(uint tiles)
     return (tiles + length - 1u) / length;
 }
 
+// raster_tiles work items per active tile: one (rasterChunk 0, GPUs), or as many chunks of rasterChunk
+// bin entries as the largest bin (maxBin, COUNTER_MAX_BIN) needs.
+SR_FN uint rasterChunksPerTile(uint rasterChunk, uint maxBin)
+{
+    return rasterChunk == 0u ? 1u : max(1u, (maxBin + rasterChunk - 1u) / rasterChunk);
+}
+
 // Largest value of edge function a->b (as edgeFunction) over the rectangle of subpixel positions
 // [lo, hi]: the function is linear, so its maximum sits at the corner it grows towards.
 SR_FN int64_t edgeMaxOverRect(ivec2 a, ivec2 b, ivec2 lo, ivec2 hi)

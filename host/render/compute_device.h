@@ -27,11 +27,6 @@ struct DeviceInfo {
     std::string name;     // device name as the API reports it
     std::string driver;   // driver / runtime version string
     bool isCpu = false;   // true for lavapipe and other CPU implementations
-    // Groups to launch for raster_tiles, which walk the active screen tiles rasterGroups apart. 0 (GPUs):
-    // one per tile that was active in the previous frame, so that the hardware balances the tiles
-    // and a frame of small triangles launches almost nothing. A CPU device pays about a microsecond
-    // per group that synchronizes and takes a fixed few per thread instead.
-    uint32_t rasterGroups = 0;
 };
 
 struct Dispatch {

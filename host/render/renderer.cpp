@@ -146,7 +146,8 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     glm::uvec2 grid = tileGrid(p.width, p.height);
     p.tilesX = grid.x;
     p.tilesY = grid.y;
-    p.rasterGroups = std::clamp(groups.raster, 1u, p.tilesX * p.tilesY);
+    p.rasterChunk = groups.rasterChunk;
+    p.rasterGroups = std::max(groups.raster, 1u);
     p.binGroups = std::clamp(groups.bin, 1u, std::max(groupsFor(capacities.pieces, GROUP_SIZE), 1u));
     p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
     p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
@@ -290,12 +291,16 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     // What each frame runs follows the previous frame (FrameWork). The group counts of the stages that
     // walk device-counted lists only balance the work (any count renders correctly: the threads stride
     // over the lists): for bin_count and bin_fill one thread per piece it had (one per piece of capacity
-    // at first), for raster_tiles the device's fixed count or (GPUs) one group per tile it had active
-    // (all at first). The binning stages run only if it had big triangles, bin_count only if it had
-    // triangles of several pieces; a frame that needed a skipped stage is drawn again.
+    // at first), for raster_tiles one group per work item it had (a tile on a GPU, a chunk of a tile's
+    // bin on a CPU device; every tile at first). The binning stages run only if it had big triangles,
+    // bin_count only if it had triangles of several pieces; a frame that needed a skipped stage is drawn
+    // again. On a CPU device a frame with more raster_tiles work items than groups is drawn again too:
+    // there a group must not walk several items, or its loops would pass llvmpipe's loop limiter
+    // (RASTER_CPU_CHUNK).
     FrameWork work;
-    work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE)};
-    if (device.info().rasterGroups) work.groups.raster = device.info().rasterGroups;
+    const uint32_t rasterChunk =
+        device.info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
+    work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE), rasterChunk};
     work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
     work.alphaTest =
         !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
@@ -312,11 +317,17 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
         std::vector<double> gpuMs;
         SR_TRY(device.run(params, dispatches, gpuMs));
         SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
-        bool skippedNeeded =
-            (!work.binBig && counters[COUNTER_BIG] > 0) || (!work.countSplit && counters[COUNTER_SPLIT] > 0);
+        const uint64_t items = uint64_t(counters[COUNTER_ACTIVE_TILES]) *
+                               rasterChunksPerTile(rasterChunk, counters[COUNTER_MAX_BIN]);
+        if (items >= (uint64_t(1) << 31))
+            return makeError(ExitCode::Runtime, "too much raster work: {} raster_tiles work items", items);
+        const auto rasterItems = uint32_t(items);
+        bool skippedNeeded = (!work.binBig && counters[COUNTER_BIG] > 0) ||
+                             (!work.countSplit && counters[COUNTER_SPLIT] > 0) ||
+                             (rasterChunk != 0 && work.binBig && rasterItems > work.groups.raster);
         work.binBig = counters[COUNTER_BIG] > 0;
         work.countSplit = counters[COUNTER_SPLIT] > 0;
-        if (!device.info().rasterGroups) work.groups.raster = counters[COUNTER_ACTIVE_TILES];
+        work.groups.raster = std::max(rasterItems, 1u);
         work.groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacity.pieces), GROUP_SIZE);
         if (counters[COUNTER_WORK_OVERFLOW])
             return makeError(ExitCode::Runtime,

@@ -72,8 +72,9 @@ struct ListCapacities {
 
 // Groups of the stages that walk device-counted lists (RasterParams.binGroups, rasterGroups).
 struct GroupCounts {
-    uint32_t raster = 0;  // raster_tiles
-    uint32_t bin = 0;     // bin_count and bin_fill
+    uint32_t raster = 0;       // raster_tiles
+    uint32_t bin = 0;          // bin_count and bin_fill
+    uint32_t rasterChunk = 0;  // RasterParams.rasterChunk: 0 on GPUs, bin entries per work item on a CPU
 };
 
 // Which stages a frame runs, decided from the previous frame (all of them in the first): the binning

@@ -38,6 +38,7 @@ namespace {
 #include "scan_sums.spv.h"
 #include "setup.spv.h"
 #include "setup_lines_points.spv.h"
+#include "raster_tiles_chunked.spv.h"
 #include "shade.spv.h"
 #include "vertex.spv.h"
 
@@ -61,9 +62,8 @@ const StageSpirv kStageSpirv[] = {
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
 // setup with the line and point paths (SETUP_LINES_POINTS), for scenes that have lines or points.
 const StageSpirv kSetupLinesPointsSpirv = {kSpv_setup_lines_points, sizeof kSpv_setup_lines_points};
-
-// raster_tiles groups on a CPU device (DeviceInfo::rasterGroups): a few per thread balance the load.
-constexpr uint32_t kCpuRasterGroups = 64;
+// raster_tiles resolving bins in chunks (RASTER_TILES_CHUNKED), for CPU devices.
+const StageSpirv kRasterTilesChunkedSpirv = {kSpv_raster_tiles_chunked, sizeof kSpv_raster_tiles_chunked};
 
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -180,7 +180,6 @@ Status VulkanDevice::init(int index)
 {
     SR_TRY(context_.init(index, QueueKind::Compute));
     info_ = context_.deviceInfo("vulkan");
-    info_.rasterGroups = info_.isCpu ? kCpuRasterGroups : 0;
     SR_TRY(createPipelines());
     // Host-visible so that run() writes the parameters directly; device-local where the device
     // offers such memory (resizable BAR), which makes the reads from every stage cheaper.
@@ -234,7 +233,9 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
         {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
-    const StageSpirv& spirv = build.linesPoints ? kSetupLinesPointsSpirv : kStageSpirv[stage];
+    const StageSpirv& spirv = build.linesPoints                            ? kSetupLinesPointsSpirv
+                              : stage == STAGE_RASTER_TILES && info_.isCpu ? kRasterTilesChunkedSpirv
+                                                                           : kStageSpirv[stage];
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
