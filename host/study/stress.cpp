@@ -150,6 +150,20 @@ Scene fanScene(glm::dvec2 hub, const std::vector<glm::dvec2>& rim, uint32_t size
     return scene;
 }
 
+// A closed fan around `hub` through `rim` at window depth 0.5, with the demand of its outline.
+StressCase fanCase(const std::string& axis, double x, glm::dvec2 hub, const std::vector<glm::dvec2>& rim,
+                   uint32_t size)
+{
+    StressCase c;
+    c.axis = axis;
+    c.x = x;
+    c.scene = fanScene(hub, rim, size, 0.5);
+    c.camera = clipCamera();
+    c.settings = stressSettings(size);
+    c.demand = outlineDemand(rim, size);
+    return c;
+}
+
 // Magnitude: a fan of 32 triangles around the viewport centre whose rim vertices lie on the circle of
 // radius R = 2^k px, k = 0..14 (rounded to the 1/256 grid; the first at angle 0.1 rad so that no rim
 // vertex sits on an axis). For k >= 6 the polygon holds the whole viewport: every pixel is kCoverOnce
@@ -169,14 +183,7 @@ std::vector<StressCase> magnitudeCases(uint32_t size)
             rim.push_back(
                 {onGrid(hub.x + radius * std::cos(angle)), onGrid(hub.y + radius * std::sin(angle))});
         }
-        StressCase c;
-        c.axis = "magnitude";
-        c.x = radius;
-        c.scene = fanScene(hub, rim, size, 0.5);
-        c.camera = clipCamera();
-        c.settings = stressSettings(size);
-        c.demand = outlineDemand(rim, size);
-        cases.push_back(std::move(c));
+        cases.push_back(fanCase("magnitude", radius, hub, rim, size));
     }
     return cases;
 }
@@ -205,14 +212,7 @@ std::vector<StressCase> sliverCases(uint32_t size)
             rim.push_back(p);
         }
         for (int i = n - 1; i > 0 && cross(rim[i], rim[0]) < 0.0; --i) rim[i] = rim[0];
-        StressCase c;
-        c.axis = "slivers";
-        c.x = n;
-        c.scene = fanScene(hub, rim, size, 0.5);
-        c.camera = clipCamera();
-        c.settings = stressSettings(size);
-        c.demand = outlineDemand(rim, size);
-        cases.push_back(std::move(c));
+        cases.push_back(fanCase("slivers", n, hub, rim, size));
     }
     return cases;
 }
