@@ -69,6 +69,14 @@ Edges uniqueEdges(const Scene& scene)
     return edges;
 }
 
+// The scene without its triangles (a display mode replaced them).
+void dropTriangles(Scene& scene)
+{
+    scene.indices.clear();
+    scene.triFlags.clear();
+    scene.triMaterials.clear();
+}
+
 }  // namespace
 
 Scene meshAsPoints(Scene scene)
@@ -95,9 +103,7 @@ Scene meshAsPoints(Scene scene)
     pointMaterials.insert(pointMaterials.end(), scene.pointMaterials.begin(), scene.pointMaterials.end());
     scene.points = std::move(points);
     scene.pointMaterials = std::move(pointMaterials);
-    scene.indices.clear();
-    scene.triFlags.clear();
-    scene.triMaterials.clear();
+    dropTriangles(scene);
     return scene;
 }
 
@@ -113,9 +119,7 @@ Scene meshAsLines(Scene scene)
     lineMaterials.insert(lineMaterials.end(), scene.lineMaterials.begin(), scene.lineMaterials.end());
     scene.lines = std::move(edges.lines);
     scene.lineMaterials = std::move(lineMaterials);
-    scene.indices.clear();
-    scene.triFlags.clear();
-    scene.triMaterials.clear();
+    dropTriangles(scene);
     return scene;
 }
 

@@ -150,6 +150,21 @@ Scene fanScene(glm::dvec2 hub, const std::vector<glm::dvec2>& rim, uint32_t size
     return scene;
 }
 
+// The two triangles of the grid cell whose top-left vertex is `a` in a grid `cols` vertices wide, split
+// along one diagonal or (`flip`) the other: alternating them makes shared edges run both ways across
+// the screen.
+void addGridCell(Scene& scene, uint32_t a, uint32_t cols, bool flip)
+{
+    uint32_t b = a + 1, d = a + cols, c = d + 1;
+    if (!flip) {
+        addTriangle(scene, a, b, c);
+        addTriangle(scene, a, c, d);
+    } else {
+        addTriangle(scene, a, b, d);
+        addTriangle(scene, b, c, d);
+    }
+}
+
 // A closed fan around `hub` through `rim` at window depth 0.5, with the demand of its outline.
 StressCase fanCase(const std::string& axis, double x, glm::dvec2 hub, const std::vector<glm::dvec2>& rim,
                    uint32_t size)
@@ -249,15 +264,7 @@ std::vector<StressCase> nearCases(uint32_t size)
             }
         for (uint32_t j = 0; j + 1 < depths.size(); ++j)
             for (uint32_t i = 0; i + 1 < cols; ++i) {
-                uint32_t a = j * cols + i, b = a + 1, dd = a + cols, cc = dd + 1;
-                // Alternating diagonals, so shared edges run both ways across the screen.
-                if ((i + j) % 2 == 0) {
-                    addTriangle(scene, a, b, cc);
-                    addTriangle(scene, a, cc, dd);
-                } else {
-                    addTriangle(scene, a, b, dd);
-                    addTriangle(scene, b, cc, dd);
-                }
+                addGridCell(scene, j * cols + i, cols, (i + j) % 2 != 0);
             }
         computeBounds(scene);
         // The outline's corners projected in double with the camera's own (float) matrix entries.
@@ -300,14 +307,7 @@ std::vector<StressCase> coplanarCases(uint32_t size)
                               windowToClip({onGrid(lo + i * step), onGrid(lo + j * step)}, size, depth));
             for (int j = 0; j < cells; ++j)
                 for (int i = 0; i < cells; ++i) {
-                    uint32_t a = base + j * (cells + 1) + i, b = a + 1, dd = a + cells + 1, cc = dd + 1;
-                    if ((i + j) % 2 == 0) {
-                        addTriangle(scene, a, b, cc);
-                        addTriangle(scene, a, cc, dd);
-                    } else {
-                        addTriangle(scene, a, b, dd);
-                        addTriangle(scene, b, cc, dd);
-                    }
+                    addGridCell(scene, base + j * (cells + 1) + i, cells + 1, (i + j) % 2 != 0);
                 }
         }
         computeBounds(scene);

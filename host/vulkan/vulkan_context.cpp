@@ -250,6 +250,24 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags srcStages, VkAccess
     vkCmdPipelineBarrier(cmd, srcStages, dstStages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
+Status createSingleSet(VkDevice device, const VkDescriptorPoolSize* sizes, uint32_t sizeCount,
+                       VkDescriptorSetLayout layout, VkDescriptorPool& pool, VkDescriptorSet& set)
+{
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = sizeCount;
+    poolInfo.pPoolSizes = sizes;
+    SR_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout;
+    SR_VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
+    return okStatus();
+}
+
 Status validationStatus(ValidationLog& log)
 {
     std::lock_guard<std::mutex> lock(log.mutex);
@@ -479,20 +497,7 @@ Status VulkanContext::createDescriptorObjects()
 
     VkDescriptorPoolSize poolSizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, BUF_COUNT - 1}};
-    VkDescriptorPoolCreateInfo poolInfo{};
-    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 2;
-    poolInfo.pPoolSizes = poolSizes;
-    SR_VK_CHECK(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &descriptorPool_));
-
-    VkDescriptorSetAllocateInfo setAlloc{};
-    setAlloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    setAlloc.descriptorPool = descriptorPool_;
-    setAlloc.descriptorSetCount = 1;
-    setAlloc.pSetLayouts = &setLayout_;
-    SR_VK_CHECK(vkAllocateDescriptorSets(device_, &setAlloc, &descriptorSet_));
-    return okStatus();
+    return createSingleSet(device_, poolSizes, 2, setLayout_, descriptorPool_, descriptorSet_);
 }
 
 Status VulkanContext::createCommandObjects()

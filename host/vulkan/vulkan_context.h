@@ -52,6 +52,10 @@ constexpr VkDeviceSize kMinBufferBytes = 16;
 
 VkDeviceSize roundUp(VkDeviceSize value, VkDeviceSize multiple);
 
+// A descriptor pool sized for exactly one set of `layout` (its bindings' counts in `sizes`) and that set.
+Status createSingleSet(VkDevice device, const VkDescriptorPoolSize* sizes, uint32_t sizeCount,
+                       VkDescriptorSetLayout layout, VkDescriptorPool& pool, VkDescriptorSet& set);
+
 // A global memory barrier: everything the backends synchronize is a whole buffer or a whole image
 // outside of layout transitions.
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags srcStages, VkAccessFlags srcAccess,

@@ -250,25 +250,6 @@ struct FormatNeed {
     const char* name;
 };
 
-// A descriptor pool sized for exactly one set of `layout` (its bindings' counts in `sizes`) and that set.
-Status createSingleSet(VkDevice device, const VkDescriptorPoolSize* sizes, uint32_t sizeCount,
-                       VkDescriptorSetLayout layout, VkDescriptorPool& pool, VkDescriptorSet& set)
-{
-    VkDescriptorPoolCreateInfo poolInfo{};
-    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = sizeCount;
-    poolInfo.pPoolSizes = sizes;
-    SR_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &layout;
-    SR_VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
-    return okStatus();
-}
-
 // A one-line Usage error for the first need the context's device does not meet.
 Status checkFormats(const VulkanContext& ctx, std::initializer_list<FormatNeed> needs)
 {
