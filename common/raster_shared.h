@@ -51,13 +51,14 @@ SR_NAMESPACE_BEGIN
 #define BUF_HIT_COUNT 16    // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
 #define BUF_MATERIALS 17    // GpuMaterial per scene material (RasterParams.materialCount of them)
 #define BUF_TRI_MATERIALS \
-    18                     // uint per primitive id (triangles, lines, points): its material (if materialCount)
-#define BUF_TEXCOORDS 19   // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
-#define BUF_TEXTURES 20    // GpuTexture per texture
-#define BUF_TEXELS 21      // uint per texel, RGBA8 (R in the low byte): every level of every texture
+    18                    // uint per primitive id (triangles, lines, points): its material (if materialCount)
+#define BUF_TEXCOORDS 19  // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
+#define BUF_TEXTURES 20   // GpuTexture per texture
+#define BUF_TEXELS 21     // uint per texel, RGBA8 (R in the low byte): every level of every texture
 #define BUF_SRGB_TABLE 22  // float[256]: the linear value of each sRGB-encoded byte (decode table)
 #define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + lineCount + k)
-#define BUF_LINES 24       // uint pair per line segment: its two vertices (segment k is primitive triangleCount + k)
+#define BUF_LINES \
+    24  // uint pair per line segment: its two vertices (segment k is primitive triangleCount + k)
 #define BUF_COUNT 25
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
@@ -165,6 +166,18 @@ SR_NAMESPACE_BEGIN
 // Specialization constant of shade (Vulkan): false builds only the one-sample-per-pixel path, the build
 // a frame without MSAA and SSAA runs (a CPU device would otherwise run the resolve loops too, masked).
 #define SPEC_RESOLVE 3
+// Raster methods (--raster-method; a build selector like SPEC_MATERIALS: GLSL preprocessor definition
+// RASTER_METHOD of setup, bin_count, bin_fill and raster_tiles, CUDA template argument). Plain integers,
+// so that the GLSL preprocessor can compare them. common/shared/methods.h has the three alternatives.
+#define RASTER_FIXED8 0    // vertices snapped to 1/256 px, exact int64 edge functions, top-left rule
+#define RASTER_FIXED4 1    // the same rule with vertices snapped to 1/16 px (cudaraster, older hardware)
+#define RASTER_FLOAT 2     // float window positions, float edge functions, barycentrics >= -FLOAT_EPSILON
+#define RASTER_SCANLINE 3  // float window positions, per-row float span ends, half-open rows and spans
+#define RASTER_METHOD_COUNT 4
+// The float method's tolerance on each barycentric coordinate (edge function / area): a sample counts
+// as inside when every coordinate is at least -FLOAT_EPSILON, so that rounding does not open cracks
+// between triangles of ordinary shape (methods.h derives where it stops being enough).
+#define FLOAT_EPSILON 1.52587890625e-5f  // 2^-16
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
 #define CULL_NONE 0u
@@ -220,13 +233,13 @@ struct RasterParams {
     uint sampleBounds;      // sampleBoundsOf(sampleCount): the pattern's extent within a pixel
     uint ssaa;              // SSAA factor N: width x height is the raster grid, N times the output's per side
     uint samplePlane;       // width * height: the stride of BUF_VISIBILITY's sample planes
-    uint pointCount;        // entries in BUF_POINTS; setup runs triangleCount + lineCount + pointCount threads
-    float pointSize;        // point side in pixels, 1..MAX_POINT_SIZE
-    uint lineCount;         // segments in BUF_LINES (primitive ids triangleCount .. + lineCount - 1)
-    float lineWidth;        // line width in pixels, 1..MAX_LINE_WIDTH, a multiple of 1/8
-    float lineDepthBias;    // b: a line's window depth z is drawn as z - b (1 - z) (0 unless --wireframe)
-    uint rasterChunk;       // raster_tiles work item: 0 = a tile's whole bin (GPUs); else at most this many
-                            // bin entries (CPU devices, RASTER_CPU_CHUNK / sampleCount)
+    uint pointCount;      // entries in BUF_POINTS; setup runs triangleCount + lineCount + pointCount threads
+    float pointSize;      // point side in pixels, 1..MAX_POINT_SIZE
+    uint lineCount;       // segments in BUF_LINES (primitive ids triangleCount .. + lineCount - 1)
+    float lineWidth;      // line width in pixels, 1..MAX_LINE_WIDTH, a multiple of 1/8
+    float lineDepthBias;  // b: a line's window depth z is drawn as z - b (1 - z) (0 unless --wireframe)
+    uint rasterChunk;     // raster_tiles work item: 0 = a tile's whole bin (GPUs); else at most this many
+                          // bin entries (CPU devices, RASTER_CPU_CHUNK / sampleCount)
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -278,6 +291,7 @@ SR_NAMESPACE_END
 #include "shared/clip.h"
 #include "shared/setup.h"
 #include "shared/raster.h"
+#include "shared/methods.h"
 #include "shared/texture.h"
 #include "shared/shade.h"
 

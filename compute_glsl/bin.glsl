@@ -15,7 +15,7 @@ void binTiles(TriSetup t, ivec4 bounds, uint ref, uint first, uint end, bool fil
     for (uint k = first; k < end; ++k) {
         int tx = rect.x + int(k % cols);
         int ty = rect.y + int(k / cols);
-        if (!triangleTouchesTile(t, bounds, tx, ty, params.sampleBounds)) continue;
+        if (!methodTouchesTile(t, bounds, tx, ty, params.sampleBounds)) continue;
         uint tile = uint(ty) * params.tilesX + uint(tx);
         if (fill) {
             uint slot = scanSums[tile / uint(SCAN_GROUP_SIZE)] + atomicAdd(tileBins[tile], 1u);
@@ -35,7 +35,7 @@ void binPieces(bool fill)
         if (!fill && (piece.y & PIECE_COUNTED) != 0u) continue;
         TriSetup t;
         if (!loadBinTriangle(piece.x, t)) continue;
-        ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
+        ivec4 bounds = methodPixelBounds(t, params.width, params.height, params.sampleBounds);
         uint tiles = tileCount(bounds);
         uint first = piece.y & ~PIECE_COUNTED;
         binTiles(t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles), fill);

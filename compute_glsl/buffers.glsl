@@ -6,6 +6,8 @@
 
 #extension GL_EXT_shader_atomic_int64 : require
 
+#include "method.glsl"
+
 layout(std140, set = 0, binding = BUF_PARAMS) uniform ParamsBlock { RasterParams params; };
 layout(std430, set = 0, binding = BUF_POSITIONS) readonly buffer PositionsBlock { vec4 positions[]; };
 layout(std430, set = 0, binding = BUF_NORMALS) readonly buffer NormalsBlock { vec4 normals[]; };
@@ -91,8 +93,8 @@ bool loadBinTriangle(uint ref, out TriSetup t)
         t = setupTris[0];
         return false;
     }
-    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height,
-                         params.sampleBounds, t);
+    return methodSetupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height,
+                               params.sampleBounds, t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

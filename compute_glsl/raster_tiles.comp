@@ -88,7 +88,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 if (minDepth[k] == 0xFFFFFFFFu || (!countHits && farthest[j] < minDepth[k])) continue;
                 uint id = setupTriId(tris[k]);
                 if (SAMPLES == 1u) {
-                    if (rasterPixel(tris[k], px[j], py[j], depth[0]) &&
+                    if (methodPixel(tris[k], px[j], py[j], depth[0]) &&
                         (!MATERIALS || masked[k] == 0u || alphaMaskCovers(id, px[j], py[j]))) {
                         key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
                         farthest[j] = uint(key[j * SAMPLES] >> 32);
@@ -98,11 +98,11 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 }
                 // One test of the pixel's sample rectangle rejects most uncovered pixels at the cost of
                 // one sample's edge functions.
-                if (!triangleTouchesPixels(tris[k], px[j], py[j], px[j], py[j], params.sampleBounds))
+                if (!methodTouchesPixels(tris[k], px[j], py[j], px[j], py[j], params.sampleBounds))
                     continue;
                 uint mask = 0u;
                 for (uint s = 0u; s < SAMPLES; ++s)
-                    if (rasterSample(tris[k], samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
+                    if (methodSample(tris[k], samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
                         mask |= 1u << s;
                 // The alpha test runs once per pixel, at its centre, as hardware shades a pixel.
                 if (mask == 0u || (MATERIALS && masked[k] != 0u && !alphaMaskCovers(id, px[j], py[j])))

@@ -33,7 +33,7 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 // written past a capacity.
 void emitTriangle(TriSetup t, bool clipped)
 {
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
+    ivec4 bounds = methodPixelBounds(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
@@ -45,7 +45,7 @@ void emitTriangle(TriSetup t, bool clipped)
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
-                    if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
+                    if (methodPixel(t, x, y, depth) && (!masked || alphaMaskCovers(id, x, y)))
                         mergeFragment(uint(y) * params.width + uint(x), depth, id);
                 }
             }
@@ -55,12 +55,12 @@ void emitTriangle(TriSetup t, bool clipped)
         // test runs once per pixel, at its centre, as hardware shades a pixel.
         for (int y = bounds.y; y <= bounds.w; ++y) {
             for (int x = bounds.x; x <= bounds.z; ++x) {
-                uint mask = pixelCoverage(t, SAMPLES, x, y);
+                uint mask = methodCoverage(t, SAMPLES, x, y);
                 if (mask == 0u || (masked && !alphaMaskCovers(id, x, y))) continue;
                 uint pixel = uint(y) * params.width + uint(x);
                 for (uint s = 0u; s < SAMPLES; ++s) {
                     float depth;
-                    if ((mask & (1u << s)) != 0u && rasterSample(t, samplePosition(SAMPLES, s, x, y), depth))
+                    if ((mask & (1u << s)) != 0u && methodSample(t, samplePosition(SAMPLES, s, x, y), depth))
                         mergeFragment(s * params.samplePlane + pixel, depth, id);
                 }
             }
@@ -149,8 +149,8 @@ void setupLineSegment(uint k)
         setupLine(a, b, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
         for (uint side = 0u; side < 2u; ++side) {
             TriSetup t;
-            if (setupLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
-                                  params.sampleBounds, t)) {
+            if (setupLineTriangle(q, side, params.triangleCount + k, RASTER_METHOD >= RASTER_FLOAT, params.width,
+                                  params.height, params.sampleBounds, t)) {
                 emitTriangle(t, true);
                 ++emitted;
             }
@@ -190,8 +190,8 @@ void main()
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, params.sampleBounds, t)) {
+        if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                                params.height, params.sampleBounds, t)) {
             emitTriangle(t, kind == PREPARE_CLIPPED);
             ++emitted;
         }

@@ -7,7 +7,7 @@
 // PIECE_COUNTED); bin_count sets up and counts the pieces of larger triangles.
 namespace sr {
 
-template <bool kFill>
+template <bool kFill, uint kMethod>
 __device__ inline void binTiles(const RasterParams& params, const Buffers& b, const TriSetup& t, ivec4 bounds,
                                 uint ref, uint first, uint end)
 {
@@ -16,7 +16,7 @@ __device__ inline void binTiles(const RasterParams& params, const Buffers& b, co
     for (uint k = first; k < end; ++k) {
         int tx = rect.x + int(k % cols);
         int ty = rect.y + int(k / cols);
-        if (!triangleTouchesTile(t, bounds, tx, ty, params.sampleBounds)) continue;
+        if (!methodTouchesTile<kMethod>(t, bounds, tx, ty, params.sampleBounds)) continue;
         uint tile = uint(ty) * params.tilesX + uint(tx);
         if (kFill) {
             uint slot = b.scanSums[tile / uint(SCAN_GROUP_SIZE)] + atomicAdd(&b.tileBins[tile], 1u);
@@ -28,7 +28,7 @@ __device__ inline void binTiles(const RasterParams& params, const Buffers& b, co
 }
 
 // One thread per piece, striding over the pieces; blocks = RasterParams.binGroups.
-template <bool kFill>
+template <bool kFill, uint kMethod>
 __device__ inline void binPieces(const RasterParams& params, const Buffers& b)
 {
     uint count = min(b.counters[COUNTER_PIECES], params.pieceCapacity);
@@ -36,11 +36,11 @@ __device__ inline void binPieces(const RasterParams& params, const Buffers& b)
         uvec2 piece = b.pieces[i];
         if (!kFill && (piece.y & PIECE_COUNTED) != 0u) continue;
         TriSetup t;
-        if (!loadBinTriangle(params, b, piece.x, t)) continue;
-        ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
+        if (!loadBinTriangle<kMethod>(params, b, piece.x, t)) continue;
+        ivec4 bounds = methodPixelBounds<kMethod>(t, params.width, params.height, params.sampleBounds);
         uint tiles = tileCount(bounds);
         uint first = piece.y & ~PIECE_COUNTED;
-        binTiles<kFill>(params, b, t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles));
+        binTiles<kFill, kMethod>(params, b, t, bounds, piece.x, first, min(first + pieceTiles(tiles), tiles));
     }
 }
 

@@ -3,9 +3,10 @@
 // One thread per piece, striding; blocks = RasterParams.binGroups.
 namespace sr {
 
+template <uint kMethod>
 __device__ inline void binCountStage(const RasterParams& params, const Buffers& b)
 {
-    binPieces<false>(params, b);
+    binPieces<false, kMethod>(params, b);
 }
 
 }  // namespace sr

@@ -4,9 +4,10 @@
 // One thread per piece, striding; blocks = RasterParams.binGroups.
 namespace sr {
 
+template <uint kMethod>
 __device__ inline void binFillStage(const RasterParams& params, const Buffers& b)
 {
-    binPieces<true>(params, b);
+    binPieces<true, kMethod>(params, b);
 }
 
 }  // namespace sr

@@ -5,6 +5,7 @@
 #define RASTER_CUDA_BUFFERS_CUH
 
 #include "raster_shared.h"
+#include "method.cuh"
 
 namespace sr {
 
@@ -77,6 +78,7 @@ __device__ inline bool loadClipLine(const RasterParams& params, const Buffers& b
 // The big triangle a bin ref names: a stored record, or an unclipped input triangle set up again from
 // the scene exactly as setup did (same function, same bits; setup already culled it, so facing needs
 // no second look). False for a ref setup would never have written (a slot of an overflowed frame).
+template <uint kMethod>
 __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers& b, uint ref, TriSetup& t)
 {
     if ((ref & BIN_REF_RECORD) != 0u) {
@@ -87,8 +89,8 @@ __device__ inline bool loadBinTriangle(const RasterParams& params, const Buffers
     if (ref >= params.triangleCount) return false;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, ref, c0, c1, c2)) return false;
-    return setupTriangle(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height, params.sampleBounds,
-                         t);
+    return methodSetupTriangle<kMethod>(c0, c1, c2, ref, true, CULL_NONE, params.width, params.height,
+                                        params.sampleBounds, t);
 }
 
 // End of screen tile `tile`'s bin in binEntries, once bin_fill has run (its start is the previous tile's

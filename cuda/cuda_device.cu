@@ -107,8 +107,8 @@ public:
         // between stages that the interface promises.
         for (size_t i = 0; i < dispatches.size(); ++i) {
             CUDA_TRY(cudaEventRecord(events_[2 * i], stream_));
-            CUDA_TRY(launchStage(dispatches[i].stage, dispatches[i].groups, dispatches[i].alphaTest, params,
-                                 b, stream_));
+            CUDA_TRY(launchStage(dispatches[i].stage, dispatches[i].groups, dispatches[i].alphaTest,
+                                 dispatches[i].rasterMethod, params, b, stream_));
             CUDA_TRY(cudaEventRecord(events_[2 * i + 1], stream_));
         }
         CUDA_TRY(cudaStreamSynchronize(stream_));

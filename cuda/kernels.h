@@ -12,9 +12,15 @@ namespace sr {
 uint stageBlockSize(uint stage);
 
 // Enqueues `blocks` blocks of stage `stage` on `stream`, for setup and raster_tiles the build with the
-// alpha test when `alphaTest` (Dispatch::alphaTest); returns the launch error, if any.
-cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, const RasterParams& params,
-                        const Buffers& buffers, cudaStream_t stream);
+// alpha test when `alphaTest` (Dispatch::alphaTest), for setup, bin_count, bin_fill and raster_tiles the
+// build of raster method `rasterMethod` (Dispatch::rasterMethod); returns the launch error, if any.
+cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, uint rasterMethod,
+                        const RasterParams& params, const Buffers& buffers, cudaStream_t stream);
+
+// The launch of the stages a raster method changes, for method kMethod (kernels.cuh).
+template <uint kMethod>
+cudaError_t launchMethodStage(uint stage, uint blocks, bool alphaTest, const RasterParams& params,
+                              const Buffers& buffers, cudaStream_t stream);
 
 }  // namespace sr
 

@@ -18,7 +18,7 @@ constexpr uint kPixelsPerLane = TILE_SIZE * TILE_SIZE / kLanes;  // 1: the GLSL 
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels' kSamples samples each
 // (RasterParams.sampleCount). Uniform across the block.
-template <bool kMaterials, uint kSamples>
+template <bool kMaterials, uint kSamples, uint kMethod>
 __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, uint tile, uint lane,
                                   uint begin, uint end)
 {
@@ -49,7 +49,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
         uint count = min(end - base, kLanes);
         if (lane < count) {
             TriSetup t;
-            bool ok = loadBinTriangle(params, b, b.binEntries[base + lane], t);
+            bool ok = loadBinTriangle<kMethod>(params, b, b.binEntries[base + lane], t);
             tris[lane] = t;
             minDepth[lane] = ok ? triangleMinDepthBits(t) : 0xFFFFFFFFu;
             if (kMaterials)
@@ -67,7 +67,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
                 uint id = setupTriId(tris[k]);
                 if (kSamples == 1u) {
                     float depth;
-                    if (rasterPixel(tris[k], px[j], py[j], depth) &&
+                    if (methodPixel<kMethod>(tris[k], px[j], py[j], depth) &&
                         (!kMaterials || masked[k] == 0u || alphaMaskCovers(params, b, id, px[j], py[j]))) {
                         key[j][0] = min(key[j][0], packVisibility(depth, id));
                         farthest[j] = uint(key[j][0] >> 32);
@@ -77,12 +77,12 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
                 }
                 // One test of the pixel's sample rectangle rejects most uncovered pixels at the cost of
                 // one sample's edge functions.
-                if (!triangleTouchesPixels(tris[k], px[j], py[j], px[j], py[j], params.sampleBounds))
+                if (!methodTouchesPixels<kMethod>(tris[k], px[j], py[j], px[j], py[j], params.sampleBounds))
                     continue;
                 float depth[kSamples];
                 uint mask = 0u;
                 for (uint s = 0u; s < kSamples; ++s)
-                    if (rasterSample(tris[k], samplePosition(kSamples, s, px[j], py[j]), depth[s]))
+                    if (methodSample<kMethod>(tris[k], samplePosition(kSamples, s, px[j], py[j]), depth[s]))
                         mask |= 1u << s;
                 // The alpha test runs once per pixel, at its centre, as hardware shades a pixel.
                 if (mask == 0u ||
@@ -110,7 +110,7 @@ __device__ inline void rasterTile(const RasterParams& params, const Buffers& b, 
     }
 }
 
-template <bool kMaterials, uint kSamples>
+template <bool kMaterials, uint kSamples, uint kMethod>
 __device__ inline void rasterTilesStage(const RasterParams& params, const Buffers& b)
 {
     uint lane = threadIdx.x;
@@ -119,7 +119,7 @@ __device__ inline void rasterTilesStage(const RasterParams& params, const Buffer
         uint tile = b.activeTiles[index];
         uint begin = tile == 0u ? 0u : min(binEnd(b, tile - 1u), params.binCapacity);
         uint end = min(binEnd(b, tile), params.binCapacity);
-        if (begin < end) rasterTile<kMaterials, kSamples>(params, b, tile, lane, begin, end);
+        if (begin < end) rasterTile<kMaterials, kSamples, kMethod>(params, b, tile, lane, begin, end);
     }
 }
 }  // namespace sr

@@ -14,11 +14,11 @@ namespace sr {
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
-template <bool kMaterials, bool kMultisample, bool kLinesPoints>
+template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b, const TriSetup& t,
                                     bool clipped)
 {
-    ivec4 bounds = setupPixelBounds(t, params.width, params.height, params.sampleBounds);
+    ivec4 bounds = methodPixelBounds<kMethod>(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
     if (isSmallTriangle(bounds)) {
         atomicAdd(&b.counters[COUNTER_SMALL], 1u);
@@ -30,7 +30,8 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
-                    if (rasterPixel(t, x, y, depth) && (!masked || alphaMaskCovers(params, b, id, x, y)))
+                    if (methodPixel<kMethod>(t, x, y, depth) &&
+                        (!masked || alphaMaskCovers(params, b, id, x, y)))
                         mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
                 }
             }
@@ -39,13 +40,13 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
             // alpha test runs once per pixel, at its centre, as hardware shades a pixel.
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
-                    uint mask = pixelCoverage(t, params.sampleCount, x, y);
+                    uint mask = methodCoverage<kMethod>(t, params.sampleCount, x, y);
                     if (mask == 0u || (masked && !alphaMaskCovers(params, b, id, x, y))) continue;
                     uint pixel = uint(y) * params.width + uint(x);
                     for (uint s = 0u; s < params.sampleCount; ++s) {
                         float depth;
                         if ((mask & (1u << s)) != 0u &&
-                            rasterSample(t, samplePosition(params.sampleCount, s, x, y), depth))
+                            methodSample<kMethod>(t, samplePosition(params.sampleCount, s, x, y), depth))
                             mergeFragment(params, b, s * params.samplePlane + pixel, depth, id);
                     }
                 }
@@ -69,7 +70,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     if (n == 1u) {  // counted here, while the triangle is at hand; bin_count skips the piece
         if (base >= params.pieceCapacity) return;  // counts must match what bin_fill will find
         b.pieces[base] = uvec2(ref, PIECE_COUNTED);
-        binTiles<false>(params, b, t, bounds, ref, 0u, tiles);
+        binTiles<false, kMethod>(params, b, t, bounds, ref, 0u, tiles);
         return;
     }
     atomicAdd(&b.counters[COUNTER_SPLIT], 1u);
@@ -116,7 +117,7 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
 
 // Sets up line segment k (primitive triangleCount + k): clipped like a triangle, snapped, and drawn as
 // its rectangle's two triangles, which are never named by input index (they are not input triangles).
-template <bool kMaterials, bool kMultisample>
+template <bool kMaterials, bool kMultisample, uint kMethod>
 __device__ inline void setupLineSegment(const RasterParams& params, const Buffers& b, uint k)
 {
     vec4 c0, c1;
@@ -138,9 +139,9 @@ __device__ inline void setupLineSegment(const RasterParams& params, const Buffer
         setupLine(a, e, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
         for (uint side = 0u; side < 2u; ++side) {
             TriSetup t;
-            if (setupLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
-                                  params.sampleBounds, t)) {
-                emitTriangle<kMaterials, kMultisample, true>(params, b, t, true);
+            if (setupLineTriangle(q, side, params.triangleCount + k, kMethod >= RASTER_FLOAT, params.width,
+                                  params.height, params.sampleBounds, t)) {
+                emitTriangle<kMaterials, kMultisample, true, kMethod>(params, b, t, true);
                 ++emitted;
             }
         }
@@ -149,7 +150,7 @@ __device__ inline void setupLineSegment(const RasterParams& params, const Buffer
 }
 
 // kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp).
-template <bool kMaterials, bool kMultisample, bool kLinesPoints>
+template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
     uint tri = globalThreadId();
@@ -157,7 +158,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         if constexpr (kLinesPoints) {
             uint k = tri - params.triangleCount;
             if (k < params.lineCount)
-                setupLineSegment<kMaterials, kMultisample>(params, b, k);
+                setupLineSegment<kMaterials, kMultisample, kMethod>(params, b, k);
             else if (k < params.lineCount + params.pointCount)
                 rasterPoint<kMultisample>(params, b, k - params.lineCount);
         }
@@ -180,9 +181,10 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        if (setupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                          params.height, params.sampleBounds, t)) {
-            emitTriangle<kMaterials, kMultisample, kLinesPoints>(params, b, t, kind == PREPARE_CLIPPED);
+        if (methodSetupTriangle<kMethod>(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode,
+                                         params.width, params.height, params.sampleBounds, t)) {
+            emitTriangle<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b, t,
+                                                                          kind == PREPARE_CLIPPED);
             ++emitted;
         }
     }

@@ -14,7 +14,8 @@ __device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers&
     if (id >= params.triangleCount) {
         uint k = id - params.triangleCount;
         if (k >= params.lineCount) return shadeUnlit(params, id, pointBaseColor(params, b, id));
-        float u = lineParameter(params, x, y, b.positions[b.lines[2u * k]], b.positions[b.lines[2u * k + 1u]]);
+        float u =
+            lineParameter(params, x, y, b.positions[b.lines[2u * k]], b.positions[b.lines[2u * k + 1u]]);
         return shadeUnlit(params, id, lineBaseColor(params, b, id, u));
     }
     uint i0 = b.indices[3u * id];

@@ -51,6 +51,7 @@ struct RenderCommand {
     std::string shading = "blinn-phong";
     std::string textureFilter = "auto";
     std::string uvInterpolation = "perspective";
+    std::string rasterMethod = "fixed8";
     std::string primitiveMode = "triangles";
     bool wireframe = false;
     std::string lightDir, lightColor, background;
@@ -74,6 +75,10 @@ const std::map<std::string, uint32_t> kTextureFilters = {{"auto", TEXTURE_FILTER
                                                          {"trilinear", TEXTURE_FILTER_TRILINEAR}};
 const std::map<std::string, uint32_t> kUvInterpolations = {{"perspective", UV_PERSPECTIVE},
                                                            {"affine", UV_AFFINE}};
+const std::map<std::string, uint32_t> kRasterMethods = {{"fixed8", RASTER_FIXED8},
+                                                        {"fixed4", RASTER_FIXED4},
+                                                        {"float", RASTER_FLOAT},
+                                                        {"scanline", RASTER_SCANLINE}};
 const std::map<std::string, BackendKind> kBackends = {
     {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
 
@@ -105,6 +110,7 @@ Status runRender(RenderCommand& cmd)
     s.shadingMode = kShadingModes.at(cmd.shading);
     s.textureFilter = kTextureFilters.at(cmd.textureFilter);
     s.uvInterpolation = kUvInterpolations.at(cmd.uvInterpolation);
+    s.rasterMethod = kRasterMethods.at(cmd.rasterMethod);
     if (!cmd.lightDir.empty()) {
         auto v = parseVec3("--light-dir", cmd.lightDir);
         if (!v) return v.error();
@@ -305,6 +311,12 @@ int main(int argc, char** argv)
         ->add_option("--uv-interpolation", cmd.uvInterpolation,
                      "perspective (correct) or affine (screen-linear, to show the difference)")
         ->check(CLI::IsMember({"perspective", "affine"}));
+    render
+        ->add_option("--raster-method", cmd.rasterMethod,
+                     "fixed8 (1/256 px snapping, exact edge functions, top-left rule: conformant), fixed4 "
+                     "(the same at 1/16 px), float (float barycentrics with an epsilon) or scanline (float "
+                     "span ends per row); the last three are for comparison (raster study)")
+        ->check(CLI::IsMember({"fixed8", "fixed4", "float", "scanline"}));
     render
         ->add_option("--msaa", cmd.settings.msaa,
                      "samples per pixel at Vulkan's standard locations (1, 2, 4, 8, 16), shaded once per "

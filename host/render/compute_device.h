@@ -36,6 +36,9 @@ struct Dispatch {
     // which a scene without MASK triangles never pays for (a CPU device evaluates both sides of a
     // per-pixel branch, a GPU loses registers).
     bool alphaTest = false;
+    // setup, bin_count, bin_fill and raster_tiles: the build of this raster method (RASTER_*,
+    // RenderSettings::rasterMethod); the other stages ignore it.
+    uint32_t rasterMethod = RASTER_FIXED8;
 };
 
 class ComputeDevice {

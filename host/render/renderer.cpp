@@ -90,8 +90,10 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
         {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE)},
     };
-    for (Dispatch& d : dispatches)
+    for (Dispatch& d : dispatches) {
         d.alphaTest = work.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES);
+        d.rasterMethod = work.rasterMethod;
+    }
     return dispatches;
 }
 
@@ -197,6 +199,8 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
     if (settings.msaa != 1 && settings.msaa != 2 && settings.msaa != 4 && settings.msaa != 8 &&
         settings.msaa != 16)
         return makeError(ExitCode::Usage, "--msaa {} is not one of 1, 2, 4, 8, 16", settings.msaa);
+    if (settings.rasterMethod >= RASTER_METHOD_COUNT)
+        return makeError(ExitCode::Usage, "unknown raster method {}", settings.rasterMethod);
     if (settings.ssaa < 1 || settings.ssaa > MAX_SSAA)
         return makeError(ExitCode::Usage, "--ssaa {} is outside 1..{}", settings.ssaa, MAX_SSAA);
     if (uint64_t(settings.width) * settings.ssaa > MAX_FRAMEBUFFER_DIM ||
@@ -302,6 +306,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
         device.info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
     work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE), rasterChunk};
     work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
+    work.rasterMethod = settings.rasterMethod;
     work.alphaTest =
         !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
                                                 [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });

@@ -61,6 +61,9 @@ struct RenderSettings {
     // their own surface win its depth test. 0 draws lines at their exact depth.
     float lineDepthBias = 0.0f;
     bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
+    // The rule that decides which samples a triangle covers (RASTER_*, --raster-method;
+    // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
+    uint32_t rasterMethod = RASTER_FIXED8;
 };
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
@@ -85,6 +88,7 @@ struct FrameWork {
     bool binBig = true;      // bin_count, the scans, bin_fill and raster_tiles
     bool countSplit = true;  // bin_count
     bool alphaTest = false;  // setup and raster_tiles with the alpha test: some triangle is alphaMode MASK
+    uint32_t rasterMethod = RASTER_FIXED8;  // RenderSettings::rasterMethod, for every dispatch
 };
 
 struct StageTiming {

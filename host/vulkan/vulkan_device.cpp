@@ -41,29 +41,73 @@ namespace {
 #include "raster_tiles_chunked.spv.h"
 #include "shade.spv.h"
 #include "vertex.spv.h"
+#include "bin_count_fixed4.spv.h"
+#include "bin_fill_fixed4.spv.h"
+#include "raster_tiles_fixed4.spv.h"
+#include "raster_tiles_chunked_fixed4.spv.h"
+#include "setup_fixed4.spv.h"
+#include "setup_lines_points_fixed4.spv.h"
+#include "bin_count_float.spv.h"
+#include "bin_fill_float.spv.h"
+#include "raster_tiles_float.spv.h"
+#include "raster_tiles_chunked_float.spv.h"
+#include "setup_float.spv.h"
+#include "setup_lines_points_float.spv.h"
+#include "bin_count_scanline.spv.h"
+#include "bin_fill_scanline.spv.h"
+#include "raster_tiles_scanline.spv.h"
+#include "raster_tiles_chunked_scanline.spv.h"
+#include "setup_scanline.spv.h"
+#include "setup_lines_points_scanline.spv.h"
 
 struct StageSpirv {
     const uint32_t* code;
     size_t bytes;
 };
+#define SR_SPIRV(array)     \
+    StageSpirv              \
+    {                       \
+        array, sizeof array \
+    }
 
-// Indexed by STAGE_*.
+// Indexed by STAGE_*: the modules of the stages no raster method changes (the others are in
+// kMethodSpirv).
 const StageSpirv kStageSpirv[] = {
-    {kSpv_clear, sizeof kSpv_clear},
-    {kSpv_vertex, sizeof kSpv_vertex},
-    {kSpv_setup, sizeof kSpv_setup},
-    {kSpv_bin_count, sizeof kSpv_bin_count},
-    {kSpv_scan_blocks, sizeof kSpv_scan_blocks},
-    {kSpv_scan_sums, sizeof kSpv_scan_sums},
-    {kSpv_bin_fill, sizeof kSpv_bin_fill},
-    {kSpv_raster_tiles, sizeof kSpv_raster_tiles},
-    {kSpv_shade, sizeof kSpv_shade},
+    SR_SPIRV(kSpv_clear),     SR_SPIRV(kSpv_vertex),       SR_SPIRV(kSpv_setup),
+    SR_SPIRV(kSpv_bin_count), SR_SPIRV(kSpv_scan_blocks),  SR_SPIRV(kSpv_scan_sums),
+    SR_SPIRV(kSpv_bin_fill),  SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_shade),
 };
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
-// setup with the line and point paths (SETUP_LINES_POINTS), for scenes that have lines or points.
-const StageSpirv kSetupLinesPointsSpirv = {kSpv_setup_lines_points, sizeof kSpv_setup_lines_points};
-// raster_tiles resolving bins in chunks (RASTER_TILES_CHUNKED), for CPU devices.
-const StageSpirv kRasterTilesChunkedSpirv = {kSpv_raster_tiles_chunked, sizeof kSpv_raster_tiles_chunked};
+
+// The modules of one raster method (RASTER_METHOD): setup without and with the line and point paths
+// (SETUP_LINES_POINTS, for scenes that have lines or points), bin_count, bin_fill, and raster_tiles
+// resolving whole bins (GPUs) and in chunks (RASTER_TILES_CHUNKED, CPU devices).
+struct MethodSpirv {
+    StageSpirv setup, setupLinesPoints, binCount, binFill, rasterTiles, rasterTilesChunked;
+};
+// Indexed by RASTER_*.
+const MethodSpirv kMethodSpirv[] = {
+    {SR_SPIRV(kSpv_setup), SR_SPIRV(kSpv_setup_lines_points), SR_SPIRV(kSpv_bin_count),
+     SR_SPIRV(kSpv_bin_fill), SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_raster_tiles_chunked)},
+    {SR_SPIRV(kSpv_setup_fixed4), SR_SPIRV(kSpv_setup_lines_points_fixed4), SR_SPIRV(kSpv_bin_count_fixed4),
+     SR_SPIRV(kSpv_bin_fill_fixed4), SR_SPIRV(kSpv_raster_tiles_fixed4),
+     SR_SPIRV(kSpv_raster_tiles_chunked_fixed4)},
+    {SR_SPIRV(kSpv_setup_float), SR_SPIRV(kSpv_setup_lines_points_float), SR_SPIRV(kSpv_bin_count_float),
+     SR_SPIRV(kSpv_bin_fill_float), SR_SPIRV(kSpv_raster_tiles_float),
+     SR_SPIRV(kSpv_raster_tiles_chunked_float)},
+    {SR_SPIRV(kSpv_setup_scanline), SR_SPIRV(kSpv_setup_lines_points_scanline),
+     SR_SPIRV(kSpv_bin_count_scanline), SR_SPIRV(kSpv_bin_fill_scanline),
+     SR_SPIRV(kSpv_raster_tiles_scanline), SR_SPIRV(kSpv_raster_tiles_chunked_scanline)},
+};
+static_assert(sizeof kMethodSpirv / sizeof kMethodSpirv[0] == RASTER_METHOD_COUNT, "modules per method");
+#undef SR_SPIRV
+
+// Whether the raster method selects stage's module (Dispatch::rasterMethod).
+bool methodStage(uint32_t stage)
+{
+    return stage == STAGE_SETUP || stage == STAGE_BIN_COUNT || stage == STAGE_BIN_FILL ||
+           stage == STAGE_RASTER_TILES;
+}
 
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -125,16 +169,17 @@ private:
 
     Status createPipelines();
     // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE, and
-    // for setup its module (kSpv_setup_lines_points with the line and point paths).
+    // its module (kMethodSpirv: the raster method's, for setup with or without the line and point paths).
     struct Build {
         bool materials = false;
         uint32_t samples = 1;
         bool resolve = false;
         bool linesPoints = false;
+        uint32_t method = RASTER_FIXED8;  // RASTER_*: the modules of setup, bin_count, bin_fill, raster_tiles
         bool operator<(const Build& o) const
         {
-            return std::tie(materials, samples, resolve, linesPoints) <
-                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints);
+            return std::tie(materials, samples, resolve, linesPoints, method) <
+                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method);
         }
     };
     Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
@@ -157,8 +202,8 @@ private:
     // dispatches that ask for it (Dispatch::alphaTest); pipelines_ has them without it. Null for the
     // other stages.
     VkPipeline materialPipelines_[STAGE_COUNT] = {};
-    // setup, raster_tiles and shade for MSAA or SSAA, by stage and build; made when a frame first asks for
-    // them.
+    // setup, raster_tiles and shade for MSAA or SSAA, the line and point build of setup, and the builds of
+    // the other raster methods, by stage and build; made when a frame first asks for them.
     std::map<std::pair<uint32_t, Build>, VkPipeline> sampledPipelines_;
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
@@ -233,9 +278,12 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
         {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
-    const StageSpirv& spirv = build.linesPoints                            ? kSetupLinesPointsSpirv
-                              : stage == STAGE_RASTER_TILES && info_.isCpu ? kRasterTilesChunkedSpirv
-                                                                           : kStageSpirv[stage];
+    const MethodSpirv& m = kMethodSpirv[build.method];
+    StageSpirv spirv = kStageSpirv[stage];
+    if (stage == STAGE_SETUP) spirv = build.linesPoints ? m.setupLinesPoints : m.setup;
+    if (stage == STAGE_BIN_COUNT) spirv = m.binCount;
+    if (stage == STAGE_BIN_FILL) spirv = m.binFill;
+    if (stage == STAGE_RASTER_TILES) spirv = info_.isCpu ? m.rasterTilesChunked : m.rasterTiles;
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
@@ -271,7 +319,10 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
         build.samples = params.sampleCount;
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
     build.linesPoints = d.stage == STAGE_SETUP && params.lineCount + params.pointCount > 0;
-    if (build.samples == 1 && !build.resolve && !build.linesPoints)
+    build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
+    if (build.method >= RASTER_METHOD_COUNT)
+        return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
+    if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8)
         return build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
     VkPipeline& p = sampledPipelines_[{d.stage, build}];
     if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
