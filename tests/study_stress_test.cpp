@@ -31,23 +31,26 @@ protected:
         RenderOutput out = render(c.scene, c.settings, c.camera);
         EXPECT_EQ(out.hitCount.size(), c.demand.size()) << c.axis << " x=" << c.x;
         StressFailures f = countFailures(c, out);
-        std::printf("[ stress   ] %s %s x=%g: cracks %llu, double hits %llu, wrong depth order %llu\n",
-                    GetParam().c_str(), c.axis.c_str(), c.x, (unsigned long long)f.cracks,
-                    (unsigned long long)f.doubleHits, (unsigned long long)f.wrongDepthOrder);
+        std::printf(
+            "[ stress   ] %s method %u %s x=%g: cracks %llu, double hits %llu, wrong depth order %llu\n",
+            GetParam().c_str(), c.settings.rasterMethod, c.axis.c_str(), c.x, (unsigned long long)f.cracks,
+            (unsigned long long)f.doubleHits, (unsigned long long)f.wrongDepthOrder);
         return f;
     }
 
-    // Every case of the axis draws each covered pixel centre exactly once and nothing outside.
-    void expectWatertight(const std::string& axis, size_t cases)
+    // Every case of the axis draws each covered pixel centre exactly once and nothing outside, with
+    // raster method `method`.
+    void expectWatertight(const std::string& axis, size_t cases, uint32_t method = RASTER_FIXED8)
     {
         std::vector<StressCase> all = stressCases(axis, kSize);
         ASSERT_EQ(all.size(), cases);
-        for (const StressCase& c : all) {
+        for (StressCase& c : all) {
             ASSERT_EQ(c.demand.size(), size_t(kSize) * kSize);
             EXPECT_GT(countDemand(c, PixelDemand::kCoverOnce) + countDemand(c, PixelDemand::kEmpty), 0u);
+            c.settings.rasterMethod = method;
             StressFailures f = measure(c);
-            EXPECT_EQ(f.cracks, 0u) << axis << " x=" << c.x;
-            EXPECT_EQ(f.doubleHits, 0u) << axis << " x=" << c.x;
+            EXPECT_EQ(f.cracks, 0u) << axis << " x=" << c.x << " method " << method;
+            EXPECT_EQ(f.doubleHits, 0u) << axis << " x=" << c.x << " method " << method;
         }
     }
 };
@@ -97,6 +100,79 @@ TEST_P(StudyStressTest, CoplanarSurfacesKeepTheirOrderDownToOneUlp)
         EXPECT_EQ(f.cracks, 0u) << c.x;
         EXPECT_EQ(f.doubleHits, 0u) << c.x;
         EXPECT_EQ(f.wrongDepthOrder, separated ? 0u : overlapped) << c.x;
+    }
+}
+
+// fixed4 is fixed8's exact rule on a coarser grid: snapping moves vertices (by up to 1/32 px), never
+// makes two triangles disagree about a shared edge, so every axis stays watertight.
+TEST_P(StudyStressTest, Fixed4IsWatertight)
+{
+    expectWatertight("magnitude", 15, RASTER_FIXED4);
+    expectWatertight("slivers", 5, RASTER_FIXED4);
+    expectWatertight("near", 7, RASTER_FIXED4);
+}
+
+// scanline evaluates a shared edge in both of its triangles from the same operands (upper vertex, lower
+// vertex, row), so both see the same x, and its half-open rows and spans hand a sample on the edge to
+// exactly one. It fails only where rounding reorders two edges of different upper vertices on a row,
+// which needs edges closer than a float ulp of their coordinates: about 2^-10 subpixels here (64 px
+// viewport), while the 10^5-sliver fan's spokes lie 2 pi 25.6 px x 256 / 10^5 = 0.4 subpixels apart at
+// one pixel from the hub. So none of these cases may fail.
+TEST_P(StudyStressTest, ScanlineIsWatertight)
+{
+    expectWatertight("magnitude", 15, RASTER_SCANLINE);
+    expectWatertight("slivers", 5, RASTER_SCANLINE);
+    expectWatertight("near", 7, RASTER_SCANLINE);
+}
+
+// float counts a sample for every triangle whose barycentrics are all >= -eps (eps = FLOAT_EPSILON =
+// 2^-16). Across a shared edge between triangles of heights hA, hB (from the edge), a sample at distance
+// d from the edge is taken by both when d <= eps hA on B's side or d <= eps hB on A's side: a band of
+// width eps (hA + hB) along every shared edge, so the expected number of double hits is that width times
+// the shared edges' length in view (pixel centres are one per px^2). In the magnitude fan both heights
+// are R sin(2 pi / 32), and the 32 spokes run from the viewport centre out of the viewport: about
+// 32 x 36 px in view. Cracks would need the edge function's rounding to pass eps: its relative error is
+// about 2^-23 |edge| |p - a| / (|edge| h) <= 2^-23 / sin(2 pi / 32) = 2^-20.6 < eps here.
+TEST_P(StudyStressTest, FloatDoubleHitsFollowTheEpsilonBand)
+{
+    for (StressCase& c : stressCases("magnitude", kSize)) {
+        c.settings.rasterMethod = RASTER_FLOAT;
+        // The spokes' length inside the viewport, from the centre along each spoke's direction.
+        double inView = 0.0;
+        for (int i = 0; i < 32; ++i) {
+            double angle = 0.1 + 2.0 * M_PI * i / 32;
+            double reach =
+                std::min(kSize / 2.0 / std::abs(std::cos(angle)), kSize / 2.0 / std::abs(std::sin(angle)));
+            inView += std::min(reach, c.x);
+        }
+        const double band = double(FLOAT_EPSILON) * 2.0 * c.x * std::sin(2.0 * M_PI / 32);
+        const double expected = band * inView;
+        StressFailures f = measure(c);
+        EXPECT_EQ(f.cracks, 0u) << c.x;
+        if (expected < 0.5) {
+            EXPECT_EQ(f.doubleHits, 0u) << c.x << " expected " << expected;
+        } else if (expected >= 10.0) {
+            EXPECT_GE(double(f.doubleHits), expected / 2.0) << c.x;
+            EXPECT_LE(double(f.doubleHits), expected * 2.0) << c.x;
+        }
+    }
+}
+
+// With no tie rule, float double-hits every sample exactly on a shared edge, whatever eps: in the sliver
+// fans the hub sits on a pixel centre (a vertex of all n triangles) and the spoke at angle 0 runs along
+// the hub's pixel row, so the hub and every covered pixel centre on that spoke are hit at least twice.
+TEST_P(StudyStressTest, FloatDoubleHitsEverySampleOnASharedEdge)
+{
+    for (StressCase& c : stressCases("slivers", kSize)) {
+        c.settings.rasterMethod = RASTER_FLOAT;
+        const uint32_t row = kSize / 2;
+        uint64_t onSpoke = 0;
+        for (uint32_t x = kSize / 2; x < kSize; ++x)
+            onSpoke += c.demand[row * kSize + x] == PixelDemand::kCoverOnce;
+        ASSERT_GT(onSpoke, 20u);
+        StressFailures f = measure(c);
+        EXPECT_EQ(f.cracks, 0u) << c.x;
+        EXPECT_GE(f.doubleHits, onSpoke) << c.x;
     }
 }
 

@@ -133,6 +133,11 @@ uint64_t chainTexels(uint32_t width, uint32_t height, uint32_t levels)
 Status checkInputs(const Scene& scene, const RenderSettings& settings)
 {
     SR_TRY(checkRenderInputs(scene, settings));
+    // The hardware has its own rule, the one fixed8 implements.
+    if (settings.rasterMethod != RASTER_FIXED8)
+        return makeError(ExitCode::Usage,
+                         "vulkan-graphics: --raster-method exists only in the compute pipeline (the device "
+                         "rasterizes by its own rule)");
     // The hit count is a debug view of the compute pipeline's own counter buffer.
     if (settings.shadingMode == SHADING_HIT_COUNT)
         return makeError(ExitCode::Usage,
