@@ -8,14 +8,17 @@
 //                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
 //                 [--primitive-mode triangles|lines|points] [--wireframe] [--point-size PX] [--line-width PX]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
+//                 [--raster-method fixed8|fixed4|float|scanline] [--quality psnr:N [--study FILE]]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
 //                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
 //                [--json F]
 //   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
-//                [--bunny PATH] [--warmup N] [--repeat N] [--json F]
+//                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
+//                [--repeat N] [--json F]
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -25,6 +28,7 @@
 #include "cli/backend.h"
 #include "cli/bench.h"
 #include "cli/study.h"
+#include "study/quality.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
 #include "io/compare.h"
@@ -56,6 +60,8 @@ struct RenderCommand {
     bool wireframe = false;
     std::string lightDir, lightColor, background;
     bool quiet = false;
+    std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
+    std::string studyPath;  // --study FILE: ... from this study JSON instead of measuring
     RenderSettings settings;
 };
 
@@ -136,9 +142,23 @@ Status runRender(RenderCommand& cmd)
                          "--aov-samples writes at most {} samples per pixel, not {} (--ssaa {} --msaa {})",
                          kMaxAovSamples, s.ssaa * s.ssaa * s.msaa, s.ssaa, s.msaa);
 
+    // A malformed target is reported before anything is loaded or rendered.
+    if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
     auto cameraSpec = parseCameraSpec(cmd.camera);
     if (!cameraSpec) return cameraSpec.error();
-    Result<Scene> scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
+    // "study:NAME" is one of the study's scenes, framed by its own camera unless --camera says otherwise.
+    const std::string prefix = kStudyScenePrefix;
+    std::optional<CameraMatrices> studyCamera;
+    Result<Scene> scene = makeError(ExitCode::Usage, "no scene");
+    if (cmd.scenePath.compare(0, prefix.size(), prefix) == 0) {
+        auto study =
+            makeStudyScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
+        if (!study) return study.error();
+        scene = std::move(study->scene);
+        if (cameraSpec->kind == CameraSpec::Kind::Auto) studyCamera = study->camera;
+    } else {
+        scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
+    }
     if (!scene) return scene.error();
     // The overlay takes the mesh's edges before a display mode replaces its triangles.
     if (cmd.wireframe) {
@@ -147,14 +167,30 @@ Status runRender(RenderCommand& cmd)
     }
     if (cmd.primitiveMode == "lines") *scene = meshAsLines(std::move(*scene));
     if (cmd.primitiveMode == "points") *scene = meshAsPoints(std::move(*scene));
-    auto camera = resolveCamera(*cameraSpec, *scene, s.width, s.height);
+    auto camera = studyCamera ? Result<CameraMatrices>(*studyCamera)
+                              : resolveCamera(*cameraSpec, *scene, s.width, s.height);
     if (!camera) return camera.error();
     Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
     if (cmd.backend == "vulkan-graphics") {
+        if (!cmd.quality.empty())
+            return makeError(ExitCode::Usage,
+                             "--quality picks among the compute backends' settings: use --backend auto, cuda "
+                             "or vulkan");
         out = renderVulkanGraphics(*scene, *camera, s, cmd.device);
     } else {
         auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
         if (!device) return device.error();
+        if (!cmd.quality.empty()) {
+            StudyScene study{studySceneNameFor(cmd.scenePath), *scene, *camera, !scene->textures.empty()};
+            auto choice = chooseQuality(cmd.quality, cmd.studyPath, **device, study, s);
+            if (!choice) return choice.error();
+            s = withSetting(s, choice->setting);
+            if (s.aovSamples && s.ssaa * s.ssaa * s.msaa > kMaxAovSamples)
+                return makeError(ExitCode::Usage,
+                                 "--aov-samples writes at most {} samples per pixel; --quality chose {}",
+                                 kMaxAovSamples, s.ssaa * s.ssaa * s.msaa);
+            if (!cmd.quiet) fmt::print("{}\n", choice->line);
+        }
         out = renderScene(**device, *scene, *camera, s);
     }
     if (!out) return out.error();
@@ -246,6 +282,8 @@ Status runBenchCommand(BenchCommand& cmd)
 struct StudyCommand {
     std::string backends = "vulkan";
     std::string axes = "magnitude,slivers,near,coplanar";
+    std::string methods = fmt::format("{}", fmt::join(rasterMethodNames(), ","));
+    std::string scenes = fmt::format("{}", fmt::join(studySceneNames(), ","));
     std::string jsonPath;
     StudyOptions options;
 };
@@ -254,6 +292,8 @@ Status runStudyCommand(StudyCommand& cmd)
 {
     cmd.options.backends = splitList(cmd.backends);
     cmd.options.axes = splitList(cmd.axes);
+    cmd.options.methods = splitList(cmd.methods);
+    cmd.options.scenes = splitList(cmd.scenes);
     auto study = runStudy(cmd.options);
     if (!study) return study.error();
     if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *study));
@@ -303,30 +343,36 @@ int main(int argc, char** argv)
             "green, yellow, red = 4+)")
         ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id", "hits",
                                "texcoord", "mip"}));
-    render
-        ->add_option("--texture-filter", cmd.textureFilter,
-                     "auto (each texture's glTF sampler), nearest, bilinear (level 0) or trilinear")
-        ->check(CLI::IsMember({"auto", "nearest", "bilinear", "trilinear"}));
-    render
-        ->add_option("--uv-interpolation", cmd.uvInterpolation,
-                     "perspective (correct) or affine (screen-linear, to show the difference)")
-        ->check(CLI::IsMember({"perspective", "affine"}));
-    render
-        ->add_option("--raster-method", cmd.rasterMethod,
-                     "fixed8 (1/256 px snapping, exact edge functions, top-left rule: conformant), fixed4 "
-                     "(the same at 1/16 px), float (float barycentrics with an epsilon) or scanline (float "
-                     "span ends per row); the last three are for comparison (raster study)")
-        ->check(CLI::IsMember({"fixed8", "fixed4", "float", "scanline"}));
-    render
-        ->add_option("--msaa", cmd.settings.msaa,
-                     "samples per pixel at Vulkan's standard locations (1, 2, 4, 8, 16), shaded once per "
-                     "pixel and triangle, resolved in linear space")
-        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
-    render
-        ->add_option("--ssaa", cmd.settings.ssaa,
-                     "supersampling: N x N pixels per output pixel, each shaded, box-filtered; combines "
-                     "with --msaa")
-        ->check(CLI::Range(1, MAX_SSAA));
+    CLI::Option* textureFilterOption =
+        render
+            ->add_option("--texture-filter", cmd.textureFilter,
+                         "auto (each texture's glTF sampler), nearest, bilinear (level 0) or trilinear")
+            ->check(CLI::IsMember({"auto", "nearest", "bilinear", "trilinear"}));
+    CLI::Option* uvOption =
+        render
+            ->add_option("--uv-interpolation", cmd.uvInterpolation,
+                         "perspective (correct) or affine (screen-linear, to show the difference)")
+            ->check(CLI::IsMember({"perspective", "affine"}));
+    CLI::Option* methodOption =
+        render
+            ->add_option(
+                "--raster-method", cmd.rasterMethod,
+                "fixed8 (1/256 px snapping, exact edge functions, top-left rule: conformant), fixed4 "
+                "(the same at 1/16 px), float (float barycentrics with an epsilon) or scanline (float "
+                "span ends per row); the last three are for comparison (raster study)")
+            ->check(CLI::IsMember({"fixed8", "fixed4", "float", "scanline"}));
+    CLI::Option* msaaOption =
+        render
+            ->add_option("--msaa", cmd.settings.msaa,
+                         "samples per pixel at Vulkan's standard locations (1, 2, 4, 8, 16), shaded once per "
+                         "pixel and triangle, resolved in linear space")
+            ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    CLI::Option* ssaaOption =
+        render
+            ->add_option("--ssaa", cmd.settings.ssaa,
+                         "supersampling: N x N pixels per output pixel, each shaded, box-filtered; combines "
+                         "with --msaa")
+            ->check(CLI::Range(1, MAX_SSAA));
     render
         ->add_option("--primitive-mode", cmd.primitiveMode,
                      "triangles (as the file says), lines (a triangle mesh drawn as its edges, each once) or "
@@ -346,6 +392,23 @@ int main(int argc, char** argv)
     render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));
     render->add_option("--background", cmd.background, "R,G,B linear background colour");
     render->add_flag("-q,--quiet", cmd.quiet, "print nothing on success");
+    // --quality chooses the anti-aliasing, filter, UV interpolation and raster method itself.
+    CLI::Option* qualityOption =
+        render
+            ->add_option("--quality", cmd.quality,
+                         "psnr:N: render with the cheapest setting whose image reaches N dB PSNR against the "
+                         "study's reference for this scene on this backend, measured now (raster study's "
+                         "accuracy procedure) or read from --study; prints what it chose")
+            ->excludes(msaaOption)
+            ->excludes(ssaaOption)
+            ->excludes(textureFilterOption)
+            ->excludes(uvOption)
+            ->excludes(methodOption);
+    render
+        ->add_option("--study", cmd.studyPath,
+                     "with --quality: choose from this `raster study --json` file's rows for the scene "
+                     "(builtin, dense, study:NAME as NAME, a file by its stem) and backend")
+        ->needs(qualityOption);
 
     CompareCommand compare;
     CLI::App* cmp =
@@ -395,6 +458,13 @@ int main(int argc, char** argv)
         ->check(CLI::Range(16, 1024));
     studyApp->add_option("--axes", study.axes,
                          "comma-separated stress axes: magnitude, slivers, near, coplanar");
+    studyApp->add_option("--methods", study.methods,
+                         "comma-separated raster methods: the accuracy group \"method\" and the stress "
+                         "cases run with each of fixed8, fixed4, float, scanline");
+    studyApp->add_option(
+        "--scenes", study.scenes,
+        "comma-separated accuracy scenes: builtin, checker-grazing, dense, bunny, sliver-fan, "
+        "jittered-grid (\"\": none)");
     studyApp->add_option("--bunny", study.options.bunnyPath, "the Stanford bunny OBJ (skipped when absent)");
     studyApp->add_option("--warmup", study.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
     studyApp->add_option("--repeat", study.options.repeat, "timed runs")->check(CLI::Range(1, 100000));

@@ -6,78 +6,21 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include "cli/backend.h"
-#include "scene/camera.h"
-#include "scene/scene.h"
+#include "study/quality.h"
 #include "study/stress.h"
+#include "vulkan/vulkan_graphics.h"
 
 namespace sr {
 namespace {
-
-struct StudyScene {
-    std::string name;
-    Scene scene;
-    CameraMatrices camera;
-    bool textured = false;
-};
-
-// One setting of a group: a label and what it changes from the 1x, trilinear, perspective baseline.
-struct Setting {
-    std::string group, label;
-    uint32_t msaa = 1, ssaa = 1;
-    uint32_t textureFilter = TEXTURE_FILTER_TRILINEAR;
-    uint32_t uvInterpolation = UV_PERSPECTIVE;
-};
-
-std::vector<Setting> settingsFor(const StudyScene& s)
-{
-    std::vector<Setting> out;
-    for (uint32_t m : {1u, 2u, 4u, 8u, 16u}) out.push_back({"aa", fmt::format("msaa{}", m), m, 1});
-    out.push_back({"aa", "ssaa2", 1, 2});
-    out.push_back({"aa", "ssaa3", 1, 3});
-    out.push_back({"aa", "ssaa2+msaa4", 4, 2});
-    if (s.textured) {
-        out.push_back({"texture", "nearest", 1, 1, TEXTURE_FILTER_NEAREST});
-        out.push_back({"texture", "bilinear", 1, 1, TEXTURE_FILTER_BILINEAR});
-        out.push_back({"texture", "trilinear", 1, 1, TEXTURE_FILTER_TRILINEAR});
-        out.push_back({"uv", "perspective", 1, 1, TEXTURE_FILTER_TRILINEAR, UV_PERSPECTIVE});
-        out.push_back({"uv", "affine", 1, 1, TEXTURE_FILTER_TRILINEAR, UV_AFFINE});
-    }
-    return out;
-}
-
-Result<std::vector<StudyScene>> studyScenes(const StudyOptions& o)
-{
-    std::vector<StudyScene> scenes;
-    auto add = [&](std::string name, Scene scene, const CameraSpec& spec, bool textured) -> Status {
-        auto camera = resolveCamera(spec, scene, o.width, o.height);
-        if (!camera) return camera.error();
-        scenes.push_back({std::move(name), std::move(scene), *camera, textured});
-        return okStatus();
-    };
-    SR_TRY(add("builtin", builtinScene(), CameraSpec{}, false));
-    // The textured plane at a grazing angle, where texture filtering matters most.
-    auto checker = builtinSceneNamed("builtin:checker");
-    if (!checker) return checker.error();
-    auto grazing = parseCameraSpec("orbit:0,6,12");
-    if (!grazing) return grazing.error();
-    SR_TRY(add("checker-grazing", std::move(*checker), *grazing, true));
-    auto dense = builtinSceneNamed("builtin:dense");
-    if (!dense) return dense.error();
-    SR_TRY(add("dense", std::move(*dense), CameraSpec{}, false));
-    if (!o.bunnyPath.empty() && std::filesystem::exists(o.bunnyPath)) {
-        auto bunny = loadScene(o.bunnyPath);
-        if (!bunny) return bunny.error();
-        SR_TRY(add("bunny", std::move(*bunny), CameraSpec{}, false));
-    }
-    return scenes;
-}
 
 Result<std::unique_ptr<ComputeDevice>> openDevice(const std::string& backend, int device)
 {
@@ -92,10 +35,115 @@ std::string today()
     return text;
 }
 
-// JSON has no infinity: identical images get null and the chart treats them as exact.
+// JSON has no infinity: identical images get "inf" and the chart treats them as exact.
 nlohmann::json psnrJson(double psnr)
 {
     return std::isinf(psnr) ? nlohmann::json("inf") : nlohmann::json(psnr);
+}
+
+Status checkNames(const std::vector<std::string>& names, const std::vector<std::string>& known,
+                  const char* what)
+{
+    for (const std::string& n : names)
+        if (std::find(known.begin(), known.end(), n) == known.end())
+            return makeError(ExitCode::Usage, "study: unknown {} '{}' (expected {})", what, n,
+                             fmt::format("{}", fmt::join(known, ", ")));
+    return okStatus();
+}
+
+// The conformant graphics pipeline's render of each stress case, drawn at first need and shared by
+// every method and backend (it depends on the case alone). When vulkan-graphics cannot run at all, the
+// first attempt says so on stderr and the study goes on without oracle mismatches; once it has run, a
+// later failure is an error like any other.
+class Oracle {
+public:
+    explicit Oracle(int device) : device_(device) {}
+
+    // The oracle's render of case `index` of axis `axis`, nullptr when vulkan-graphics is unavailable.
+    Result<const RenderOutput*> render(size_t axis, size_t index, const StressCase& c)
+    {
+        if (!available_) return static_cast<const RenderOutput*>(nullptr);
+        auto it = outputs_.find({axis, index});
+        if (it != outputs_.end()) return &it->second;
+        auto out = renderVulkanGraphics(c.scene, c.camera, c.settings, device_);
+        if (!out) {
+            if (!outputs_.empty()) return out.error();
+            fmt::print(stderr, "study: vulkan-graphics unavailable, oracle_mismatches left null: {}\n",
+                       out.error().message);
+            available_ = false;
+            return static_cast<const RenderOutput*>(nullptr);
+        }
+        return &outputs_.emplace(std::make_pair(axis, index), std::move(*out)).first->second;
+    }
+
+private:
+    int device_;
+    bool available_ = true;
+    std::map<std::pair<size_t, size_t>, RenderOutput> outputs_;
+};
+
+// Device memory of the frame just rendered: the sum of its buffers' sizes, as the renderer sized them
+// for this scene and setting. Not peakAllocatedBytes: a device keeps its buffers at the largest size
+// any frame needed (the reference's, rendered first), so its peak would give every setting that.
+double frameMib(const ComputeDevice& device)
+{
+    size_t bytes = 0;
+    for (uint32_t buffer = BUF_PARAMS + 1; buffer < BUF_COUNT; ++buffer) bytes += device.size(buffer);
+    return double(bytes) / (1 << 20);
+}
+
+struct Axis {
+    std::string name;
+    std::vector<StressCase> cases;
+};
+
+uint64_t failures(const nlohmann::json& row)
+{
+    uint64_t n = 0;
+    for (const char* key : {"cracks", "double_hits", "wrong_depth_order", "oracle_mismatches"})
+        if (row.contains(key) && row[key].is_number()) n += row[key].get<uint64_t>();
+    return n;
+}
+
+// The first failing x per (axis, backend) and method, in the order the rows come in (each method's
+// cases in increasing stress): the x, or "none up to" the last x.
+std::string firstFailureTable(const nlohmann::json& stability)
+{
+    struct Walk {
+        std::optional<double> first;
+        double last = 0.0;
+    };
+    std::vector<std::string> methods;
+    std::vector<std::pair<std::string, std::string>> lines;  // (axis, backend) in order of appearance
+    std::map<std::tuple<std::string, std::string, std::string>, Walk> walks;
+    for (const auto& s : stability) {
+        const std::string axis = s["axis"], backend = s["backend"], method = s["method"];
+        if (std::find(methods.begin(), methods.end(), method) == methods.end()) methods.push_back(method);
+        if (std::find(lines.begin(), lines.end(), std::make_pair(axis, backend)) == lines.end())
+            lines.emplace_back(axis, backend);
+        Walk& w = walks[{axis, backend, method}];
+        w.last = s["x"].get<double>();
+        if (!w.first && failures(s) > 0) w.first = w.last;
+    }
+    std::string md = "| axis | backend |";
+    for (const std::string& m : methods) md += fmt::format(" {} |", m);
+    md += "\n|---|---|";
+    for (size_t i = 0; i < methods.size(); ++i) md += "---|";
+    md += "\n";
+    for (const auto& [axis, backend] : lines) {
+        md += fmt::format("| {} | {} |", axis, backend);
+        for (const std::string& m : methods) {
+            auto it = walks.find({axis, backend, m});
+            if (it == walks.end())
+                md += " - |";
+            else if (it->second.first)
+                md += fmt::format(" {:g} |", *it->second.first);
+            else
+                md += fmt::format(" none up to {:g} |", it->second.last);
+        }
+        md += "\n";
+    }
+    return md;
 }
 
 }  // namespace
@@ -116,17 +164,98 @@ ImageError imageError(const RgbaImage& image, const RgbaImage& reference)
     return e;
 }
 
+Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& s, const RenderSettings& base,
+                                       const std::vector<std::string>& methods,
+                                       const std::function<void(const std::string&)>& progress)
+{
+    const std::string backend = device.info().backend;
+    auto tell = [&](const std::string& what) {
+        if (progress) progress(fmt::format("{} {} on {}", s.name, what, backend));
+    };
+    tell("reference");
+    auto reference = renderScene(device, s.scene, s.camera, referenceSettings(base));
+    if (!reference) return reference.error();
+    nlohmann::json rows = nlohmann::json::array();
+    for (const StudySetting& setting : studySettings(s.textured, methods)) {
+        tell(setting.label);
+        auto out = renderScene(device, s.scene, s.camera, withSetting(base, setting));
+        if (!out) return out.error();
+        ImageError e = imageError(out->color, reference->color);
+        rows.push_back({{"scene", s.name},
+                        {"backend", backend},
+                        {"group", setting.group},
+                        {"setting", setting.label},
+                        {"method", rasterMethodName(setting.rasterMethod)},
+                        {"msaa", setting.msaa},
+                        {"ssaa", setting.ssaa},
+                        {"texture_filter", textureFilterName(setting.textureFilter)},
+                        {"uv", uvInterpolationName(setting.uvInterpolation)},
+                        {"ms", out->total.medianMs},
+                        {"psnr", psnrJson(e.psnr)},
+                        {"max_error", e.maxError},
+                        {"memory_mib", frameMib(device)}});
+    }
+    return rows;
+}
+
+Result<QualityChoice> chooseQuality(const std::string& quality, const std::string& studyPath,
+                                    ComputeDevice& device, const StudyScene& scene, RenderSettings base)
+{
+    auto target = parseQualityTarget(quality);
+    if (!target) return target.error();
+    Result<nlohmann::json> rows = nlohmann::json::array();
+    if (!studyPath.empty()) {
+        std::ifstream in(studyPath);
+        if (!in) return makeError(ExitCode::Usage, "cannot read --study '{}'", studyPath);
+        nlohmann::json study = nlohmann::json::parse(in, nullptr, false);
+        if (study.is_discarded())
+            return makeError(ExitCode::Usage, "--study '{}' is not valid JSON", studyPath);
+        rows = accuracyRowsFor(study, scene.name, device.info().backend);
+        if (!rows) return makeError(ExitCode::Usage, "--study '{}': {}", studyPath, rows.error().message);
+    } else {
+        // The measurement's own renders need no AOVs, and the reference's 256 samples per pixel would
+        // exceed what --aov-samples may write.
+        base.warmup = 1;
+        base.repeat = kQualityRepeat;
+        base.aovSamples = false;
+        base.surfaceAovs = false;
+        rows = measureAccuracy(device, scene, base, rasterMethodNames());
+    }
+    if (!rows) return rows.error();
+    auto row = pickCheapest(*rows, *target);
+    if (!row) return row.error();
+    auto setting = settingFromRow(*row);
+    if (!setting) return setting.error();
+    return QualityChoice{*setting, describeChoice(*target, *row, *setting)};
+}
+
 Result<nlohmann::json> runStudy(const StudyOptions& o)
 {
-    for (const std::string& b : o.backends)
-        if (b != "cuda" && b != "vulkan")
-            return makeError(ExitCode::Usage, "study: unknown backend '{}' (cuda, vulkan)", b);
+    SR_TRY(checkNames(o.backends, {"cuda", "vulkan"}, "backend"));
+    SR_TRY(checkNames(o.methods, rasterMethodNames(), "raster method"));
+    SR_TRY(checkNames(o.scenes, studySceneNames(), "scene"));
+    if (o.methods.empty()) return makeError(ExitCode::Usage, "study: no raster method to run (--methods)");
     const bool tty = isatty(fileno(stderr));
     auto progress = [&](const std::string& what) {
         if (tty) fmt::print(stderr, "\r\033[Kstudy: {}", what);
     };
-    auto scenes = studyScenes(o);
-    if (!scenes) return scenes.error();
+    std::vector<StudyScene> scenes;
+    for (const std::string& name : o.scenes) {
+        if (name == "bunny" && !std::filesystem::exists(o.bunnyPath)) continue;
+        auto scene = makeStudyScene(name, o.width, o.height, o.bunnyPath);
+        if (!scene) return scene.error();
+        scenes.push_back(std::move(*scene));
+    }
+    // The cases depend on the axis and size alone: built once, drawn on every backend with every method.
+    std::vector<Axis> axes;
+    for (const std::string& axis : o.axes) {
+        axes.push_back({axis, stressCases(axis, o.stressSize)});
+        if (axes.back().cases.empty())
+            return makeError(ExitCode::Usage, "study: unknown stress axis '{}'", axis);
+    }
+    // The graphics pipeline runs on the Vulkan device the study uses, else on the first one.
+    const bool vulkanStudied = std::find(o.backends.begin(), o.backends.end(), "vulkan") != o.backends.end();
+    Oracle oracle(vulkanStudied ? o.device : -1);
 
     nlohmann::json accuracy = nlohmann::json::array(), stability = nlohmann::json::array();
     nlohmann::json devices = nlohmann::json::object();
@@ -134,86 +263,78 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
         auto device = openDevice(backend, o.device);
         if (!device) return device.error();
         devices[backend] = (*device)->info().name;
-        for (const StudyScene& s : *scenes) {
+        for (const StudyScene& s : scenes) {
             RenderSettings base;
             base.width = o.width;
             base.height = o.height;
             base.warmup = o.warmup;
             base.repeat = o.repeat;
             base.shadingMode = SHADING_BLINN_PHONG;
-            // The reference: 64 samples per pixel, the best filter, perspective-correct coordinates.
-            RenderSettings ref = base;
-            ref.msaa = 16;
-            ref.ssaa = 4;
-            ref.textureFilter = TEXTURE_FILTER_TRILINEAR;
-            ref.warmup = 0;
-            ref.repeat = 1;
-            progress(fmt::format("{} reference on {}", s.name, backend));
-            auto reference = renderScene(**device, s.scene, s.camera, ref);
-            if (!reference) return reference.error();
-            for (const Setting& setting : settingsFor(s)) {
-                progress(fmt::format("{} {} on {}", s.name, setting.label, backend));
-                RenderSettings r = base;
-                r.msaa = setting.msaa;
-                r.ssaa = setting.ssaa;
-                r.textureFilter = setting.textureFilter;
-                r.uvInterpolation = setting.uvInterpolation;
-                auto out = renderScene(**device, s.scene, s.camera, r);
-                if (!out) return out.error();
-                ImageError e = imageError(out->color, reference->color);
-                accuracy.push_back({{"scene", s.name},
-                                    {"backend", backend},
-                                    {"group", setting.group},
-                                    {"setting", setting.label},
-                                    {"ms", out->total.medianMs},
-                                    {"psnr", psnrJson(e.psnr)},
-                                    {"max_error", e.maxError},
-                                    {"memory_mib", double(out->peakDeviceBytes) / (1 << 20)}});
-            }
+            auto rows = measureAccuracy(**device, s, base, o.methods, progress);
+            if (!rows) return rows.error();
+            for (auto& row : *rows) accuracy.push_back(std::move(row));
         }
-        for (const std::string& axis : o.axes) {
-            std::vector<StressCase> cases = stressCases(axis, o.stressSize);
-            if (cases.empty()) return makeError(ExitCode::Usage, "study: unknown stress axis '{}'", axis);
-            for (const StressCase& c : cases) {
-                progress(fmt::format("{} {} on {}", axis, c.x, backend));
-                auto out = renderScene(**device, c.scene, c.camera, c.settings);
-                if (!out) return out.error();
-                StressFailures f = countFailures(c, *out);
-                stability.push_back({{"axis", axis},
-                                     {"method", "fixed8"},
-                                     {"backend", backend},
-                                     {"x", c.x},
-                                     {"cracks", f.cracks},
-                                     {"double_hits", f.doubleHits},
-                                     {"wrong_depth_order", f.wrongDepthOrder},
-                                     {"oracle_mismatches", nullptr}});
+        for (size_t a = 0; a < axes.size(); ++a)
+            for (size_t i = 0; i < axes[a].cases.size(); ++i) {
+                const StressCase& c = axes[a].cases[i];
+                progress(fmt::format("{} {:g} oracle", c.axis, c.x));
+                auto reference = oracle.render(a, i, c);
+                if (!reference) return reference.error();
+                for (const std::string& method : o.methods) {
+                    progress(fmt::format("{} {:g} {} on {}", c.axis, c.x, method, backend));
+                    RenderSettings settings = c.settings;
+                    settings.rasterMethod = *rasterMethodFromName(method);
+                    auto out = renderScene(**device, c.scene, c.camera, settings);
+                    if (!out) return out.error();
+                    StressFailures f = countFailures(c, *out);
+                    stability.push_back({{"axis", c.axis},
+                                         {"method", method},
+                                         {"backend", backend},
+                                         {"x", c.x},
+                                         {"cracks", f.cracks},
+                                         {"double_hits", f.doubleHits},
+                                         {"wrong_depth_order", f.wrongDepthOrder},
+                                         {"oracle_mismatches",
+                                          *reference ? nlohmann::json(oracleMismatches(*out, **reference))
+                                                     : nlohmann::json(nullptr)}});
+                }
             }
-        }
     }
     if (tty) fmt::print(stderr, "\r\033[K");
-    return nlohmann::json{{"date", today()},    {"devices", devices},   {"width", o.width},
-                          {"height", o.height}, {"accuracy", accuracy}, {"stability", stability}};
+    return nlohmann::json{{"date", today()},      {"devices", devices},    {"width", o.width},
+                          {"height", o.height},   {"methods", o.methods},  {"stress_size", o.stressSize},
+                          {"accuracy", accuracy}, {"stability", stability}};
 }
 
 std::string studyMarkdown(const nlohmann::json& study)
 {
     std::string md =
-        "| scene | backend | group | setting | ms | PSNR dB | max error |\n|---|---|---|---|---|---|---|\n";
+        "| scene | backend | group | setting | method | ms | PSNR dB | max error | MiB |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& a : study["accuracy"]) {
         std::string psnr = a["psnr"].is_string() ? "exact" : fmt::format("{:.2f}", a["psnr"].get<double>());
-        md += fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} |\n", a["scene"].get<std::string>(),
-                          a["backend"].get<std::string>(), a["group"].get<std::string>(),
-                          a["setting"].get<std::string>(), a["ms"].get<double>(), psnr,
-                          a["max_error"].get<int>());
+        md += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {} | {} | {:.1f} |\n",
+                          a["scene"].get<std::string>(), a["backend"].get<std::string>(),
+                          a["group"].get<std::string>(), a["setting"].get<std::string>(),
+                          a.value("method", std::string("fixed8")), a["ms"].get<double>(), psnr,
+                          a["max_error"].get<int>(), a.value("memory_mib", 0.0));
     }
     md +=
-        "\n| axis | method | backend | x | cracks | double hits | wrong depth order "
-        "|\n|---|---|---|---|---|---|---|\n";
-    for (const auto& s : study["stability"])
-        md += fmt::format("| {} | {} | {} | {:g} | {} | {} | {} |\n", s["axis"].get<std::string>(),
+        "\n| axis | method | backend | x | cracks | double hits | wrong depth order | oracle mismatches "
+        "|\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& s : study["stability"]) {
+        const nlohmann::json& oracle = s["oracle_mismatches"];
+        md += fmt::format("| {} | {} | {} | {:g} | {} | {} | {} | {} |\n", s["axis"].get<std::string>(),
                           s["method"].get<std::string>(), s["backend"].get<std::string>(),
                           s["x"].get<double>(), s["cracks"].get<uint64_t>(), s["double_hits"].get<uint64_t>(),
-                          s["wrong_depth_order"].get<uint64_t>());
+                          s["wrong_depth_order"].get<uint64_t>(),
+                          oracle.is_number() ? std::to_string(oracle.get<uint64_t>()) : "n/a");
+    }
+    if (!study["stability"].empty())
+        md +=
+            "\n## First failing value per axis and method (cracks + double hits + wrong depth order + oracle "
+            "mismatches > 0)\n\n" +
+            firstFailureTable(study["stability"]);
     return md;
 }
 

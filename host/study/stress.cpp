@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "study/geometry.h"
+
 namespace sr {
 namespace {
 
@@ -29,54 +31,6 @@ RenderSettings stressSettings(uint32_t size)
     s.lightColor = glm::vec3(0.0f);
     s.countHits = true;
     return s;
-}
-
-// The identity camera: scene positions are clip coordinates.
-CameraMatrices clipCamera()
-{
-    CameraMatrices camera;
-    camera.znear = 0.0f;
-    camera.zfar = 1.0f;
-    return camera;
-}
-
-// Rounds a window coordinate to the 1/256 pixel grid the rasterizer snaps to, so that the vertex it
-// sees is the one the demand is computed from.
-double onGrid(double v)
-{
-    return std::nearbyint(v * SUBPIXEL_SCALE) / SUBPIXEL_SCALE;
-}
-
-// Clip coordinates (w = 1) of window position p in a size x size viewport. For a power-of-two size and p
-// on the 1/256 grid with |p| < 2^15, p * 2 / size is a multiple of 2^-7 / size below 2^16 / size: 23
-// significant bits, 24 after subtracting 1, so the float is exact and the rasterizer snaps it back to p.
-glm::vec4 windowToClip(glm::dvec2 p, uint32_t size, double z)
-{
-    return {float(p.x * 2.0 / size - 1.0), float(p.y * 2.0 / size - 1.0), float(z), 1.0f};
-}
-
-// Appends a vertex (normal +z) and returns its index.
-uint32_t addVertex(Scene& scene, glm::vec4 position)
-{
-    scene.positions.push_back(position);
-    scene.normals.push_back(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
-    return uint32_t(scene.positions.size() - 1);
-}
-
-void addTriangle(Scene& scene, uint32_t a, uint32_t b, uint32_t c)
-{
-    scene.indices.insert(scene.indices.end(), {a, b, c});
-    scene.triFlags.push_back(0u);
-}
-
-void computeBounds(Scene& scene)
-{
-    scene.boundsMin = glm::vec3(scene.positions.front());
-    scene.boundsMax = scene.boundsMin;
-    for (const glm::vec4& p : scene.positions) {
-        scene.boundsMin = glm::min(scene.boundsMin, glm::vec3(p));
-        scene.boundsMax = glm::max(scene.boundsMax, glm::vec3(p));
-    }
 }
 
 double segmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b)
@@ -135,36 +89,6 @@ std::vector<PixelDemand> outlineDemand(const std::vector<glm::dvec2>& outline, u
     return demand;
 }
 
-// A closed fan: triangles (hub, rim[i], rim[i + 1]) around the hub, the last one closing back to rim[0].
-// Consecutive triangles share a rim vertex index, so every spoke is one edge drawn twice from the same
-// two vertices.
-Scene fanScene(glm::dvec2 hub, const std::vector<glm::dvec2>& rim, uint32_t size, double z)
-{
-    Scene scene;
-    uint32_t h = addVertex(scene, windowToClip(hub, size, z));
-    uint32_t first = uint32_t(scene.positions.size());
-    for (glm::dvec2 p : rim) addVertex(scene, windowToClip(p, size, z));
-    const uint32_t n = uint32_t(rim.size());
-    for (uint32_t i = 0; i < n; ++i) addTriangle(scene, h, first + i, first + (i + 1) % n);
-    computeBounds(scene);
-    return scene;
-}
-
-// The two triangles of the grid cell whose top-left vertex is `a` in a grid `cols` vertices wide, split
-// along one diagonal or (`flip`) the other: alternating them makes shared edges run both ways across
-// the screen.
-void addGridCell(Scene& scene, uint32_t a, uint32_t cols, bool flip)
-{
-    uint32_t b = a + 1, d = a + cols, c = d + 1;
-    if (!flip) {
-        addTriangle(scene, a, b, c);
-        addTriangle(scene, a, c, d);
-    } else {
-        addTriangle(scene, a, b, d);
-        addTriangle(scene, b, c, d);
-    }
-}
-
 // A closed fan around `hub` through `rim` at window depth 0.5, with the demand of its outline.
 StressCase fanCase(const std::string& axis, double x, glm::dvec2 hub, const std::vector<glm::dvec2>& rim,
                    uint32_t size)
@@ -215,20 +139,8 @@ std::vector<StressCase> sliverCases(uint32_t size)
     std::vector<StressCase> cases;
     const glm::dvec2 hub(size / 2 + 0.5, size / 2 + 0.5);
     const double radius = 0.4 * size;
-    for (int n : {10, 100, 1000, 10000, 100000}) {
-        std::vector<glm::dvec2> rim;
-        auto cross = [&](glm::dvec2 a, glm::dvec2 b) {
-            return (a.x - hub.x) * (b.y - hub.y) - (a.y - hub.y) * (b.x - hub.x);
-        };
-        for (int i = 0; i < n; ++i) {
-            double angle = 2.0 * M_PI * i / n;
-            glm::dvec2 p(onGrid(hub.x + radius * std::cos(angle)), onGrid(hub.y + radius * std::sin(angle)));
-            if (!rim.empty() && cross(rim.back(), p) < 0.0) p = rim.back();
-            rim.push_back(p);
-        }
-        for (int i = n - 1; i > 0 && cross(rim[i], rim[0]) < 0.0; --i) rim[i] = rim[0];
-        cases.push_back(fanCase("slivers", n, hub, rim, size));
-    }
+    for (int n : {10, 100, 1000, 10000, 100000})
+        cases.push_back(fanCase("slivers", n, hub, fanRim(hub, radius, n), size));
     return cases;
 }
 
@@ -299,17 +211,10 @@ std::vector<StressCase> coplanarCases(uint32_t size)
         c.axis = "coplanar";
         c.x = d;
         Scene& scene = c.scene;
-        for (double depth : {z + d, z}) {
-            uint32_t base = uint32_t(scene.positions.size());
-            for (int j = 0; j <= cells; ++j)
-                for (int i = 0; i <= cells; ++i)
-                    addVertex(scene,
-                              windowToClip({onGrid(lo + i * step), onGrid(lo + j * step)}, size, depth));
-            for (int j = 0; j < cells; ++j)
-                for (int i = 0; i < cells; ++i) {
-                    addGridCell(scene, base + j * (cells + 1) + i, cells + 1, (i + j) % 2 != 0);
-                }
-        }
+        std::vector<std::vector<glm::dvec2>> grid(cells + 1, std::vector<glm::dvec2>(cells + 1));
+        for (int j = 0; j <= cells; ++j)
+            for (int i = 0; i <= cells; ++i) grid[j][i] = {onGrid(lo + i * step), onGrid(lo + j * step)};
+        for (double depth : {z + d, z}) addGrid(scene, grid, size, depth);
         computeBounds(scene);
         c.nearIdBegin = uint32_t(scene.triangleCount() / 2);
         c.nearIdEnd = uint32_t(scene.triangleCount());
@@ -360,6 +265,15 @@ StressFailures countFailures(const StressCase& c, const RenderOutput& out)
         }
     }
     return f;
+}
+
+uint64_t oracleMismatches(const RenderOutput& out, const RenderOutput& oracle)
+{
+    const std::vector<uint32_t>&a = out.aov.id, &b = oracle.aov.id;
+    uint64_t differing = 0;
+    for (size_t i = 0; i < std::max(a.size(), b.size()); ++i)
+        differing += (i < a.size() ? a[i] : EMPTY_ID) != (i < b.size() ? b[i] : EMPTY_ID);
+    return differing;
 }
 
 }  // namespace sr

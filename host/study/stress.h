@@ -55,6 +55,11 @@ struct StressFailures {
 };
 StressFailures countFailures(const StressCase& c, const RenderOutput& out);
 
+// Pixels whose visible primitive id (RenderOutput::aov.id) differs between a render and the conformant
+// oracle's render of the same case (vulkan-graphics); pixels both leave empty agree. A pixel one output
+// lacks (a failed render) reads as empty.
+uint64_t oracleMismatches(const RenderOutput& out, const RenderOutput& oracle);
+
 }  // namespace sr
 
 #endif  // RASTER_STUDY_STRESS_H

@@ -1,0 +1,122 @@
+// settings.cpp - see settings.h.
+#include "study/settings.h"
+
+#include <utility>
+
+namespace sr {
+namespace {
+
+using NameTable = std::vector<std::pair<std::string, uint32_t>>;
+
+const NameTable kMethods = {{"fixed8", RASTER_FIXED8},
+                            {"fixed4", RASTER_FIXED4},
+                            {"float", RASTER_FLOAT},
+                            {"scanline", RASTER_SCANLINE}};
+const NameTable kFilters = {{"nearest", TEXTURE_FILTER_NEAREST},
+                            {"bilinear", TEXTURE_FILTER_BILINEAR},
+                            {"trilinear", TEXTURE_FILTER_TRILINEAR}};
+const NameTable kUvs = {{"perspective", UV_PERSPECTIVE}, {"affine", UV_AFFINE}};
+
+Result<uint32_t> fromName(const NameTable& table, const char* what, const std::string& name)
+{
+    std::string known;
+    for (const auto& [n, value] : table) {
+        if (n == name) return value;
+        known += (known.empty() ? "" : ", ") + n;
+    }
+    return makeError(ExitCode::Usage, "unknown {} '{}' (expected {})", what, name, known);
+}
+
+std::string toName(const NameTable& table, uint32_t value)
+{
+    for (const auto& [n, v] : table)
+        if (v == value) return n;
+    return std::to_string(value);
+}
+
+}  // namespace
+
+const std::vector<std::string>& rasterMethodNames()
+{
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const auto& entry : kMethods) out.push_back(entry.first);
+        return out;
+    }();
+    return names;
+}
+
+Result<uint32_t> rasterMethodFromName(const std::string& name)
+{
+    return fromName(kMethods, "raster method", name);
+}
+
+std::string rasterMethodName(uint32_t method)
+{
+    return toName(kMethods, method);
+}
+
+Result<uint32_t> textureFilterFromName(const std::string& name)
+{
+    return fromName(kFilters, "texture filter", name);
+}
+
+std::string textureFilterName(uint32_t filter)
+{
+    return toName(kFilters, filter);
+}
+
+Result<uint32_t> uvInterpolationFromName(const std::string& name)
+{
+    return fromName(kUvs, "UV interpolation", name);
+}
+
+std::string uvInterpolationName(uint32_t uv)
+{
+    return toName(kUvs, uv);
+}
+
+std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods)
+{
+    std::vector<StudySetting> out;
+    for (uint32_t m : {1u, 2u, 4u, 8u, 16u}) out.push_back({"aa", "msaa" + std::to_string(m), m, 1});
+    out.push_back({"aa", "ssaa2", 1, 2});
+    out.push_back({"aa", "ssaa3", 1, 3});
+    out.push_back({"aa", "ssaa2+msaa4", 4, 2});
+    if (textured) {
+        out.push_back({"texture", "nearest", 1, 1, TEXTURE_FILTER_NEAREST});
+        out.push_back({"texture", "bilinear", 1, 1, TEXTURE_FILTER_BILINEAR});
+        out.push_back({"texture", "trilinear", 1, 1, TEXTURE_FILTER_TRILINEAR});
+        out.push_back({"uv", "perspective", 1, 1, TEXTURE_FILTER_TRILINEAR, UV_PERSPECTIVE});
+        out.push_back({"uv", "affine", 1, 1, TEXTURE_FILTER_TRILINEAR, UV_AFFINE});
+    }
+    for (const std::string& name : methods) {
+        auto method = rasterMethodFromName(name);
+        if (method) out.push_back({"method", name, 1, 1, TEXTURE_FILTER_TRILINEAR, UV_PERSPECTIVE, *method});
+    }
+    return out;
+}
+
+RenderSettings withSetting(RenderSettings base, const StudySetting& setting)
+{
+    base.msaa = setting.msaa;
+    base.ssaa = setting.ssaa;
+    base.textureFilter = setting.textureFilter;
+    base.uvInterpolation = setting.uvInterpolation;
+    base.rasterMethod = setting.rasterMethod;
+    return base;
+}
+
+RenderSettings referenceSettings(RenderSettings base)
+{
+    base.msaa = 16;
+    base.ssaa = 4;
+    base.textureFilter = TEXTURE_FILTER_TRILINEAR;
+    base.uvInterpolation = UV_PERSPECTIVE;
+    base.rasterMethod = RASTER_FIXED8;
+    base.warmup = 0;
+    base.repeat = 1;
+    return base;
+}
+
+}  // namespace sr
