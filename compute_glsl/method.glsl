@@ -16,7 +16,7 @@
 #else
 #define methodSetupTriangle setupTriangleFixed4
 #endif
-#define methodSetupSnapped setupSnappedTriangle
+#define methodLineTriangle setupLineTriangle
 #define methodPixelBounds setupPixelBounds
 #define methodTouchesTile triangleTouchesTile
 #define methodTouchesPixels triangleTouchesPixels
@@ -25,7 +25,7 @@
 #define methodCoverage pixelCoverage
 #else
 #define methodSetupTriangle setupTriangleFloat
-#define methodSetupSnapped setupSnappedTriangleFloat
+#define methodLineTriangle setupLineTriangleFloat
 #define methodPixelBounds floatPixelBounds
 #define methodTouchesTile(t, bounds, tx, ty, sampleBounds) true
 #define methodTouchesPixels(t, x0, y0, x1, y1, sampleBounds) true

@@ -149,8 +149,8 @@ void setupLineSegment(uint k)
         setupLine(a, b, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
         for (uint side = 0u; side < 2u; ++side) {
             TriSetup t;
-            if (setupLineTriangle(q, side, params.triangleCount + k, RASTER_METHOD >= RASTER_FLOAT, params.width,
-                                  params.height, params.sampleBounds, t)) {
+            if (methodLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
+                                  params.sampleBounds, t)) {
                 emitTriangle(t, true);
                 ++emitted;
             }

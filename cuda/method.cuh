@@ -17,6 +17,16 @@ __device__ inline bool methodSetupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId
 }
 
 template <uint kMethod>
+__device__ inline bool methodLineTriangle(const LineQuad& q, uint k, uint id, uint width, uint height,
+                                          uint bounds, TriSetup& t)
+{
+    if constexpr (kMethod >= RASTER_FLOAT)
+        return setupLineTriangleFloat(q, k, id, width, height, bounds, t);
+    else
+        return setupLineTriangle(q, k, id, width, height, bounds, t);
+}
+
+template <uint kMethod>
 __device__ inline ivec4 methodPixelBounds(const TriSetup& t, uint width, uint height, uint bounds)
 {
     if constexpr (kMethod >= RASTER_FLOAT)

@@ -139,8 +139,8 @@ __device__ inline void setupLineSegment(const RasterParams& params, const Buffer
         setupLine(a, e, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
         for (uint side = 0u; side < 2u; ++side) {
             TriSetup t;
-            if (setupLineTriangle(q, side, params.triangleCount + k, kMethod >= RASTER_FLOAT, params.width,
-                                  params.height, params.sampleBounds, t)) {
+            if (methodLineTriangle<kMethod>(q, side, params.triangleCount + k, params.width, params.height,
+                                            params.sampleBounds, t)) {
                 emitTriangle<kMaterials, kMultisample, true, kMethod>(params, b, t, true);
                 ++emitted;
             }

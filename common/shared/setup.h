@@ -236,6 +236,22 @@ SR_FN bool setupLine(vec4 a, vec4 b, float lineWidth, float depthBias, uint widt
     return true;
 }
 
+// Triangle k (0 or 1) of the line's rectangle: (p0 - o, p1 - o, p1 + o) and (p0 - o, p1 + o, p0 + o).
+// They share the diagonal, so the top-left rule gives each sample of the rectangle to exactly one.
+SR_FN bool setupLineTriangle(LineQuad q, uint k, uint id, uint width, uint height, uint bounds,
+                             SR_OUT(TriSetup) t)
+{
+    ivec2 p0 = ivec2(q.ends.x, q.ends.y);
+    ivec2 p1 = ivec2(q.ends.z, q.ends.w);
+    ivec2 o = q.offset;
+    ivec2 v0 = p0 - o;
+    ivec2 v1 = k == 0u ? p1 - o : p1 + o;
+    ivec2 v2 = k == 0u ? p1 + o : p0 + o;
+    float z2 = k == 0u ? q.depth.y : q.depth.x;
+    return setupSnappedTriangle(v0, v1, v2, q.depth.x, q.depth.y, z2, id, true, CULL_NONE, width, height,
+                                bounds, t);
+}
+
 SR_FN ivec2 setupV0(TriSetup t)
 {
     return ivec2(t.xy01.x, t.xy01.y);
