@@ -115,55 +115,80 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
     }
 }
 
-// Sets up line segment k (primitive triangleCount + k): clipped like a triangle, snapped, and drawn as
-// its rectangle's two triangles, which are never named by input index (they are not input triangles).
+// The build with the line and point paths (kLinesPoints). A line segment (primitive triangleCount + k)
+// is clipped like a triangle, snapped, and takes the triangles' own loop below as the fan of its
+// rectangle's four corners: its two triangles (never named by input index: they are not input
+// triangles) reach the same single inlined emitTriangle as a triangle's. compute_glsl/setup.comp gives
+// lines a function of their own; in CUDA that form (a second inlined emitTriangle) ran lines-1m's
+// setup 2.5x slower on the H100 with the same instruction count, its warps stalled on memory (0.39 ->
+// 1.00 ms; docs/benchmark.md, performance log), so this build keeps one loop for both.
 template <bool kMaterials, bool kMultisample, uint kMethod>
-__device__ inline void setupLineSegment(const RasterParams& params, const Buffers& b, uint k)
+__device__ inline void setupStageWithLinesPoints(const RasterParams& params, const Buffers& b)
 {
-    vec4 c0, c1;
-    if (!loadClipLine(params, b, k, c0, c1)) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+    uint prim = globalThreadId();
+    uint lineEnd = params.triangleCount + params.lineCount;
+    if (prim >= lineEnd) {
+        if (prim < lineEnd + params.pointCount) rasterPoint<kMultisample>(params, b, prim - lineEnd);
         return;
     }
-    vec4 a, e;
-    vec2 u;
-    uint kind = prepareLine(c0, c1, params.guardBand, a, e, u);
+    bool line = prim >= params.triangleCount;
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count = 0u;
+    uint kind;
+    LineQuad q;
+    if (line) {
+        vec4 c0, c1;
+        vec2 u;
+        kind = loadClipLine(params, b, prim - params.triangleCount, c0, c1)
+                   ? prepareLine(c0, c1, params.guardBand, poly[0], poly[1], u)
+                   : PREPARE_INVALID;
+        if (kind != PREPARE_INVALID && kind != PREPARE_CULLED &&
+            setupLine(poly[0], poly[1], params.lineWidth, params.lineDepthBias, params.width, params.height,
+                      q))
+            count = 4u;
+    } else {
+        vec4 c0, c1, c2;
+        kind = loadClipTriangle(params, b, prim, c0, c1, c2)
+                   ? prepareTriangle(c0, c1, c2, params.guardBand, poly, count)
+                   : PREPARE_INVALID;
+    }
     if (kind == PREPARE_INVALID) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
     if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
-    LineQuad q;
+    bool doubleSided = line || (b.triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
-    if (kind != PREPARE_CULLED &&
-        setupLine(a, e, params.lineWidth, params.lineDepthBias, params.width, params.height, q)) {
-        for (uint side = 0u; side < 2u; ++side) {
-            TriSetup t;
-            if (methodLineTriangle<kMethod>(q, side, params.triangleCount + k, params.width, params.height,
-                                            params.sampleBounds, t)) {
-                emitTriangle<kMaterials, kMultisample, true, kMethod>(params, b, t, true);
-                ++emitted;
-            }
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        bool drawn = line ? methodLineTriangle<kMethod>(q, k - 1u, prim, params.width, params.height,
+                                                        params.sampleBounds, t)
+                          : methodSetupTriangle<kMethod>(poly[0], poly[k], poly[k + 1u], prim, doubleSided,
+                                                         params.cullMode, params.width, params.height,
+                                                         params.sampleBounds, t);
+        if (drawn) {
+            emitTriangle<kMaterials, kMultisample, true, kMethod>(params, b, t,
+                                                                  line || kind == PREPARE_CLIPPED);
+            ++emitted;
         }
     }
-    atomicAdd(&b.counters[emitted == 0u ? COUNTER_CULLED : COUNTER_LINES], 1u);
+    if (emitted == 0u)
+        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    else if (line)
+        atomicAdd(&b.counters[COUNTER_LINES], 1u);
 }
 
-// kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp).
+// kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp); the
+// triangle-only build is the code below.
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
-    uint tri = globalThreadId();
-    if (tri >= params.triangleCount) {
-        if constexpr (kLinesPoints) {
-            uint k = tri - params.triangleCount;
-            if (k < params.lineCount)
-                setupLineSegment<kMaterials, kMultisample, kMethod>(params, b, k);
-            else if (k < params.lineCount + params.pointCount)
-                rasterPoint<kMultisample>(params, b, k - params.lineCount);
-        }
+    if constexpr (kLinesPoints) {
+        setupStageWithLinesPoints<kMaterials, kMultisample, kMethod>(params, b);
         return;
     }
+    uint tri = globalThreadId();
+    if (tri >= params.triangleCount) return;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
