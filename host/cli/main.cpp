@@ -28,6 +28,7 @@
 #include "cli/backend.h"
 #include "cli/bench.h"
 #include "cli/study.h"
+#include "cli/view.h"
 #include "study/quality.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
@@ -445,6 +446,19 @@ int main(int argc, char** argv)
     benchApp->add_option("--device", bench.options.device, "device index within each backend");
     benchApp->add_option("--json", bench.jsonPath, "all results as JSON");
 
+    ViewOptions view;
+    CLI::App* viewApp = app.add_subcommand("view", "an interactive window (see README for the controls)");
+    viewApp->add_option("scene", view.scenePath, "as for render");
+    viewApp->add_option("--backend", view.backend, "auto, cuda or vulkan")
+        ->check(CLI::IsMember({"auto", "cuda", "vulkan"}));
+    viewApp->add_option("--device", view.device, "device index within the backend");
+    viewApp->add_option("--present-device", view.presentDevice, "Vulkan device that presents the window");
+    viewApp->add_option("--width", view.settings.width, "initial window width")->check(CLI::Range(1, 16384));
+    viewApp->add_option("--height", view.settings.height, "initial window height")
+        ->check(CLI::Range(1, 16384));
+    viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
+    viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
+
     StudyCommand study;
     CLI::App* studyApp = app.add_subcommand(
         "study",
@@ -483,6 +497,7 @@ int main(int argc, char** argv)
     if (render->parsed()) status = runRender(cmd);
     if (benchApp->parsed()) status = runBenchCommand(bench);
     if (studyApp->parsed()) status = runStudyCommand(study);
+    if (viewApp->parsed()) status = runView(view);
     if (cmp->parsed()) {
         auto pass = runCompare(compare);
         if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);

@@ -296,14 +296,16 @@ VulkanContext::~VulkanContext()
         vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);
         vkDestroyDevice(device_, nullptr);
     }
+    if (surface_ != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance_, surface_, nullptr);
     if (messenger_ != VK_NULL_HANDLE) destroyMessenger_(instance_, messenger_, nullptr);
     // The messenger chained into the instance create info still reports leaks found here.
     if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
-Status VulkanContext::init(int index, QueueKind kind)
+Status VulkanContext::init(int index, QueueKind kind, const PresentTarget* present)
 {
-    SR_TRY(createInstance());
+    SR_TRY(createInstance(present));
+    if (present != nullptr) SR_VK_CHECK(present->createSurface(instance_, &surface_));
     SR_TRY(selectDevice(index, kind));
     SR_TRY(createDevice(kind));
     SR_TRY(createDescriptorObjects());
@@ -320,7 +322,7 @@ void VulkanContext::waitIdle()
         std::fprintf(stderr, "vulkan: vkDeviceWaitIdle failed: %s\n", vkResultName(result).c_str());
 }
 
-Status VulkanContext::createInstance()
+Status VulkanContext::createInstance(const PresentTarget* present)
 {
     const char* env = std::getenv("SR_VULKAN_VALIDATION");
     validation_ = env != nullptr && std::strcmp(env, "1") == 0;
@@ -343,6 +345,8 @@ Status VulkanContext::createInstance()
         layers.push_back(kValidationLayer);
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
+    if (present != nullptr)
+        for (const std::string& e : present->instanceExtensions) extensions.push_back(e.c_str());
 
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -407,6 +411,16 @@ Status VulkanContext::selectDevice(int index, QueueKind kind)
                              "for gl_PrimitiveID in its fragment shader",
                              chosen.properties.deviceName);
     }
+    if (surface_ != VK_NULL_HANDLE) {
+        // The viewer's queue runs the copy into the swapchain image and presents it.
+        VkBool32 supported = VK_FALSE;
+        uint32_t family = kind == QueueKind::Graphics ? chosen.graphicsFamily : chosen.computeFamily;
+        SR_VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(chosen.device, family, surface_, &supported));
+        if (!supported)
+            return makeError(ExitCode::Usage, "vulkan: {} cannot present to this window from its {} queue",
+                             chosen.properties.deviceName,
+                             kind == QueueKind::Graphics ? "graphics" : "compute");
+    }
     physical_ = chosen.device;
     properties_ = chosen.properties;
     driver_ = chosen.driver;
@@ -464,8 +478,11 @@ Status VulkanContext::createDevice(QueueKind kind)
     info.pNext = &features;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queueInfo;
-    info.enabledExtensionCount = lineExtension != nullptr ? 1 : 0;
-    info.ppEnabledExtensionNames = &lineExtension;
+    std::vector<const char*> extensions;
+    if (lineExtension != nullptr) extensions.push_back(lineExtension);
+    if (surface_ != VK_NULL_HANDLE) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    info.ppEnabledExtensionNames = extensions.data();
     SR_VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
     return okStatus();

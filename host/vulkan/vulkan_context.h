@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <mutex>
@@ -94,6 +95,14 @@ Status validationStatus(ValidationLog& log);
 // shader reading gl_PrimitiveID declares the Geometry capability.
 enum class QueueKind { Compute, Graphics };
 
+// A window a context presents to (`raster view`): the instance extensions its surface needs and the
+// function that creates the surface once the instance exists. A context given one creates the surface,
+// picks a queue that can present to it, and enables VK_KHR_swapchain.
+struct PresentTarget {
+    std::vector<std::string> instanceExtensions;
+    std::function<VkResult(VkInstance, VkSurfaceKHR*)> createSurface;
+};
+
 class VulkanContext {
 public:
     VulkanContext();
@@ -104,7 +113,7 @@ public:
     // Creates everything on device `index` of the project's device list (GPUs first, CPU
     // implementations last; -1 picks the first), the same list for both kinds, so an index names
     // the same device for every backend. On failure the destructor releases whatever was created.
-    Status init(int index, QueueKind kind);
+    Status init(int index, QueueKind kind, const PresentTarget* present = nullptr);
 
     // Waits for all submitted work; a failure is printed, as there is no caller left to return it
     // to when this runs before destruction.
@@ -119,6 +128,9 @@ public:
     // backend, name, driver and isCpu of the selected device.
     DeviceInfo deviceInfo(const std::string& backend) const;
     VkDevice device() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    // The window surface of a context made with a PresentTarget, else VK_NULL_HANDLE.
+    VkSurfaceKHR surface() const { return surface_; }
     VkPhysicalDevice physicalDevice() const { return physical_; }
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     // Largest buffer a storage descriptor can cover whole.
@@ -182,7 +194,7 @@ public:
     Status readTimestampPairs(uint32_t pairs, std::vector<double>& ms);
 
 private:
-    Status createInstance();
+    Status createInstance(const PresentTarget* present);
     Status selectDevice(int index, QueueKind kind);
     Status createDevice(QueueKind kind);
     Status createDescriptorObjects();
@@ -198,6 +210,7 @@ private:
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
     PFN_vkDestroyDebugUtilsMessengerEXT destroyMessenger_ = nullptr;
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};

@@ -1,0 +1,30 @@
+// view.h - `raster view`: the interactive window (issue 13). The scene is rendered by a compute
+// backend at the window's size whenever the view changes and presented through a Vulkan swapchain
+// (host/viewer/present.h); input comes from the window or, with --script, from a replayed file that
+// goes through the same handlers (host/viewer/script.h), so a test under Xvfb drives the real window.
+#ifndef RASTER_CLI_VIEW_H
+#define RASTER_CLI_VIEW_H
+
+#include <cstdint>
+#include <string>
+
+#include "base/result.h"
+#include "render/renderer.h"
+
+namespace sr {
+
+struct ViewOptions {
+    std::string scenePath;         // as `raster render`: a file, builtin, builtin:NAME
+    std::string backend = "auto";  // auto, cuda or vulkan (the compute backends; `b` switches live)
+    int device = -1;               // device index within the backend
+    int presentDevice = -1;        // Vulkan device that presents (-1: the first that can)
+    std::string camera = "auto";   // initial camera, as --camera of `raster render`
+    std::string scriptPath;        // replay this input script instead of waiting for the user
+    RenderSettings settings;       // width x height is the initial window size
+};
+
+Status runView(const ViewOptions& options);
+
+}  // namespace sr
+
+#endif  // RASTER_CLI_VIEW_H

@@ -1,0 +1,236 @@
+// present.cpp - see present.h.
+#include "viewer/present.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace sr {
+namespace {
+
+uint32_t swapRedBlue(uint32_t p)
+{
+    return (p & 0xff00ff00u) | ((p & 0xffu) << 16) | ((p >> 16) & 0xffu);
+}
+
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkAccessFlags srcAccess, VkAccessFlags dstAccess)
+{
+    VkImageMemoryBarrier b{};
+    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                         0, nullptr, 1, &b);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Presenter>> Presenter::create(const PresentTarget& target, int deviceIndex)
+{
+    std::unique_ptr<Presenter> p(new Presenter());
+    SR_TRY(p->context_.init(deviceIndex, QueueKind::Compute, &target));
+    p->info_ = p->context_.deviceInfo("vulkan");
+    VkFenceCreateInfo fenceInfo{};
+    fenceInfo.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+    SR_VK_CHECK(vkCreateFence(p->context_.device(), &fenceInfo, nullptr, &p->acquired_));
+    return p;
+}
+
+Presenter::~Presenter()
+{
+    if (context_.device() == VK_NULL_HANDLE) return;
+    context_.waitIdle();
+    destroySwapchain();
+    context_.destroyBuffer(pixels_);
+    if (acquired_ != VK_NULL_HANDLE) vkDestroyFence(context_.device(), acquired_, nullptr);
+}
+
+void Presenter::destroySwapchain()
+{
+    if (swapchain_ != VK_NULL_HANDLE) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
+    swapchain_ = VK_NULL_HANDLE;
+    images_.clear();
+}
+
+Status Presenter::createSwapchain(uint32_t width, uint32_t height)
+{
+    VkPhysicalDevice physical = context_.physicalDevice();
+    VkSurfaceKHR surface = context_.surface();
+    VkSurfaceCapabilitiesKHR caps{};
+    SR_VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface, &caps));
+    uint32_t count = 0;
+    SR_VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, nullptr));
+    std::vector<VkSurfaceFormatKHR> formats(count);
+    SR_VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, formats.data()));
+    // UNORM formats: the frame's bytes are already sRGB-encoded and must not be encoded twice.
+    auto offered = [&](VkFormat f) {
+        return std::any_of(formats.begin(), formats.end(), [&](const VkSurfaceFormatKHR& s) {
+            return s.format == f && s.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
+        });
+    };
+    if (offered(VK_FORMAT_R8G8B8A8_UNORM)) {
+        format_ = VK_FORMAT_R8G8B8A8_UNORM;
+        swapRedBlue_ = false;
+    } else if (offered(VK_FORMAT_B8G8R8A8_UNORM)) {
+        format_ = VK_FORMAT_B8G8R8A8_UNORM;
+        swapRedBlue_ = true;
+    } else {
+        return makeError(ExitCode::Runtime, "view: the window offers neither R8G8B8A8 nor B8G8R8A8 UNORM");
+    }
+    if ((caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) == 0)
+        return makeError(ExitCode::Runtime, "view: the window's swapchain images cannot be copied into");
+    canRead_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    VkExtent2D extent = caps.currentExtent;
+    if (extent.width == 0xFFFFFFFFu) extent = {width, height};
+    extent.width = std::clamp(extent.width, caps.minImageExtent.width, caps.maxImageExtent.width);
+    extent.height = std::clamp(extent.height, caps.minImageExtent.height, caps.maxImageExtent.height);
+
+    VkSwapchainCreateInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR;
+    info.surface = surface;
+    info.minImageCount = caps.maxImageCount == 0 ? caps.minImageCount + 1
+                                                 : std::min(caps.minImageCount + 1, caps.maxImageCount);
+    info.imageFormat = format_;
+    info.imageColorSpace = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
+    info.imageExtent = extent;
+    info.imageArrayLayers = 1;
+    info.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | (canRead_ ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+    info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    info.preTransform = caps.currentTransform;
+    info.compositeAlpha =
+        (caps.supportedCompositeAlpha & VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR) != 0
+            ? VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR
+            : VkCompositeAlphaFlagBitsKHR(caps.supportedCompositeAlpha & -caps.supportedCompositeAlpha);
+    info.presentMode = VK_PRESENT_MODE_FIFO_KHR;  // the one mode every device offers
+    info.clipped = VK_TRUE;
+    info.oldSwapchain = swapchain_;
+    VkSwapchainKHR created = VK_NULL_HANDLE;
+    SR_VK_CHECK(vkCreateSwapchainKHR(context_.device(), &info, nullptr, &created));
+    destroySwapchain();
+    swapchain_ = created;
+    extent_ = extent;
+    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, nullptr));
+    images_.resize(count);
+    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, images_.data()));
+    return okStatus();
+}
+
+Status Presenter::present(const RgbaImage& image, uint32_t windowWidth, uint32_t windowHeight,
+                          RgbaImage* readback)
+{
+    if (windowWidth == 0 || windowHeight == 0) return okStatus();  // minimized: nothing to show
+    // A window resized since the last frame, or a swapchain the window system declared stale, is
+    // made again and the frame presented once more.
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        if (swapchain_ == VK_NULL_HANDLE || extent_.width != windowWidth || extent_.height != windowHeight)
+            SR_TRY(createSwapchain(windowWidth, windowHeight));
+        bool outOfDate = false;
+        SR_TRY(presentOnce(image, readback, outOfDate));
+        if (!outOfDate) return context_.validationStatus();
+        SR_VK_CHECK(vkDeviceWaitIdle(context_.device()));
+        destroySwapchain();
+    }
+    return makeError(ExitCode::Runtime, "view: the window's swapchain stayed out of date");
+}
+
+Status Presenter::presentOnce(const RgbaImage& image, RgbaImage* readback, bool& outOfDate)
+{
+    VkDevice device = context_.device();
+    const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * 4;
+    if (pixels_.capacity < bytes) {
+        context_.destroyBuffer(pixels_);
+        SR_TRY(context_.allocateBuffer(
+            pixels_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+            {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
+    }
+    uint32_t index = 0;
+    VkResult acquired =
+        vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+        outOfDate = true;
+        return okStatus();
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(acquired);
+    SR_VK_CHECK(vkWaitForFences(device, 1, &acquired_, VK_TRUE, UINT64_MAX));
+    SR_VK_CHECK(vkResetFences(device, 1, &acquired_));
+
+    // The frame's rows into the buffer at the swapchain's pitch, cropped to the window.
+    const uint32_t w = std::min(image.width, extent_.width), h = std::min(image.height, extent_.height);
+    auto* dst = static_cast<uint32_t*>(pixels_.mapped);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            uint32_t p = image.pixels[size_t(y) * image.width + x];
+            dst[size_t(y) * extent_.width + x] = swapRedBlue_ ? swapRedBlue(p) : p;
+        }
+
+    VkImage target = images_[index];
+    SR_TRY(context_.beginCommands());
+    VkCommandBuffer cmd = context_.commandBuffer();
+    imageBarrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                 VK_ACCESS_TRANSFER_WRITE_BIT);
+    if (w < extent_.width || h < extent_.height) {
+        VkClearColorValue black{};
+        black.float32[3] = 1.0f;
+        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    }
+    if (w > 0 && h > 0) {
+        VkBufferImageCopy region{};
+        region.bufferRowLength = extent_.width;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {w, h, 1};
+        vkCmdCopyBufferToImage(cmd, pixels_.buffer, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    }
+    const bool read = readback != nullptr && canRead_;
+    if (read) {
+        imageBarrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                     VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        // The buffer was read by the copy in; the copy out overwrites it.
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {extent_.width, extent_.height, 1};
+        vkCmdCopyImageToBuffer(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pixels_.buffer, 1, &region);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    }
+    imageBarrier(cmd, target,
+                 read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                 read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+    // Waited for here, so the presentation below needs no semaphore: the image is complete.
+    SR_TRY(context_.submitAndWait());
+    if (readback != nullptr) {
+        if (!read) return makeError(ExitCode::Runtime, "view: this window's swapchain cannot be read back");
+        readback->width = extent_.width;
+        readback->height = extent_.height;
+        readback->pixels.resize(size_t(extent_.width) * extent_.height);
+        const auto* src = static_cast<const uint32_t*>(pixels_.mapped);
+        for (size_t i = 0; i < readback->pixels.size(); ++i)
+            readback->pixels[i] = swapRedBlue_ ? swapRedBlue(src[i]) : src[i];
+    }
+
+    VkPresentInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR;
+    info.swapchainCount = 1;
+    info.pSwapchains = &swapchain_;
+    info.pImageIndices = &index;
+    VkResult presented = vkQueuePresentKHR(context_.queue(), &info);
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR) {
+        outOfDate = true;
+        return okStatus();
+    }
+    if (presented != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(presented);
+    return okStatus();
+}
+
+}  // namespace sr
