@@ -286,7 +286,7 @@ std::string readFile(const std::string& path)
 }
 }  // namespace
 
-ToolRun runTool(const std::string& args, const std::string& workDir)
+ToolRun runTool(const std::string& args, const std::string& workDir, const std::string& wrapper)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.
     static int calls = 0;
@@ -296,7 +296,7 @@ ToolRun runTool(const std::string& args, const std::string& workDir)
     std::string err = stem + ".err";
     // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
     const char* exe = std::getenv("SR_RASTER_EXE");
-    std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") +
+    std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") + wrapper + (wrapper.empty() ? "" : " ") +
                       std::string(exe ? exe : SR_RASTER_EXE) + " " + args + " >" + out + " 2>" + err;
     int status = std::system(cmd.c_str());
     ToolRun run;

@@ -201,8 +201,9 @@ struct ToolRun {
     std::string stdoutText;
     std::string stderrText;
 };
-// Runs in `workDir` when given, else in the current directory.
-ToolRun runTool(const std::string& args, const std::string& workDir = "");
+// Runs in `workDir` when given, else in the current directory; `wrapper` goes before the binary (a
+// command that runs it, e.g. `xvfb-run -a` or `env -u DISPLAY`).
+ToolRun runTool(const std::string& args, const std::string& workDir = "", const std::string& wrapper = "");
 
 }  // namespace sr::test
 

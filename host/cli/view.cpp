@@ -1,76 +1,197 @@
 // view.cpp - see view.h.
 #include "cli/view.h"
 
+#include <algorithm>
 #include <chrono>
-#include <fstream>
-#include <sstream>
+#include <optional>
+#include <thread>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "cli/backend.h"
+#include "cli/outputs.h"
+#include "cli/stats_json.h"
 #include "io/image_io.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
+#include "viewer/controls.h"
 #include "viewer/present.h"
+#include "viewer/script.h"
 #include "viewer/window.h"
 
 namespace sr {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// The compute backends the window can switch between (`b`): the one asked for first, then the other
+// where it opens; with `auto`, CUDA first as `raster render` does.
+Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::string& backend, int device)
+{
+    std::vector<BackendKind> order = backend == "vulkan" ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
+                                                         : std::vector<BackendKind>{BackendKind::Cuda, BackendKind::Vulkan};
+    std::vector<std::unique_ptr<ComputeDevice>> devices;
+    std::optional<Error> first;
+    for (BackendKind kind : order) {
+        auto d = makeComputeDevice(kind, device);
+        if (d) {
+            devices.push_back(std::move(*d));
+        } else if (!first) {
+            first = d.error();
+        }
+    }
+    // The backend named on the command line must open; the other is a bonus.
+    bool named = backend != "auto";
+    if (devices.empty() || (named && devices.front()->info().backend != backend)) {
+        if (first) return *first;
+        return makeError(ExitCode::Usage, "view: no compute backend opened");
+    }
+    return devices;
+}
+
+MouseButton buttonOf(int button)
+{
+    return button == 1 ? MouseButton::Right : button == 2 ? MouseButton::Middle : MouseButton::Left;
+}
+
+// Live input, through the same controls a script uses.
+void applyInput(ViewerState& state, const InputEvent& e)
+{
+    switch (e.kind) {
+    case InputEvent::Kind::Drag: onDrag(state, buttonOf(e.button), float(e.dx), float(e.dy)); break;
+    case InputEvent::Kind::Scroll: onScroll(state, float(e.dy)); break;
+    case InputEvent::Kind::Key: onKey(state, char(e.key)); break;
+    case InputEvent::Kind::Resize: onResize(state, uint32_t(e.dx), uint32_t(e.dy)); break;
+    }
+}
+
+// What a saved frame needs beside its PNG, EXR and JSON to be reproduced: the `raster render`
+// arguments of the same view (PREFIX.view.json), which the viewer test runs.
+nlohmann::json viewJson(const ViewerState& state, const std::string& scenePath, const DeviceInfo& device)
+{
+    const RenderSettings& s = state.settings;
+    std::string args = fmt::format("{} --width {} --height {} --camera {} --shading {} --msaa {} --ssaa {}",
+                                   scenePath.empty() ? "builtin" : scenePath, s.width, s.height,
+                                   state.camera.specString(), shadingModeName(s.shadingMode), s.msaa, s.ssaa);
+    if (state.primitiveMode != PrimitiveMode::Triangles)
+        args += fmt::format(" --primitive-mode {}", primitiveModeName(state.primitiveMode));
+    if (state.wireframe) args += " --wireframe";
+    return {{"camera", state.camera.specString()},
+            {"backend", device.backend},
+            {"device", device.name},
+            {"state", stateSummary(state)},
+            {"render_args", args}};
+}
+
+}  // namespace
 
 Status runView(const ViewOptions& o)
 {
-    Result<Scene> scene = o.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(o.scenePath);
-    if (!scene) return scene.error();
+    Result<Scene> base = o.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(o.scenePath);
+    if (!base) return base.error();
     auto spec = parseCameraSpec(o.camera);
     if (!spec) return spec.error();
+    std::vector<ScriptEvent> script;
+    if (!o.scriptPath.empty()) {
+        auto loaded = loadScript(o.scriptPath);
+        if (!loaded) return loaded.error();
+        script = std::move(*loaded);
+    }
     auto window = Window::open(o.settings.width, o.settings.height, "raster view");
     if (!window) return window.error();
     auto presenter = Presenter::create((*window)->presentTarget(), o.presentDevice);
     if (!presenter) return presenter.error();
-    BackendKind kind = o.backend == "cuda"     ? BackendKind::Cuda
-                       : o.backend == "vulkan" ? BackendKind::Vulkan
-                                               : BackendKind::Auto;
-    auto device = makeComputeDevice(kind, o.device);
-    if (!device) return device.error();
+    auto devices = openBackends(o.backend, o.device);
+    if (!devices) return devices.error();
 
-    std::vector<std::string> script;
-    if (!o.scriptPath.empty()) {
-        std::ifstream in(o.scriptPath);
-        if (!in) return makeError(ExitCode::Usage, "view: cannot read script '{}'", o.scriptPath);
-        for (std::string line; std::getline(in, line);) script.push_back(line);
-    }
-    size_t next = 0;
-    RenderSettings s = o.settings;
-    while (!(*window)->closeRequested()) {
-        bool quit = false;
-        for (const InputEvent& e : (*window)->poll())
-            if (e.kind == InputEvent::Kind::Key && (e.key == kKeyEscape || e.key == 'q')) quit = true;
-        if (quit) break;
-        uint32_t w = 0, h = 0;
-        (*window)->framebufferSize(w, h);
-        if (w == 0 || h == 0) continue;
-        s.width = w;
-        s.height = h;
-        auto camera = resolveCamera(*spec, *scene, w, h);
-        if (!camera) return camera.error();
-        auto out = renderScene(**device, *scene, *camera, s);
-        if (!out) return out.error();
-        std::string savePrefix;
+    uint32_t width = 0, height = 0;
+    (*window)->framebufferSize(width, height);
+    RenderSettings settings = o.settings;
+    settings.width = std::max(width, 1u);
+    settings.height = std::max(height, 1u);
+    settings.warmup = 0;
+    settings.repeat = 1;
+    auto camera = OrbitCamera::fromSpec(*spec, *base, settings.width, settings.height);
+    if (!camera) return camera.error();
+    ViewerState state = makeViewerState(*camera, settings, false, PrimitiveMode::Triangles,
+                                        uint32_t(devices->size()));
+    Scene scene = frameScene(*base, state);
+    std::optional<RenderSession> session;
+
+    size_t next = 0;  // the script's next event
+    bool dirty = true;
+    double fps = 0.0;
+    std::vector<double> gpuMs, presentMs;
+    while (!state.quit) {
+        bool draw = false;
         if (!o.scriptPath.empty()) {
-            if (next >= script.size()) break;
-            std::istringstream line(script[next++]);
-            std::string verb;
-            line >> verb >> savePrefix;
-            if (verb != "save") savePrefix.clear();
+            (*window)->poll();  // keeps the window system served; live input is ignored
+            if (next == script.size()) break;
+            ScriptEffect effect = applyScriptEvent(state, script[next++]);
+            if (effect.resizeWindow) SR_TRY((*window)->resize(state.settings.width, state.settings.height));
+            draw = effect.renderFrame || state.saveRequested;
+        } else {
+            std::vector<InputEvent> events = (*window)->poll();
+            for (const InputEvent& e : events) applyInput(state, e);
+            dirty = dirty || !events.empty();
+            if ((*window)->closeRequested()) break;
+            draw = dirty || state.sceneChanged || state.backendChanged || state.saveRequested;
         }
+        if (state.quit) break;
+        if (state.sceneChanged || state.backendChanged) {
+            // A new scene or device: the session's uploads belong to the old one.
+            session.reset();
+            if (state.sceneChanged) scene = frameScene(*base, state);
+            state.sceneChanged = state.backendChanged = false;
+        }
+        if (!draw) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            continue;
+        }
+        Clock::time_point start = Clock::now();
+        ComputeDevice& device = *(*devices)[state.backendIndex % devices->size()];
+        if (!session) {
+            auto created = RenderSession::create(device, scene);
+            if (!created) return created.error();
+            session.emplace(std::move(*created));
+        }
+        const RenderSettings& s = state.settings;
+        auto out = session->render(state.camera.matrices(s.width, s.height), s);
+        if (!out) return out.error();
+        Clock::time_point presentStart = Clock::now();
+        uint32_t windowWidth = 0, windowHeight = 0;
+        (*window)->framebufferSize(windowWidth, windowHeight);
         RgbaImage shown;
-        SR_TRY((*presenter)->present(out->color, w, h, savePrefix.empty() ? nullptr : &shown));
-        if (!savePrefix.empty()) {
-            SR_TRY(writePng(savePrefix + ".png", out->color));
-            SR_TRY(writePng(savePrefix + ".window.png", shown));
+        SR_TRY((*presenter)->present(out->color, windowWidth, windowHeight, state.saveRequested ? &shown : nullptr));
+        presentMs.push_back(msSince(presentStart));
+        gpuMs.push_back(out->total.medianMs);
+        if (state.saveRequested) {
+            std::string prefix = state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
+            SR_TRY(writeOutputs(*out, scene, s, savePaths(prefix), o.scenePath.empty() ? "builtin" : o.scenePath));
+            SR_TRY(writePng(prefix + ".window.png", shown));
+            SR_TRY(writeJson(prefix + ".view.json", viewJson(state, o.scenePath, out->device)));
+            state.saveRequested = false;
         }
-        (*window)->setTitle(fmt::format("raster view - {} ({}) - {:.2f} ms GPU - {} triangles",
+        double frameMs = msSince(start);
+        fps = frameMs > 0.0 ? 1000.0 / frameMs : 0.0;
+        (*window)->setTitle(fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
+                                        "{} triangles - {}",
                                         out->device.backend, out->device.name, out->total.medianMs,
-                                        out->stats.trianglesIn));
+                                        presentMs.back(), fps, out->stats.trianglesIn, stateSummary(state)));
+        dirty = false;
+    }
+    if (!gpuMs.empty() && !o.scriptPath.empty()) {
+        std::sort(gpuMs.begin(), gpuMs.end());
+        std::sort(presentMs.begin(), presentMs.end());
+        fmt::print("view: {} frames at {}x{}, median GPU {:.3f} ms, median present {:.3f} ms\n", gpuMs.size(),
+                   state.settings.width, state.settings.height, gpuMs[gpuMs.size() / 2],
+                   presentMs[presentMs.size() / 2]);
     }
     return okStatus();
 }

@@ -96,6 +96,19 @@ void Window::setTitle(const std::string& title)
     glfwSetWindowTitle(window_, title.c_str());
 }
 
+Status Window::resize(uint32_t width, uint32_t height)
+{
+    glfwSetWindowSize(window_, int(width), int(height));
+    for (int k = 0; k < 100; ++k) {
+        uint32_t w = 0, h = 0;
+        glfwPollEvents();
+        framebufferSize(w, h);
+        if (w == width && h == height) return okStatus();
+        glfwWaitEventsTimeout(0.01);
+    }
+    return makeError(ExitCode::Runtime, "view: the window system did not resize the window to {}x{}", width, height);
+}
+
 void Window::framebufferSize(uint32_t& width, uint32_t& height) const
 {
     int w = 0, h = 0;
@@ -140,7 +153,7 @@ void Window::onKey(GLFWwindow* w, int key, int, int action, int)
     if (action != GLFW_PRESS || key != GLFW_KEY_ESCAPE) return;
     InputEvent e;
     e.kind = InputEvent::Kind::Key;
-    e.key = kKeyEscape;
+    e.key = int(kKeyEscape);
     self(w)->pending_.push_back(e);
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "base/result.h"
+#include "viewer/controls.h"
 #include "vulkan/vulkan_context.h"
 
 struct GLFWwindow;
@@ -18,7 +19,7 @@ namespace sr {
 
 // One input event in window pixels. Drag: the cursor moved by (dx, dy) with `button` held (0 left,
 // 1 right, 2 middle). Scroll: dy wheel steps (positive away from the user). Key: `key` is the
-// character ('1', 'm', ...) or kKeyEscape. Resize: the framebuffer is now dx x dy pixels.
+// character ('1', 'm', ...) or kKeyEscape (viewer/controls.h). Resize: the framebuffer is now dx x dy pixels.
 struct InputEvent {
     enum class Kind { Drag, Scroll, Key, Resize };
     Kind kind = Kind::Key;
@@ -26,7 +27,6 @@ struct InputEvent {
     double dx = 0.0, dy = 0.0;
     int key = 0;
 };
-constexpr int kKeyEscape = 27;
 
 class Window {
 public:
@@ -43,6 +43,9 @@ public:
     std::vector<InputEvent> poll();
     bool closeRequested() const;
     void setTitle(const std::string& title);
+    // Asks for a width x height framebuffer and waits (up to a second) until the window system gives
+    // it, so that a scripted resize is in place before the next frame.
+    Status resize(uint32_t width, uint32_t height);
     // The framebuffer's size in pixels (0 x 0 while minimized).
     void framebufferSize(uint32_t& width, uint32_t& height) const;
 

@@ -1,0 +1,125 @@
+// viewer_test.cpp - `raster view` through its real window: without a display it refuses in one line;
+// under Xvfb (a virtual X server) on lavapipe a scripted session orbits, zooms, pans, switches shading,
+// anti-aliasing and primitive mode and saves, and every saved frame must equal `raster render` of the
+// same view (ids identical, colour within 1/255), while the pixels read back from the window's swapchain
+// must equal the saved frame exactly. Needs xvfb-run (Debian xvfb); SR_ALLOW_MISSING_BACKENDS=display is
+// the explicit switch for machines without it (the GPU machine).
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.h"
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+bool displayMayBeMissing()
+{
+    const char* allowed = std::getenv("SR_ALLOW_MISSING_BACKENDS");
+    return allowed != nullptr && std::string(allowed).find("display") != std::string::npos;
+}
+
+bool haveXvfb()
+{
+    return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
+}
+
+// No X server for the window: a usage error that names the way out, on one line, exit 2.
+TEST(ViewerCommandLine, WithoutADisplayItRefusesInOneLine)
+{
+    ToolRun run = runTool("view --backend vulkan", "", "env -u DISPLAY -u WAYLAND_DISPLAY");
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_TRUE(isOneLine(run.stderrText)) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("raster render"), std::string::npos) << run.stderrText;
+}
+
+// A bad script is reported before any window opens: file and line, one line, exit 2.
+TEST(ViewerCommandLine, ABadScriptNamesItsLine)
+{
+    ScratchDir dir("view_script");
+    std::ofstream(dir.file("bad.txt")) << "frame\ndrag sideways 1 2\n";
+    ToolRun run = runTool("view --script " + dir.file("bad.txt"), "", "env -u DISPLAY");
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_TRUE(isOneLine(run.stderrText)) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("bad.txt:2"), std::string::npos) << run.stderrText;
+}
+
+TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
+{
+    if (!haveXvfb()) {
+        if (displayMayBeMissing()) GTEST_SKIP() << "xvfb-run absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        FAIL() << "xvfb-run not found (Debian package xvfb; ci/setup installs it)";
+    }
+    ScratchDir dir("view_xvfb");
+    const std::string a = dir.file("a"), b = dir.file("b"), c = dir.file("c");
+    std::ofstream(dir.file("script.txt")) << "# orbit, zoom, Lambert, save\n"
+                                             "frame\n"
+                                             "drag left 60 -20\n"
+                                             "scroll 3\n"
+                                             "key 3\n"
+                                             "save "
+                                          << a
+                                          << "\n"
+                                             "# pan, MSAA 4x, Phong, save\n"
+                                             "drag right 15 10\n"
+                                             "key m\n"
+                                             "key 2\n"
+                                             "save "
+                                          << b
+                                          << "\n"
+                                             "# the mesh as lines\n"
+                                             "key p\n"
+                                             "save "
+                                          << c << "\nkey q\n";
+    ToolRun run = runTool("view --backend vulkan --width 160 --height 120 --script " + dir.file("script.txt"), "",
+                          "xvfb-run -a -s '-screen 0 640x480x24'");
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    EXPECT_NE(run.stdoutText.find("view: 3 frames at 160x120"), std::string::npos) << run.stdoutText;
+
+    std::vector<uint32_t> firstIds;
+    for (const std::string& prefix : {a, b, c}) {
+        SCOPED_TRACE(prefix);
+        std::ifstream viewFile(prefix + ".view.json");
+        ASSERT_TRUE(viewFile.good());
+        nlohmann::json view = nlohmann::json::parse(viewFile);
+        ToolRun ref = runTool("render " + view["render_args"].get<std::string>() + " --backend vulkan -q -o " +
+                              prefix + ".ref.png --aov " + prefix + ".ref.exr");
+        ASSERT_EQ(ref.exitCode, 0) << ref.stderrText;
+        auto saved = readPng(prefix + ".png");
+        auto window = readPng(prefix + ".window.png");
+        auto refPng = readPng(prefix + ".ref.png");
+        auto savedAov = readAovExr(prefix + ".exr");
+        auto refAov = readAovExr(prefix + ".ref.exr");
+        ASSERT_TRUE(saved && window && refPng && savedAov && refAov);
+        ASSERT_EQ(saved->width, 160u);
+        ASSERT_EQ(saved->height, 120u);
+        EXPECT_EQ(window->pixels, saved->pixels) << "the window shows what was saved";
+        EXPECT_EQ(savedAov->id, refAov->id) << "ids as raster render draws the same view";
+        ASSERT_EQ(refPng->pixels.size(), saved->pixels.size());
+        int worst = 0;
+        for (size_t i = 0; i < saved->pixels.size(); ++i)
+            worst = std::max(worst, channelDifference(saved->pixels[i], refPng->pixels[i]));
+        EXPECT_LE(worst, 1);
+        if (firstIds.empty())
+            firstIds = savedAov->id;
+        else
+            EXPECT_NE(savedAov->id, firstIds) << "the view changed between saves";
+    }
+    // The controls reached the render settings: the second save is Phong with MSAA 4x and a pan.
+    std::ifstream second(b + ".view.json");
+    nlohmann::json view = nlohmann::json::parse(second);
+    const std::string args = view["render_args"].get<std::string>();
+    EXPECT_NE(args.find("--shading phong"), std::string::npos) << args;
+    EXPECT_NE(args.find("--msaa 4"), std::string::npos) << args;
+    EXPECT_NE(view["camera"].get<std::string>().find("orbit:"), std::string::npos);
+    std::ifstream third(c + ".view.json");
+    EXPECT_NE(nlohmann::json::parse(third)["render_args"].get<std::string>().find("--primitive-mode lines"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace sr::test
