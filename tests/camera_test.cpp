@@ -59,9 +59,9 @@ TEST(CameraSpec, ParsesValidSpecs)
     Result<CameraSpec> orbit = parseCameraSpec("orbit:-30.5,12,4.25");
     ASSERT_TRUE(orbit.ok());
     EXPECT_EQ(orbit->kind, CameraSpec::Kind::Orbit);
-    EXPECT_FLOAT_EQ(orbit->azimuthDeg, -30.5f);
-    EXPECT_FLOAT_EQ(orbit->elevationDeg, 12.0f);
-    EXPECT_FLOAT_EQ(orbit->distance, 4.25f);
+    EXPECT_FLOAT_EQ(orbit->orbit.azimuthDeg, -30.5f);
+    EXPECT_FLOAT_EQ(orbit->orbit.elevationDeg, 12.0f);
+    EXPECT_FLOAT_EQ(orbit->orbit.distance, 4.25f);
 }
 
 TEST(CameraSpec, RejectsMalformedSpecs)

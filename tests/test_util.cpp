@@ -296,8 +296,9 @@ ToolRun runTool(const std::string& args, const std::string& workDir, const std::
     std::string err = stem + ".err";
     // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
     const char* exe = std::getenv("SR_RASTER_EXE");
-    std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") + wrapper + (wrapper.empty() ? "" : " ") +
-                      std::string(exe ? exe : SR_RASTER_EXE) + " " + args + " >" + out + " 2>" + err;
+    std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") + wrapper +
+                      (wrapper.empty() ? "" : " ") + std::string(exe ? exe : SR_RASTER_EXE) + " " + args +
+                      " >" + out + " 2>" + err;
     int status = std::system(cmd.c_str());
     ToolRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

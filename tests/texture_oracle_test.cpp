@@ -434,9 +434,9 @@ CameraMatrices orbit(const Scene& scene, float az, float el, float dist, uint32_
 {
     CameraSpec spec;
     spec.kind = CameraSpec::Kind::Orbit;
-    spec.azimuthDeg = az;
-    spec.elevationDeg = el;
-    spec.distance = dist;
+    spec.orbit.azimuthDeg = az;
+    spec.orbit.elevationDeg = el;
+    spec.orbit.distance = dist;
     auto c = resolveCamera(spec, scene, w, h);
     EXPECT_TRUE(c.ok());
     return c.ok() ? *c : identityCamera();

@@ -1,8 +1,9 @@
 // main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
 //
 //   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [--width W --height H]
-//                 [--camera auto|gltf:N|orbit:AZ,EL,DIST] [-o out.png] [--aov out.exr]
-//                 [--stats out.json] [--repeat N] [--warmup N] [--cull back|front|none]
+//                 [--camera auto|gltf:N|orbit:AZ,EL,DIST[,TX,TY,TZ]] [-o out.png] [--aov out.exr]
+//                 [--stats out.json] [--frames N --orbit AZ0:AZ1] [--repeat N] [--warmup N]
+//                 [--cull back|front|none]
 //                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
 //                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
 //                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
@@ -16,18 +17,24 @@
 //   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
 //                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
 //                [--repeat N] [--json F]
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "cli/backend.h"
 #include "cli/bench.h"
+#include "cli/outputs.h"
 #include "cli/study.h"
+#include "cli/turntable.h"
 #include "cli/view.h"
 #include "study/quality.h"
 #include "scene/camera.h"
@@ -39,6 +46,8 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "cli/stats_json.h"
+#include "viewer/controls.h"
+#include "viewer/orbit.h"
 #include "vulkan/vulkan_graphics.h"
 
 namespace sr {
@@ -59,6 +68,8 @@ struct RenderCommand {
     std::string rasterMethod = "fixed8";
     std::string primitiveMode = "triangles";
     bool wireframe = false;
+    uint32_t frames = 0;     // --frames N: a turntable of N frames (0: one render)
+    std::string orbitRange;  // --orbit AZ0:AZ1: the turntable's azimuths
     std::string lightDir, lightColor, background;
     bool quiet = false;
     std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
@@ -71,11 +82,19 @@ constexpr uint32_t kMaxAovSamples = 64;
 
 const std::map<std::string, uint32_t> kCullModes = {
     {"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}};
-const std::map<std::string, uint32_t> kShadingModes = {
-    {"lambert", SHADING_LAMBERT}, {"phong", SHADING_PHONG},     {"blinn-phong", SHADING_BLINN_PHONG},
-    {"flat", SHADING_FLAT},       {"normals", SHADING_NORMALS}, {"depth", SHADING_DEPTH},
-    {"id", SHADING_PRIMITIVE_ID}, {"hits", SHADING_HIT_COUNT},  {"texcoord", SHADING_TEXCOORD},
-    {"mip", SHADING_MIP}};
+// --shading names in SHADING_* order, and NAME -> SHADING_*, from the renderer's names.
+std::vector<std::string> shadingModeNames()
+{
+    std::vector<std::string> names;
+    for (uint32_t mode = 0; mode < kShadingModeCount; ++mode) names.push_back(shadingModeName(mode));
+    return names;
+}
+std::map<std::string, uint32_t> shadingModesByName()
+{
+    std::map<std::string, uint32_t> modes;
+    for (uint32_t mode = 0; mode < kShadingModeCount; ++mode) modes[shadingModeName(mode)] = mode;
+    return modes;
+}
 const std::map<std::string, uint32_t> kTextureFilters = {{"auto", TEXTURE_FILTER_AUTO},
                                                          {"nearest", TEXTURE_FILTER_NEAREST},
                                                          {"bilinear", TEXTURE_FILTER_BILINEAR},
@@ -110,11 +129,48 @@ void printStageTable(const RenderOutput& out)
                out.total.maxMs);
 }
 
+// The turntable: one session (the scene uploaded once, the device's buffers reused), a progress line on
+// stderr when it is a terminal, one summary line.
+Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene& scene,
+                    const OrbitCamera& orbit, TurntableOptions frames, const std::string& sceneName)
+{
+    const bool progress = !cmd.quiet && isatty(STDERR_FILENO);
+    if (progress)
+        frames.progress = [](uint32_t done, uint32_t total) {
+            fmt::print(stderr, "\rframe {}/{}{}", done, total, done == total ? "\n" : "");
+            std::fflush(stderr);
+        };
+    frames.sceneName = sceneName;
+    auto session = RenderSession::create(device, scene);
+    if (!session) return session.error();
+    auto result = renderTurntable(*session, orbit, cmd.settings, frames);
+    if (!result) {
+        // The error line must not continue the progress line.
+        if (progress) fmt::print(stderr, "\n");
+        return result.error();
+    }
+    if (!cmd.quiet) {
+        // The first and last cameras as specs, so any frame can be rendered again on its own.
+        OrbitPose first = orbit.pose(), last = first;
+        first.azimuthDeg = turntableAzimuth(frames.azimuth, 0, frames.frames);
+        last.azimuthDeg = turntableAzimuth(frames.azimuth, frames.frames - 1, frames.frames);
+        const std::vector<double>& ms = result->frameGpuMs;
+        fmt::print(
+            "{}: {} frame{} from --camera {} to {}: {}x{} on {} ({}), {} triangles, GPU ms per frame min "
+            "{:.4f} median {:.4f} max {:.4f}\n",
+            cmd.output, frames.frames, frames.frames == 1 ? "" : "s", orbitSpecString(first),
+            orbitSpecString(last), cmd.settings.width, cmd.settings.height, result->device.backend,
+            result->device.name, result->triangles, *std::min_element(ms.begin(), ms.end()), median(ms),
+            *std::max_element(ms.begin(), ms.end()));
+    }
+    return okStatus();
+}
+
 Status runRender(RenderCommand& cmd)
 {
     RenderSettings& s = cmd.settings;
     s.cullMode = kCullModes.at(cmd.cull);
-    s.shadingMode = kShadingModes.at(cmd.shading);
+    s.shadingMode = shadingModesByName().at(cmd.shading);
     s.textureFilter = kTextureFilters.at(cmd.textureFilter);
     s.uvInterpolation = kUvInterpolations.at(cmd.uvInterpolation);
     s.rasterMethod = kRasterMethods.at(cmd.rasterMethod);
@@ -143,11 +199,42 @@ Status runRender(RenderCommand& cmd)
                          "--aov-samples writes at most {} samples per pixel, not {} (--ssaa {} --msaa {})",
                          kMaxAovSamples, s.ssaa * s.ssaa * s.msaa, s.ssaa, s.msaa);
 
-    // A malformed target is reported before anything is loaded or rendered.
+    // A malformed target, camera or frame pattern is reported before anything is loaded or rendered.
     if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
     auto cameraSpec = parseCameraSpec(cmd.camera);
     if (!cameraSpec) return cameraSpec.error();
-    // "study:NAME" is one of the study's scenes, framed by its own camera unless --camera says otherwise.
+    auto primitiveMode = parsePrimitiveMode(cmd.primitiveMode);
+    if (!primitiveMode) return primitiveMode.error();
+    const bool turntable = cmd.frames > 0;
+    TurntableOptions frames;
+    if (turntable) {
+        if (cmd.backend == "vulkan-graphics")
+            return makeError(ExitCode::Usage,
+                             "--frames renders on one compute device: use --backend auto, cuda or vulkan");
+        if (cameraSpec->kind == CameraSpec::Kind::Gltf)
+            return makeError(ExitCode::Usage,
+                             "--frames orbits the scene: use --camera auto or orbit:AZ,EL,DIST[,TX,TY,TZ]");
+        auto range = parseAzimuthRange(cmd.orbitRange);
+        if (!range) return range.error();
+        auto png = parseFramePattern("-o", cmd.output);
+        if (!png) return png.error();
+        frames.frames = cmd.frames;
+        frames.azimuth = *range;
+        frames.png = *png;
+        if ((frames.hasAov = !cmd.aovPath.empty())) {
+            auto aov = parseFramePattern("--aov", cmd.aovPath);
+            if (!aov) return aov.error();
+            frames.aov = *aov;
+        }
+        if ((frames.hasStats = !cmd.statsPath.empty())) {
+            auto stats = parseFramePattern("--stats", cmd.statsPath);
+            if (!stats) return stats.error();
+            frames.stats = *stats;
+        }
+    }
+
+    // "study:NAME" is one of the study's scenes, framed by its own camera unless --camera says otherwise
+    // (or a turntable orbits it).
     const std::string prefix = kStudyScenePrefix;
     std::optional<CameraMatrices> studyCamera;
     Result<Scene> scene = makeError(ExitCode::Usage, "no scene");
@@ -156,21 +243,29 @@ Status runRender(RenderCommand& cmd)
             makeStudyScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
         if (!study) return study.error();
         scene = std::move(study->scene);
-        if (cameraSpec->kind == CameraSpec::Kind::Auto) studyCamera = study->camera;
+        if (cameraSpec->kind == CameraSpec::Kind::Auto && !turntable) studyCamera = study->camera;
     } else {
         scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
     }
     if (!scene) return scene.error();
-    // The overlay takes the mesh's edges before a display mode replaces its triangles.
-    if (cmd.wireframe) {
-        *scene = withWireframe(std::move(*scene));
-        s.lineDepthBias = kWireframeDepthBias;
+    *scene = displayScene(std::move(*scene), *primitiveMode, cmd.wireframe);
+    if (cmd.wireframe) s.lineDepthBias = kWireframeDepthBias;
+    // A turntable's camera is the orbit model; its first frame stands for the sequence where one camera
+    // is needed (--quality).
+    std::optional<OrbitCamera> orbit;
+    if (turntable) {
+        auto start = OrbitCamera::fromSpec(*cameraSpec, *scene, s.width, s.height);
+        if (!start) return start.error();
+        orbit = *start;
+        OrbitPose pose = orbit->pose();
+        pose.azimuthDeg = turntableAzimuth(frames.azimuth, 0, frames.frames);
+        orbit->setPose(pose);
     }
-    if (cmd.primitiveMode == "lines") *scene = meshAsLines(std::move(*scene));
-    if (cmd.primitiveMode == "points") *scene = meshAsPoints(std::move(*scene));
     auto camera = studyCamera ? Result<CameraMatrices>(*studyCamera)
+                  : orbit     ? Result<CameraMatrices>(orbit->matrices(s.width, s.height))
                               : resolveCamera(*cameraSpec, *scene, s.width, s.height);
     if (!camera) return camera.error();
+    const std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
     Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
     if (cmd.backend == "vulkan-graphics") {
         if (!cmd.quality.empty())
@@ -192,15 +287,12 @@ Status runRender(RenderCommand& cmd)
                                  kMaxAovSamples, s.ssaa * s.ssaa * s.msaa);
             if (!cmd.quiet) fmt::print("{}\n", choice->line);
         }
+        if (turntable) return runTurntable(cmd, **device, *scene, *orbit, frames, sceneName);
         out = renderScene(**device, *scene, *camera, s);
     }
     if (!out) return out.error();
 
-    SR_TRY(writePng(cmd.output, out->color));
-    if (s.aovSamples) fillSampleAovs(out->samples, s.ssaa, out->aov);
-    if (!cmd.aovPath.empty()) SR_TRY(writeAovExr(cmd.aovPath, out->aov));
-    std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
-    if (!cmd.statsPath.empty()) SR_TRY(writeJson(cmd.statsPath, statsJson(*out, s, sceneName)));
+    SR_TRY(writeOutputs(*out, *scene, s, OutputPaths{cmd.output, cmd.aovPath, cmd.statsPath}, sceneName));
     if (!cmd.quiet) {
         const RenderStats& st = out->stats;
         std::string lines =
@@ -326,11 +418,29 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
     render->add_option("--height", cmd.settings.height, "image height in pixels")
         ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
-    render->add_option("--camera", cmd.camera, "auto, gltf:N or orbit:AZ,EL,DIST (degrees, scene units)");
-    render->add_option("-o,--output", cmd.output, "colour image (PNG, sRGB)");
+    render->add_option("--camera", cmd.camera,
+                       "auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] (degrees, scene units; TX,TY,TZ: the "
+                       "target's offset from the bounds centre)");
+    render->add_option(
+        "-o,--output", cmd.output,
+        "colour image (PNG, sRGB); with --frames a pattern with one %d or %0Nd (frame_%04d.png)");
     render->add_option("--aov", cmd.aovPath,
                        "EXR with channels id (UINT), Z, bary.u, bary.v, uv.u, uv.v, N.x, N.y, N.z (FLOAT)");
     render->add_option("--stats", cmd.statsPath, "JSON statistics and per-stage GPU times");
+    CLI::Option* framesOption =
+        render
+            ->add_option("--frames", cmd.frames,
+                         "a turntable of N frames in one process (the scene uploaded once): -o, --aov and "
+                         "--stats are patterns with one %d or %0Nd, numbered from 0")
+            ->check(CLI::Range(1, 1000000));
+    CLI::Option* orbitOption =
+        render
+            ->add_option(
+                "--orbit", cmd.orbitRange,
+                "AZ0:AZ1: the turntable's azimuths, degrees, both ends included; elevation, distance and "
+                "target from --camera orbit:... or the auto camera")
+            ->needs(framesOption);
+    framesOption->needs(orbitOption);
     render->add_option("--repeat", cmd.settings.repeat, "timed runs")->check(CLI::Range(1, 100000));
     render->add_option("--warmup", cmd.settings.warmup, "untimed runs first")->check(CLI::Range(0, 100000));
     render->add_option("--cull", cmd.cull, "back, front or none (glTF doubleSided is never culled)")
@@ -342,8 +452,7 @@ int main(int argc, char** argv)
             "each pixel; green = 1, red = 2, white = more), texcoord (debug: the base colour texture's "
             "(u, v) as red, green) or mip (debug: its level of detail, blue = 0 or magnified, cyan, "
             "green, yellow, red = 4+)")
-        ->check(CLI::IsMember({"lambert", "phong", "blinn-phong", "flat", "normals", "depth", "id", "hits",
-                               "texcoord", "mip"}));
+        ->check(CLI::IsMember(shadingModeNames()));
     CLI::Option* textureFilterOption =
         render
             ->add_option("--texture-filter", cmd.textureFilter,
@@ -458,6 +567,7 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, 16384));
     viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
+    viewApp->footer("Controls:\n" + controlsHelp());
 
     StudyCommand study;
     CLI::App* studyApp = app.add_subcommand(

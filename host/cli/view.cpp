@@ -34,8 +34,9 @@ double msSince(Clock::time_point start)
 // where it opens; with `auto`, CUDA first as `raster render` does.
 Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::string& backend, int device)
 {
-    std::vector<BackendKind> order = backend == "vulkan" ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
-                                                         : std::vector<BackendKind>{BackendKind::Cuda, BackendKind::Vulkan};
+    std::vector<BackendKind> order = backend == "vulkan"
+                                         ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
+                                         : std::vector<BackendKind>{BackendKind::Cuda, BackendKind::Vulkan};
     std::vector<std::unique_ptr<ComputeDevice>> devices;
     std::optional<Error> first;
     for (BackendKind kind : order) {
@@ -119,8 +120,8 @@ Status runView(const ViewOptions& o)
     settings.repeat = 1;
     auto camera = OrbitCamera::fromSpec(*spec, *base, settings.width, settings.height);
     if (!camera) return camera.error();
-    ViewerState state = makeViewerState(*camera, settings, false, PrimitiveMode::Triangles,
-                                        uint32_t(devices->size()));
+    ViewerState state =
+        makeViewerState(*camera, settings, false, PrimitiveMode::Triangles, uint32_t(devices->size()));
     Scene scene = frameScene(*base, state);
     std::optional<RenderSession> session;
 
@@ -168,22 +169,26 @@ Status runView(const ViewOptions& o)
         uint32_t windowWidth = 0, windowHeight = 0;
         (*window)->framebufferSize(windowWidth, windowHeight);
         RgbaImage shown;
-        SR_TRY((*presenter)->present(out->color, windowWidth, windowHeight, state.saveRequested ? &shown : nullptr));
+        SR_TRY((*presenter)
+                   ->present(out->color, windowWidth, windowHeight, state.saveRequested ? &shown : nullptr));
         presentMs.push_back(msSince(presentStart));
         gpuMs.push_back(out->total.medianMs);
         if (state.saveRequested) {
-            std::string prefix = state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
-            SR_TRY(writeOutputs(*out, scene, s, savePaths(prefix), o.scenePath.empty() ? "builtin" : o.scenePath));
+            std::string prefix =
+                state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
+            SR_TRY(writeOutputs(*out, scene, s, savePaths(prefix),
+                                o.scenePath.empty() ? "builtin" : o.scenePath));
             SR_TRY(writePng(prefix + ".window.png", shown));
             SR_TRY(writeJson(prefix + ".view.json", viewJson(state, o.scenePath, out->device)));
             state.saveRequested = false;
         }
         double frameMs = msSince(start);
         fps = frameMs > 0.0 ? 1000.0 / frameMs : 0.0;
-        (*window)->setTitle(fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
-                                        "{} triangles - {}",
-                                        out->device.backend, out->device.name, out->total.medianMs,
-                                        presentMs.back(), fps, out->stats.trianglesIn, stateSummary(state)));
+        (*window)->setTitle(
+            fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
+                        "{} triangles - {}",
+                        out->device.backend, out->device.name, out->total.medianMs, presentMs.back(), fps,
+                        out->stats.trianglesIn, stateSummary(state)));
         dirty = false;
     }
     if (!gpuMs.empty() && !o.scriptPath.empty()) {

@@ -26,8 +26,6 @@ Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>
     return device.upload(buffer, data.data(), data.size() * sizeof(T));
 }
 
-// (Re)allocates the lists. Work and memory grow with the scene: nothing here depends on a worst case
-// such as pixels x triangles.
 // Materials, texture coordinates, textures and the sRGB decode table; a scene without materials
 // allocates none of them (the stages do not read them when RasterParams.materialCount is 0).
 Status uploadMaterials(ComputeDevice& device, const Scene& scene)
@@ -49,13 +47,6 @@ Status uploadMaterials(ComputeDevice& device, const Scene& scene)
     SR_TRY(uploadVector(device, BUF_TEXELS, texels));
     SR_TRY(uploadVector(device, BUF_TEXCOORDS, scene.texcoords));
     return uploadVector(device, BUF_SRGB_TABLE, srgbDecodeTable());
-}
-
-Status allocateLists(ComputeDevice& device, const ListCapacities& c)
-{
-    SR_TRY(device.resize(BUF_SETUP_TRIS, size_t(c.records) * sizeof(TriSetup)));
-    SR_TRY(device.resize(BUF_PIECES, size_t(c.pieces) * 2 * sizeof(uint32_t)));
-    return device.resize(BUF_BIN_ENTRIES, size_t(c.binEntries) * sizeof(uint32_t));
 }
 
 // Screen tiles per row and per column for a width x height framebuffer (RasterParams.tilesX, tilesY).
@@ -119,6 +110,23 @@ StageTiming summarize(std::string name, const std::vector<double>& ms)
 }
 
 }  // namespace
+
+const char* shadingModeName(uint32_t mode)
+{
+    switch (mode) {
+    case SHADING_LAMBERT: return "lambert";
+    case SHADING_PHONG: return "phong";
+    case SHADING_BLINN_PHONG: return "blinn-phong";
+    case SHADING_FLAT: return "flat";
+    case SHADING_NORMALS: return "normals";
+    case SHADING_DEPTH: return "depth";
+    case SHADING_PRIMITIVE_ID: return "id";
+    case SHADING_HIT_COUNT: return "hits";
+    case SHADING_TEXCOORD: return "texcoord";
+    case SHADING_MIP: return "mip";
+    default: return "unknown";
+    }
+}
 
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
                          const ListCapacities& capacities, const GroupCounts& groups)
@@ -214,14 +222,6 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
         return makeError(ExitCode::Usage, "{}x{} with --ssaa {} and --msaa {} is over 2^31 samples",
                          settings.width, settings.height, settings.ssaa, settings.msaa);
     if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
-    if (scene.primitiveCount() == 0)
-        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, lines or points)");
-    // Primitive ids share 32 bits with EMPTY_ID and index math runs in uint.
-    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.primitiveCount() >= (uint64_t(1) << 31) ||
-        scene.vertexCount() >= (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage,
-                         "the scene is too large ({} triangles, {} line segments, {} points, {} vertices)",
-                         scene.triangleCount(), scene.lineCount(), scene.pointCount(), scene.vertexCount());
     // Point sides are multiples of 1/8 pixel (the granularity lavapipe offers), so half a side is a whole
     // number of subpixels.
     if (!(settings.pointSize >= 1.0f && settings.pointSize <= MAX_POINT_SIZE) ||
@@ -236,6 +236,19 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
                          settings.lineWidth, MAX_LINE_WIDTH);
     if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
         return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
+    return checkSceneInputs(scene);
+}
+
+Status checkSceneInputs(const Scene& scene)
+{
+    if (scene.primitiveCount() == 0)
+        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, lines or points)");
+    // Primitive ids share 32 bits with EMPTY_ID and index math runs in uint.
+    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.primitiveCount() >= (uint64_t(1) << 31) ||
+        scene.vertexCount() >= (uint64_t(1) << 31))
+        return makeError(ExitCode::Usage,
+                         "the scene is too large ({} triangles, {} line segments, {} points, {} vertices)",
+                         scene.triangleCount(), scene.lineCount(), scene.pointCount(), scene.vertexCount());
     if (scene.lines.size() % 2 != 0)
         return makeError(ExitCode::Usage, "the scene has an odd number ({}) of line indices",
                          scene.lines.size());
@@ -245,9 +258,68 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
     return okStatus();
 }
 
+Result<RenderSession> RenderSession::create(ComputeDevice& device, const Scene& scene)
+{
+    SR_TRY(checkSceneInputs(scene));
+    RenderSession session(device, scene);
+    SR_TRY(session.upload());
+    return session;
+}
+
+Status RenderSession::ensureSize(uint32_t buffer, size_t bytes)
+{
+    if (sizes_[buffer] == bytes) return okStatus();
+    sizes_[buffer] = SIZE_MAX;  // unknown until the resize succeeds
+    SR_TRY(device_->resize(buffer, bytes));
+    sizes_[buffer] = bytes;
+    return okStatus();
+}
+
+// (Re)allocates the lists. Work and memory grow with the scene: nothing here depends on a worst case
+// such as pixels x triangles.
+Status RenderSession::allocateLists()
+{
+    SR_TRY(ensureSize(BUF_SETUP_TRIS, size_t(capacities_.records) * sizeof(TriSetup)));
+    SR_TRY(ensureSize(BUF_PIECES, size_t(capacities_.pieces) * 2 * sizeof(uint32_t)));
+    return ensureSize(BUF_BIN_ENTRIES, size_t(capacities_.binEntries) * sizeof(uint32_t));
+}
+
+Status RenderSession::upload()
+{
+    const Scene& scene = *scene_;
+    ComputeDevice& device = *device_;
+    SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
+    SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
+    if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
+    SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
+    SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
+    if (!scene.points.empty()) SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
+    if (!scene.lines.empty()) SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
+    SR_TRY(uploadMaterials(device, scene));
+    // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
+    // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
+    SR_TRY(ensureSize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
+    SR_TRY(ensureSize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
+    alphaTest_ =
+        !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
+                                                [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
+    return okStatus();
+}
+
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings)
 {
+    // Every input is checked before anything is uploaded.
+    SR_TRY(checkRenderInputs(scene, settings));
+    auto session = RenderSession::create(device, scene);
+    if (!session) return session.error();
+    return session->render(camera, settings);
+}
+
+Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const RenderSettings& settings)
+{
+    const Scene& scene = *scene_;
+    ComputeDevice& device = *device_;
     SR_TRY(checkRenderInputs(scene, settings));
 
     const uint64_t pixels = uint64_t(settings.width) * settings.height;  // output pixels
@@ -259,57 +331,36 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
     // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
     // A scene that needs more overflows once, in its first frame, and is grown and redrawn; nothing is
-    // sized for the worst case.
-    ListCapacities capacity;
+    // sized for the worst case. Later frames of the session start where the previous one ended.
+    ListCapacities& capacity = capacities_;
     if (settings.initialListCapacity) {
         capacity.records = capacity.pieces = capacity.binEntries = settings.initialListCapacity;
-    } else {
+    } else if (!drawn_) {
         capacity.pieces = uint32_t(tris / 8 + 1024);
         capacity.binEntries = uint32_t(std::min<uint64_t>(4 * uint64_t(capacity.pieces) + tiles, 1u << 30));
         capacity.records = uint32_t(tris / 64 + 64);
     }
 
-    SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
-    SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
-    if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
-    SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
-    SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
-    if (!scene.points.empty()) SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
-    if (!scene.lines.empty()) SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
-    SR_TRY(uploadMaterials(device, scene));
-    // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
-    // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
-    SR_TRY(
-        device.resize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
-    SR_TRY(device.resize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
     // One key per sample: memory grows with the sample count asked for, and 1x has no sample buffers.
-    SR_TRY(device.resize(BUF_VISIBILITY, samples * sizeof(uint64_t)));
-    SR_TRY(device.resize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_VISIBILITY, samples * sizeof(uint64_t)));
+    SR_TRY(ensureSize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
     // The debug counter costs memory only when it is asked for.
-    SR_TRY(device.resize(BUF_HIT_COUNT, countsHits(settings) ? samples * sizeof(uint32_t) : 16));
-    SR_TRY(device.resize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
-    SR_TRY(device.resize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
-    SR_TRY(device.resize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
-    SR_TRY(allocateLists(device, capacity));
+    SR_TRY(ensureSize(BUF_HIT_COUNT, countsHits(settings) ? samples * sizeof(uint32_t) : 16));
+    SR_TRY(ensureSize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
+    SR_TRY(allocateLists());
 
-    // What each frame runs follows the previous frame (FrameWork). The group counts of the stages that
-    // walk device-counted lists only balance the work (any count renders correctly: the threads stride
-    // over the lists): for bin_count and bin_fill one thread per piece it had (one per piece of capacity
-    // at first), for raster_tiles one group per work item it had (a tile on a GPU, a chunk of a tile's
-    // bin on a CPU device; every tile at first). The binning stages run only if it had big triangles,
-    // bin_count only if it had triangles of several pieces; a frame that needed a skipped stage is drawn
-    // again. On a CPU device a frame with more raster_tiles work items than groups is drawn again too:
-    // there a group must not walk several items, or its loops would pass llvmpipe's loop limiter
-    // (RASTER_CPU_CHUNK).
+    // Every call starts with every stage on every tile, as a fresh render does, even in a session: the
+    // previous call's choice fits its own camera, and carried over to a turntable's next frame on
+    // lavapipe it made half of the frames draw twice (too few raster groups for the new view).
     FrameWork work;
     const uint32_t rasterChunk =
         device.info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
     work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE), rasterChunk};
     work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
     work.rasterMethod = settings.rasterMethod;
-    work.alphaTest =
-        !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
-                                                [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
+    work.alphaTest = alphaTest_;
     RenderOutput out;
     out.device = device.info();
     std::vector<std::vector<double>> stageMs(STAGE_COUNT);
@@ -350,7 +401,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
             *cap = uint32_t(wanted);
             grown = true;
         }
-        if (grown) SR_TRY(allocateLists(device, capacity));
+        if (grown) SR_TRY(allocateLists());
         if (grown || skippedNeeded) {
             ++out.stats.redraws;
             continue;
@@ -366,6 +417,7 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
         ++run;
     }
 
+    drawn_ = true;
     for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage)
         out.stages.push_back(summarize(stageName(stage), stageMs[stage]));
     out.total = summarize("total", totalMs);

@@ -7,6 +7,7 @@
 #define RASTER_RENDERER_H
 
 #include <cstdint>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,12 @@ struct RenderSettings {
     // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
     uint32_t rasterMethod = RASTER_FIXED8;
 };
+
+// The SHADING_* modes are 0 .. kShadingModeCount - 1.
+constexpr uint32_t kShadingModeCount = SHADING_MIP + 1;
+// `--shading` name of SHADING_* mode `mode` (lambert, phong, blinn-phong, flat, normals, depth, id, hits,
+// texcoord, mip); "unknown" for any other value.
+const char* shadingModeName(uint32_t mode);
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
 struct ListCapacities {
@@ -150,8 +157,48 @@ struct RenderOutput {
 
 // The checks every backend makes on its inputs (sizes, repeat count, scene limits), one line each.
 Status checkRenderInputs(const Scene& scene, const RenderSettings& settings);
+// The scene's part of them (something to draw, counts within the devices' 32-bit indices, whole
+// segments, one colour per vertex).
+Status checkSceneInputs(const Scene& scene);
 
-// Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
+// A scene uploaded to a device once and rendered any number of times, with any camera and settings
+// (turntables, the interactive viewer): the device's buffers are reused, the per-frame ones resized only
+// when a frame needs another size, and each frame starts from the list capacities the previous one
+// grew to, so a moving camera rarely overflows. The images do not depend on that history (the
+// pipeline's results never depend on capacities: an overflowing frame is drawn again); the statistics
+// (redraws, capacities) do.
+//
+// The session owns the device's buffers while it lives: the scene and the device must outlive it, and
+// nothing else (another session, renderScene) may use the device in between, or the scene's buffers
+// would be overwritten.
+class RenderSession {
+public:
+    // Checks the scene (checkSceneInputs) and uploads it.
+    static Result<RenderSession> create(ComputeDevice& device, const Scene& scene);
+
+    // Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
+    Result<RenderOutput> render(const CameraMatrices& camera, const RenderSettings& settings);
+
+    ComputeDevice& device() const { return *device_; }
+    const Scene& scene() const { return *scene_; }
+
+private:
+    RenderSession(ComputeDevice& device, const Scene& scene) : device_(&device), scene_(&scene) {}
+    Status upload();
+    // Resizes `buffer` unless this session already gave it exactly `bytes` (a CUDA resize reallocates).
+    Status ensureSize(uint32_t buffer, size_t bytes);
+    Status allocateLists();
+
+    ComputeDevice* device_;
+    const Scene* scene_;
+    std::vector<size_t> sizes_ = std::vector<size_t>(BUF_COUNT, SIZE_MAX);  // SIZE_MAX: not sized by us
+    bool alphaTest_ = false;  // some triangle is alphaMode MASK (FrameWork::alphaTest)
+    bool drawn_ = false;      // a frame was drawn: capacities_ hold what its lists grew to
+    ListCapacities capacities_;
+};
+
+// One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline
+// `settings.warmup + settings.repeat` times and returns the last frame.
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings);
 

@@ -3,30 +3,39 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
 
 namespace sr {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-constexpr float kDefaultYfov = 45.0f * kPi / 180.0f;
 
 float radians(float degrees)
 {
     return degrees * kPi / 180.0f;
 }
 
-// Whole-string float parse: no trailing characters, finite.
+// Whole-string float parse: no trailing characters, finite. An underflow is the correctly rounded
+// subnormal (or zero) strtof returns, so that every finite float orbitSpecString writes reads back.
 bool parseFloat(const std::string& text, float& out)
 {
     if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return false;
     errno = 0;
     char* end = nullptr;
     float value = std::strtof(text.c_str(), &end);
-    if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(value)) return false;
+    const bool underflow = errno == ERANGE && std::fabs(value) <= FLT_MIN;
+    if ((errno != 0 && !underflow) || end != text.c_str() + text.size() || !std::isfinite(value))
+        return false;
     out = value;
     return true;
+}
+
+float aspectOf(unsigned width, unsigned height)
+{
+    return height > 0 && width > 0 ? float(width) / float(height) : 1.0f;
 }
 
 bool parseIndex(const std::string& text, int& out)
@@ -41,28 +50,15 @@ bool parseIndex(const std::string& text, int& out)
     return true;
 }
 
-struct Sphere {
-    glm::vec3 center;
-    float radius;
-};
-
-// Bounding sphere of the scene bounds; a point-sized scene still gets a usable radius.
-Sphere boundingSphere(const Scene& scene)
+// Near and far planes for a bounding sphere whose centre lies `centerDepth` in front of the eye, enclosing
+// it with 1% to spare. From inside the sphere the near plane cannot enclose it; it then sits at 1% of
+// the distance to the target the camera looks at (at most 1/1000 of the radius), so nearby geometry
+// stays visible in a scene much larger than the view.
+void encloseSphere(float centerDepth, float lookDistance, float radius, float& znear, float& zfar)
 {
-    glm::vec3 center = 0.5f * (scene.boundsMin + scene.boundsMax);
-    float radius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
-    float scale = std::max(glm::length(center), 1.0f);
-    return {center, std::max(radius, scale * 1e-6f)};
-}
-
-// Near and far planes at `dist` from the centre of the sphere, enclosing it with 1% to spare. From inside
-// the sphere the near plane cannot enclose it; it then sits at 1% of the distance to the centre (at
-// most 1/1000 of the radius), so nearby geometry stays visible in a scene much larger than the view.
-void encloseSphere(float dist, float radius, float& znear, float& zfar)
-{
-    float minNear = std::max(std::min(radius * 1e-3f, dist * 1e-2f), 1e-6f);
-    znear = std::max((dist - radius) * 0.99f, minNear);
-    zfar = std::max((dist + radius) * 1.01f, znear * 2.0f);
+    float minNear = std::max(std::min(radius * 1e-3f, lookDistance * 1e-2f), 1e-6f);
+    znear = std::max((centerDepth - radius) * 0.99f, minNear);
+    zfar = std::max((centerDepth + radius) * 1.01f, znear * 2.0f);
 }
 
 CameraMatrices finish(const glm::mat4& viewFromWorld, const glm::mat4& clipFromView, float znear, float zfar)
@@ -76,13 +72,26 @@ CameraMatrices finish(const glm::mat4& viewFromWorld, const glm::mat4& clipFromV
     return m;
 }
 
+// Splits at every comma (empty pieces kept, so "1,,2" has an empty middle piece).
+std::vector<std::string> splitCommas(const std::string& text)
+{
+    std::vector<std::string> parts;
+    size_t start = 0;
+    for (size_t comma = text.find(','); comma != std::string::npos; comma = text.find(',', start)) {
+        parts.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    parts.push_back(text.substr(start));
+    return parts;
+}
+
 }  // namespace
 
 Result<CameraSpec> parseCameraSpec(const std::string& text)
 {
     auto invalid = [&]() {
         return makeError(ExitCode::Usage,
-                         "invalid --camera '{}': expected auto, gltf:N or orbit:AZ,EL,DIST "
+                         "invalid --camera '{}': expected auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] "
                          "(DIST > 0)",
                          text);
     };
@@ -95,17 +104,27 @@ Result<CameraSpec> parseCameraSpec(const std::string& text)
     }
     if (text.rfind("orbit:", 0) == 0) {
         spec.kind = CameraSpec::Kind::Orbit;
-        std::string rest = text.substr(6);
-        size_t c1 = rest.find(',');
-        size_t c2 = c1 == std::string::npos ? c1 : rest.find(',', c1 + 1);
-        if (c2 == std::string::npos) return invalid();
-        bool ok = parseFloat(rest.substr(0, c1), spec.azimuthDeg) &&
-                  parseFloat(rest.substr(c1 + 1, c2 - c1 - 1), spec.elevationDeg) &&
-                  parseFloat(rest.substr(c2 + 1), spec.distance);
-        if (!ok || !(spec.distance > 0.0f)) return invalid();
+        std::vector<std::string> parts = splitCommas(text.substr(6));
+        if (parts.size() != 3 && parts.size() != 6) return invalid();
+        OrbitPose& pose = spec.orbit;
+        float* fields[] = {&pose.azimuthDeg,     &pose.elevationDeg,   &pose.distance,
+                           &pose.targetOffset.x, &pose.targetOffset.y, &pose.targetOffset.z};
+        for (size_t i = 0; i < parts.size(); ++i)
+            if (!parseFloat(parts[i], *fields[i])) return invalid();
+        if (!(pose.distance > 0.0f)) return invalid();
         return spec;
     }
     return invalid();
+}
+
+std::string orbitSpecString(const OrbitPose& pose)
+{
+    // fmt writes a float in the shortest form that reads back as the same float (strtof, as
+    // parseCameraSpec reads it), so the spec round-trips exactly without trailing noise digits.
+    std::string text = fmt::format("orbit:{},{},{}", pose.azimuthDeg, pose.elevationDeg, pose.distance);
+    if (pose.targetOffset != glm::vec3(0.0f))
+        text += fmt::format(",{},{},{}", pose.targetOffset.x, pose.targetOffset.y, pose.targetOffset.z);
+    return text;
 }
 
 glm::mat4 perspectiveVulkan(float yfov, float aspect, float znear, float zfar)
@@ -141,8 +160,8 @@ glm::mat4 orthographicVulkan(float xmag, float ymag, float znear, float zfar)
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
                                      unsigned height)
 {
-    float aspect = height > 0 && width > 0 ? float(width) / float(height) : 1.0f;
-    Sphere sphere = boundingSphere(scene);
+    float aspect = aspectOf(width, height);
+    BoundingSphere sphere = boundingSphere(scene);
 
     if (spec.kind == CameraSpec::Kind::Gltf) {
         if (spec.gltfIndex < 0 || size_t(spec.gltfIndex) >= scene.cameras.size()) {
@@ -166,24 +185,44 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
         return finish(viewFromWorld, orthographicVulkan(cam.xmag, cam.ymag, znear, zfar), znear, zfar);
     }
 
-    float azimuth = radians(spec.kind == CameraSpec::Kind::Orbit ? spec.azimuthDeg : 35.0f);
-    float elevation = radians(spec.kind == CameraSpec::Kind::Orbit ? spec.elevationDeg : 25.0f);
-    float dist = spec.distance;
-    if (spec.kind == CameraSpec::Kind::Auto) {
-        // The sphere touches the narrower of the two half-angles of the 45-degree frustum.
-        float halfY = 0.5f * kDefaultYfov;
-        float halfX = std::atan(std::tan(halfY) * aspect);
-        dist = sphere.radius / std::sin(std::min(halfX, halfY));
-    }
+    if (spec.kind == CameraSpec::Kind::Orbit) return orbitCameraMatrices(spec.orbit, sphere, width, height);
+    return orbitCameraMatrices(autoOrbitPose(sphere, width, height), sphere, width, height);
+}
 
-    // Camera basis from the angles directly (no lookAt), so straight up or down stays defined:
-    // back = direction from the target to the eye, right = d(back)/d(azimuth), up = back x right.
+BoundingSphere boundingSphere(const Scene& scene)
+{
+    glm::vec3 center = 0.5f * (scene.boundsMin + scene.boundsMax);
+    float radius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
+    float scale = std::max(glm::length(center), 1.0f);
+    return {center, std::max(radius, scale * 1e-6f)};
+}
+
+OrbitPose autoOrbitPose(const BoundingSphere& sphere, unsigned width, unsigned height)
+{
+    // The sphere touches the narrower of the two half-angles of the 45-degree frustum.
+    float halfY = 0.5f * kOrbitYfov;
+    float halfX = std::atan(std::tan(halfY) * aspectOf(width, height));
+    OrbitPose pose;
+    pose.distance = sphere.radius / std::sin(std::min(halfX, halfY));
+    return pose;
+}
+
+OrbitBasis orbitBasis(const OrbitPose& pose)
+{
+    float azimuth = radians(pose.azimuthDeg);
+    float elevation = radians(pose.elevationDeg);
+    // From the angles directly (no lookAt), so straight up or down stays defined.
     float ca = std::cos(azimuth), sa = std::sin(azimuth);
     float ce = std::cos(elevation), se = std::sin(elevation);
-    glm::vec3 back(ce * sa, se, ce * ca);
-    glm::vec3 right(ca, 0.0f, -sa);
-    glm::vec3 up(-se * sa, ce, -se * ca);
-    glm::vec3 eye = sphere.center + dist * back;
+    return {glm::vec3(ca, 0.0f, -sa), glm::vec3(-se * sa, ce, -se * ca), glm::vec3(ce * sa, se, ce * ca)};
+}
+
+CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& sphere, unsigned width,
+                                   unsigned height)
+{
+    const float dist = pose.distance;
+    const auto [right, up, back] = orbitBasis(pose);
+    glm::vec3 eye = (sphere.center + pose.targetOffset) + dist * back;
     glm::mat4 viewFromWorld(1.0f);
     for (int i = 0; i < 3; ++i) {
         viewFromWorld[i][0] = right[i];
@@ -191,9 +230,13 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
         viewFromWorld[i][2] = back[i];
     }
     viewFromWorld[3] = glm::vec4(-glm::dot(right, eye), -glm::dot(up, eye), -glm::dot(back, eye), 1.0f);
+    // The sphere's centre lies dist + offset . back in front of the eye (exactly dist without an offset,
+    // so the depth range of an unpanned camera does not depend on rounding).
+    float centerDepth = dist + glm::dot(pose.targetOffset, back);
     float znear, zfar;
-    encloseSphere(dist, sphere.radius, znear, zfar);
-    return finish(viewFromWorld, perspectiveVulkan(kDefaultYfov, aspect, znear, zfar), znear, zfar);
+    encloseSphere(centerDepth, dist, sphere.radius, znear, zfar);
+    return finish(viewFromWorld, perspectiveVulkan(kOrbitYfov, aspectOf(width, height), znear, zfar), znear,
+                  zfar);
 }
 
 }  // namespace sr

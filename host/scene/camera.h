@@ -1,4 +1,6 @@
-// camera.h - camera choice (`--camera auto|gltf:N|orbit:AZ,EL,DIST`) and the matrices it yields.
+// camera.h - camera choice (`--camera auto|gltf:N|orbit:AZ,EL,DIST[,TX,TY,TZ]`) and the matrices it
+// yields, and the orbit camera model that the auto camera, `--camera orbit:...`, turntables and
+// `raster view` share.
 //
 // All projections follow Vulkan's clip conventions: depth 0..1 (near -> 0), and NDC y = -1 is the
 // top row of the image, so clipFromView flips y relative to OpenGL.
@@ -14,17 +16,36 @@
 
 namespace sr {
 
+// The auto camera's angles: a three-quarter view from above.
+constexpr float kAutoAzimuthDeg = 35.0f;
+constexpr float kAutoElevationDeg = 25.0f;
+// Vertical field of view of the auto and orbit cameras, radians (45 degrees).
+constexpr float kOrbitYfov = 45.0f * 3.14159265358979f / 180.0f;
+
+// Where an orbit camera stands. It looks at its target, the centre of the scene bounds plus
+// targetOffset, from `distance` away, with no roll: its right vector stays horizontal.
+struct OrbitPose {
+    float azimuthDeg = kAutoAzimuthDeg;      // rotation about +y, 0 = looking along -z
+    float elevationDeg = kAutoElevationDeg;  // angle above the horizontal plane
+    float distance = 0.0f;                   // from the target, scene units
+    glm::vec3 targetOffset{0.0f};            // the target's offset from the centre of the bounds, world units
+};
+
 struct CameraSpec {
     enum class Kind { Auto, Gltf, Orbit };
     Kind kind = Kind::Auto;
-    int gltfIndex = 0;           // Kind::Gltf: index into Scene::cameras
-    float azimuthDeg = 35.0f;    // Kind::Orbit: rotation about +y, 0 = looking along -z
-    float elevationDeg = 25.0f;  // Kind::Orbit: angle above the horizontal plane
-    float distance = 0.0f;       // Kind::Orbit: from the centre of the scene bounds, scene units
+    int gltfIndex = 0;  // Kind::Gltf: index into Scene::cameras
+    OrbitPose orbit;    // Kind::Orbit
 };
 
-// Parses "auto", "gltf:N" or "orbit:AZ,EL,DIST"; a malformed spec is a one-line error.
+// Parses "auto", "gltf:N" or "orbit:AZ,EL,DIST[,TX,TY,TZ]" (TX,TY,TZ: OrbitPose::targetOffset, zero when
+// left out); a malformed spec is a one-line error.
 Result<CameraSpec> parseCameraSpec(const std::string& text);
+
+// The spec of `pose`, "orbit:AZ,EL,DIST" with ",TX,TY,TZ" when the offset is not zero, each number in
+// the fewest digits that parseCameraSpec reads back as the same float, so the spec reproduces the
+// camera bit for bit.
+std::string orbitSpecString(const OrbitPose& pose);
 
 struct CameraMatrices {
     glm::mat4 viewFromWorld{1.0f};
@@ -38,9 +59,33 @@ struct CameraMatrices {
 glm::mat4 perspectiveVulkan(float yfov, float aspect, float znear, float zfar);
 glm::mat4 orthographicVulkan(float xmag, float ymag, float znear, float zfar);
 
-// Resolves the spec against the scene: auto frames the bounds from the default orbit angles, orbit
-// looks at the bounds centre, gltf:N uses the scene's camera N (error if it does not exist). Near and
-// far planes enclose the scene bounds.
+// The sphere around the scene bounds that the orbit cameras frame and their depth range encloses; a
+// point-sized scene still gets a usable radius.
+struct BoundingSphere {
+    glm::vec3 center{0.0f};
+    float radius = 1.0f;
+};
+BoundingSphere boundingSphere(const Scene& scene);
+
+// The auto camera: kAuto* angles, no offset, and the distance at which the bounding sphere touches the
+// narrower half-angle of the 45-degree frustum of a width x height image.
+OrbitPose autoOrbitPose(const BoundingSphere& sphere, unsigned width, unsigned height);
+
+// An orbit camera's orthonormal basis in world space: back points from the target to the eye, right is
+// horizontal (the derivative of back by the azimuth), up = back x right.
+struct OrbitBasis {
+    glm::vec3 right, up, back;
+};
+OrbitBasis orbitBasis(const OrbitPose& pose);
+
+// The matrices of an orbit camera for a width x height image: 45-degree vertical field of view, near
+// and far planes enclosing the bounding sphere.
+CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& sphere, unsigned width,
+                                   unsigned height);
+
+// Resolves the spec against the scene: auto is autoOrbitPose, orbit its pose (both through
+// orbitCameraMatrices), gltf:N the scene's camera N (error if it does not exist). Near and far planes
+// enclose the scene bounds.
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
                                      unsigned height);
 

@@ -146,4 +146,30 @@ Scene withWireframe(Scene scene)
     return scene;
 }
 
+const char* primitiveModeName(PrimitiveMode mode)
+{
+    switch (mode) {
+    case PrimitiveMode::Lines: return "lines";
+    case PrimitiveMode::Points: return "points";
+    case PrimitiveMode::Triangles: break;
+    }
+    return "triangles";
+}
+
+Result<PrimitiveMode> parsePrimitiveMode(const std::string& name)
+{
+    for (PrimitiveMode mode : {PrimitiveMode::Triangles, PrimitiveMode::Lines, PrimitiveMode::Points})
+        if (name == primitiveModeName(mode)) return mode;
+    return makeError(ExitCode::Usage, "invalid primitive mode '{}': expected triangles, lines or points",
+                     name);
+}
+
+Scene displayScene(Scene scene, PrimitiveMode mode, bool wireframe)
+{
+    if (wireframe) scene = withWireframe(std::move(scene));
+    if (mode == PrimitiveMode::Lines) return meshAsLines(std::move(scene));
+    if (mode == PrimitiveMode::Points) return meshAsPoints(std::move(scene));
+    return scene;
+}
+
 }  // namespace sr

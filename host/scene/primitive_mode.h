@@ -3,6 +3,9 @@
 #ifndef RASTER_PRIMITIVE_MODE_H
 #define RASTER_PRIMITIVE_MODE_H
 
+#include <string>
+
+#include "base/result.h"
 #include "scene/scene.h"
 
 namespace sr {
@@ -23,6 +26,20 @@ Scene meshAsLines(Scene scene);
 // "wireframe" of linear black (lines are unlit), so they draw as black edges over the kept triangles; a
 // scene without materials first gets a white opaque material 0 for all its primitives.
 Scene withWireframe(Scene scene);
+
+// What a triangle mesh is drawn as (`--primitive-mode`, the viewer's `p` key).
+enum class PrimitiveMode { Triangles, Lines, Points };
+
+// "triangles", "lines" or "points".
+const char* primitiveModeName(PrimitiveMode mode);
+// The mode of that name; any other name is a one-line usage error.
+Result<PrimitiveMode> parsePrimitiveMode(const std::string& name);
+
+// The scene as `raster render --primitive-mode MODE [--wireframe]` draws it: with the wireframe
+// overlay, whose edges are taken before a display mode replaces the triangles (so `lines` with the
+// overlay keeps both the mesh's edges and the black overlay on them), then as points or lines. The
+// overlay also needs RenderSettings::lineDepthBias = kWireframeDepthBias to show.
+Scene displayScene(Scene scene, PrimitiveMode mode, bool wireframe);
 
 }  // namespace sr
 

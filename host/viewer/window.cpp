@@ -106,7 +106,8 @@ Status Window::resize(uint32_t width, uint32_t height)
         if (w == width && h == height) return okStatus();
         glfwWaitEventsTimeout(0.01);
     }
-    return makeError(ExitCode::Runtime, "view: the window system did not resize the window to {}x{}", width, height);
+    return makeError(ExitCode::Runtime, "view: the window system did not resize the window to {}x{}", width,
+                     height);
 }
 
 void Window::framebufferSize(uint32_t& width, uint32_t& height) const

@@ -1,0 +1,29 @@
+// outputs.cpp - PNG, EXR and JSON of a rendered frame.
+#include "cli/outputs.h"
+
+#include "cli/stats_json.h"
+#include "io/image_io.h"
+#include "render/aov.h"
+
+namespace sr {
+
+OutputPaths savePaths(const std::string& prefix)
+{
+    return {prefix + ".png", prefix + ".exr", prefix + ".json"};
+}
+
+Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderSettings& settings,
+                    const OutputPaths& paths, const std::string& sceneName)
+{
+    SR_TRY(writePng(paths.png, out.color));
+    if (!paths.aov.empty()) {
+        if (!out.aov.hasBary()) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
+        if (settings.aovSamples && out.aov.sampleId.empty())
+            fillSampleAovs(out.samples, settings.ssaa, out.aov);
+        SR_TRY(writeAovExr(paths.aov, out.aov));
+    }
+    if (!paths.stats.empty()) SR_TRY(writeJson(paths.stats, statsJson(out, settings, sceneName)));
+    return okStatus();
+}
+
+}  // namespace sr
