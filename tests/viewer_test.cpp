@@ -57,33 +57,34 @@ TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
         FAIL() << "xvfb-run not found (Debian package xvfb; ci/setup installs it)";
     }
     ScratchDir dir("view_xvfb");
-    const std::string a = dir.file("a"), b = dir.file("b"), c = dir.file("c");
-    std::ofstream(dir.file("script.txt")) << "# orbit, zoom, Lambert, save\n"
-                                             "frame\n"
-                                             "drag left 60 -20\n"
-                                             "scroll 3\n"
-                                             "key 3\n"
-                                             "save "
-                                          << a
-                                          << "\n"
-                                             "# pan, MSAA 4x, Phong, save\n"
-                                             "drag right 15 10\n"
-                                             "key m\n"
-                                             "key 2\n"
-                                             "save "
-                                          << b
-                                          << "\n"
-                                             "# the mesh as lines\n"
-                                             "key p\n"
-                                             "save "
-                                          << c << "\nkey q\n";
+    const std::string a = dir.file("a"), b = dir.file("b"), c = dir.file("c"), d = dir.file("d");
+    std::ofstream(dir.file("script.txt"))
+        << "# orbit, zoom, Lambert, save\n"
+           "frame\n"
+           "drag left 60 -20\n"
+           "scroll 3\n"
+           "key 3\n"
+           "save "
+        << a
+        << "\n"
+           "# pan, MSAA 4x, Phong, save\n"
+           "drag right 15 10\n"
+           "key m\n"
+           "key 2\n"
+           "save "
+        << b
+        << "\n"
+           "# the mesh as lines\n"
+           "key p\n"
+           "save "
+        << c << "\n# a resized window renders at its new size\nresize 200 150\nsave " << d << "\nkey q\n";
     ToolRun run = runTool("view --backend vulkan --width 160 --height 120 --script " + dir.file("script.txt"),
                           "", "xvfb-run -a -s '-screen 0 640x480x24'");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
-    EXPECT_NE(run.stdoutText.find("view: 4 frames at 160x120"), std::string::npos) << run.stdoutText;
+    EXPECT_NE(run.stdoutText.find("view: 5 frames at 200x150"), std::string::npos) << run.stdoutText;
 
     std::vector<uint32_t> firstIds;
-    for (const std::string& prefix : {a, b, c}) {
+    for (const std::string& prefix : {a, b, c, d}) {
         SCOPED_TRACE(prefix);
         std::ifstream viewFile(prefix + ".view.json");
         ASSERT_TRUE(viewFile.good());
@@ -97,8 +98,8 @@ TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
         auto savedAov = readAovExr(prefix + ".exr");
         auto refAov = readAovExr(prefix + ".ref.exr");
         ASSERT_TRUE(saved && window && refPng && savedAov && refAov);
-        ASSERT_EQ(saved->width, 160u);
-        ASSERT_EQ(saved->height, 120u);
+        ASSERT_EQ(saved->width, prefix == d ? 200u : 160u);
+        ASSERT_EQ(saved->height, prefix == d ? 150u : 120u);
         EXPECT_EQ(window->pixels, saved->pixels) << "the window shows what was saved";
         EXPECT_EQ(savedAov->id, refAov->id) << "ids as raster render draws the same view";
         ASSERT_EQ(refPng->pixels.size(), saved->pixels.size());
