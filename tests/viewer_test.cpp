@@ -49,7 +49,9 @@ TEST(ViewerCommandLine, ABadScriptNamesItsLine)
     EXPECT_NE(run.stderrText.find("bad.txt:2"), std::string::npos) << run.stderrText;
 }
 
-TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
+// The session with frames presented by `present` (--present device: the Vulkan device's framebuffer
+// copied and blitted into the swapchain on the device; host: through a host buffer).
+void scriptedSession(const std::string& present)
 {
     if (!haveXvfb()) {
         if (displayMayBeMissing())
@@ -78,7 +80,8 @@ TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
            "key p\n"
            "save "
         << c << "\n# a resized window renders at its new size\nresize 200 150\nsave " << d << "\nkey q\n";
-    ToolRun run = runTool("view --backend vulkan --width 160 --height 120 --script " + dir.file("script.txt"),
+    ToolRun run = runTool("view --backend vulkan --present " + present +
+                              " --width 160 --height 120 --script " + dir.file("script.txt"),
                           "", "xvfb-run -a -s '-screen 0 640x480x24'");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     EXPECT_NE(run.stdoutText.find("view: 5 frames at 200x150"), std::string::npos) << run.stdoutText;
@@ -122,6 +125,16 @@ TEST(ViewerXvfb, ScriptedSessionMatchesRenderAndTheWindowShowsIt)
     std::ifstream third(c + ".view.json");
     EXPECT_NE(nlohmann::json::parse(third)["render_args"].get<std::string>().find("--primitive-mode lines"),
               std::string::npos);
+}
+
+TEST(ViewerXvfb, PresentedFromTheDeviceTheWindowShowsTheRender)
+{
+    scriptedSession("device");
+}
+
+TEST(ViewerXvfb, PresentedThroughTheHostTheWindowShowsTheRender)
+{
+    scriptedSession("host");
 }
 
 }  // namespace

@@ -567,6 +567,11 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, 16384));
     viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
+    viewApp
+        ->add_option("--present", view.present,
+                     "device (the Vulkan backend presents its own framebuffer, copied on the GPU; CUDA goes "
+                     "through the host) or host (every frame through the host)")
+        ->check(CLI::IsMember({"device", "host"}));
     viewApp->footer("Controls:\n" + controlsHelp());
 
     StudyCommand study;

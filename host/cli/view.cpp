@@ -19,6 +19,7 @@
 #include "viewer/present.h"
 #include "viewer/script.h"
 #include "viewer/window.h"
+#include "vulkan/vulkan_present_source.h"
 
 namespace sr {
 namespace {
@@ -32,7 +33,8 @@ double msSince(Clock::time_point start)
 
 // The compute backends the window can switch between (`b`): the one asked for first, then the other
 // where it opens; with `auto`, CUDA first as `raster render` does.
-Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::string& backend, int device)
+Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::string& backend, int device,
+                                                                 const PresentTarget* window)
 {
     std::vector<BackendKind> order = backend == "vulkan"
                                          ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
@@ -40,7 +42,12 @@ Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::stri
     std::vector<std::unique_ptr<ComputeDevice>> devices;
     std::optional<Error> first;
     for (BackendKind kind : order) {
-        auto d = makeComputeDevice(kind, device);
+        // The Vulkan device made on the window presents its own framebuffer (vulkan_present_source.h).
+        // A device that cannot present to this window (a GPU under Xvfb) still renders; the host presents.
+        auto d = kind == BackendKind::Vulkan && window != nullptr
+                     ? makeVulkanPresentingDevice(device, *window)
+                     : makeComputeDevice(kind, device);
+        if (!d && kind == BackendKind::Vulkan && window != nullptr) d = makeComputeDevice(kind, device);
         if (d) {
             devices.push_back(std::move(*d));
         } else if (!first) {
@@ -106,10 +113,13 @@ Status runView(const ViewOptions& o)
     }
     auto window = Window::open(o.settings.width, o.settings.height, "raster view");
     if (!window) return window.error();
-    auto presenter = Presenter::create((*window)->presentTarget(), o.presentDevice);
-    if (!presenter) return presenter.error();
-    auto devices = openBackends(o.backend, o.device);
+    const PresentTarget target = (*window)->presentTarget();
+    auto devices = openBackends(o.backend, o.device, o.present == "device" ? &target : nullptr);
     if (!devices) return devices.error();
+    // One presenter per path, made when first needed; a window has one swapchain at a time, so a
+    // switch of path releases the other's.
+    std::unique_ptr<Presenter> hostPresenter;
+    std::vector<std::unique_ptr<Presenter>> devicePresenters(devices->size());
 
     uint32_t width = 0, height = 0;
     (*window)->framebufferSize(width, height);
@@ -162,15 +172,41 @@ Status runView(const ViewOptions& o)
             if (!created) return created.error();
             session.emplace(std::move(*created));
         }
-        const RenderSettings& s = state.settings;
+        const size_t backend = state.backendIndex % devices->size();
+        std::optional<VulkanPresentSource> source = vulkanPresentSource(device);
+        RenderSettings s = state.settings;
+        // From the device, the frame stays there unless it is saved.
+        s.downloadImages = !source || state.saveRequested;
         auto out = session->render(state.camera.matrices(s.width, s.height), s);
         if (!out) return out.error();
+        // The buffer as this frame left it (a new size replaces it).
+        if (source) source = vulkanPresentSource(device);
         Clock::time_point presentStart = Clock::now();
         uint32_t windowWidth = 0, windowHeight = 0;
         (*window)->framebufferSize(windowWidth, windowHeight);
         RgbaImage shown;
-        SR_TRY((*presenter)
-                   ->present(out->color, windowWidth, windowHeight, state.saveRequested ? &shown : nullptr));
+        RgbaImage* readback = state.saveRequested ? &shown : nullptr;
+        if (source) {
+            if (hostPresenter) hostPresenter->releaseSwapchain();
+            for (size_t k = 0; k < devicePresenters.size(); ++k)
+                if (k != backend && devicePresenters[k]) devicePresenters[k]->releaseSwapchain();
+            if (!devicePresenters[backend]) {
+                auto created = Presenter::createOn(*source->context);
+                if (!created) return created.error();
+                devicePresenters[backend] = std::move(*created);
+            }
+            SR_TRY(devicePresenters[backend]->presentBuffer(source->framebuffer, s.width, s.height,
+                                                            windowWidth, windowHeight, readback));
+        } else {
+            for (auto& p : devicePresenters)
+                if (p) p->releaseSwapchain();
+            if (!hostPresenter) {
+                auto created = Presenter::create(target, o.presentDevice);
+                if (!created) return created.error();
+                hostPresenter = std::move(*created);
+            }
+            SR_TRY(hostPresenter->present(out->color, windowWidth, windowHeight, readback));
+        }
         presentMs.push_back(msSince(presentStart));
         gpuMs.push_back(out->total.medianMs);
         if (state.saveRequested) {

@@ -20,6 +20,9 @@ struct ViewOptions {
     int presentDevice = -1;        // Vulkan device that presents (-1: the first that can)
     std::string camera = "auto";   // initial camera, as --camera of `raster render`
     std::string scriptPath;        // replay this input script instead of waiting for the user
+    // device: the Vulkan backend presents from its own framebuffer on the GPU (the CUDA backend always
+    // goes through the host); host: every frame through the host.
+    std::string present = "device";
     RenderSettings settings;       // width x height is the initial window size
 };
 

@@ -443,6 +443,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
 
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;
+    if (!settings.downloadImages) return out;
     out.color.pixels.resize(pixels);
     SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
     if (countsHits(settings)) {

@@ -65,6 +65,10 @@ struct RenderSettings {
     // The rule that decides which samples a triangle covers (RASTER_*, --raster-method;
     // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
     uint32_t rasterMethod = RASTER_FIXED8;
+    // false: the frame's images stay on the device (RenderOutput's color, aov, samples and hitCount are
+    // left empty; statistics and timings are filled): the viewer presenting from the device's own
+    // framebuffer (BUF_FRAMEBUFFER) needs no download.
+    bool downloadImages = true;
 };
 
 // The SHADING_* modes are 0 .. kShadingModeCount - 1.

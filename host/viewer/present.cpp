@@ -34,34 +34,60 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImag
 Result<std::unique_ptr<Presenter>> Presenter::create(const PresentTarget& target, int deviceIndex)
 {
     std::unique_ptr<Presenter> p(new Presenter());
-    SR_TRY(p->context_.init(deviceIndex, QueueKind::Compute, &target));
-    p->info_ = p->context_.deviceInfo("vulkan");
+    p->owned_ = std::make_unique<VulkanContext>();
+    p->context_ = p->owned_.get();
+    SR_TRY(p->context_->init(deviceIndex, QueueKind::Compute, &target));
+    SR_TRY(p->init());
+    return p;
+}
+
+Result<std::unique_ptr<Presenter>> Presenter::createOn(VulkanContext& shared)
+{
+    if (shared.surface() == VK_NULL_HANDLE)
+        return makeError(ExitCode::Runtime, "view: the compute device was not made on the window");
+    std::unique_ptr<Presenter> p(new Presenter());
+    p->context_ = &shared;
+    SR_TRY(p->init());
+    return p;
+}
+
+Status Presenter::init()
+{
+    info_ = context_->deviceInfo("vulkan");
     VkFenceCreateInfo fenceInfo{};
     fenceInfo.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    SR_VK_CHECK(vkCreateFence(p->context_.device(), &fenceInfo, nullptr, &p->acquired_));
-    return p;
+    SR_VK_CHECK(vkCreateFence(context_->device(), &fenceInfo, nullptr, &acquired_));
+    return okStatus();
 }
 
 Presenter::~Presenter()
 {
-    if (context_.device() == VK_NULL_HANDLE) return;
-    context_.waitIdle();
+    if (context_ == nullptr || context_->device() == VK_NULL_HANDLE) return;
+    context_->waitIdle();
     destroySwapchain();
-    context_.destroyBuffer(pixels_);
-    if (acquired_ != VK_NULL_HANDLE) vkDestroyFence(context_.device(), acquired_, nullptr);
+    context_->destroyBuffer(pixels_);
+    context_->destroyImage(rgba_);
+    if (acquired_ != VK_NULL_HANDLE) vkDestroyFence(context_->device(), acquired_, nullptr);
+}
+
+void Presenter::releaseSwapchain()
+{
+    if (context_ == nullptr || swapchain_ == VK_NULL_HANDLE) return;
+    context_->waitIdle();
+    destroySwapchain();
 }
 
 void Presenter::destroySwapchain()
 {
-    if (swapchain_ != VK_NULL_HANDLE) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
+    if (swapchain_ != VK_NULL_HANDLE) vkDestroySwapchainKHR(context_->device(), swapchain_, nullptr);
     swapchain_ = VK_NULL_HANDLE;
     images_.clear();
 }
 
 Status Presenter::createSwapchain(uint32_t width, uint32_t height)
 {
-    VkPhysicalDevice physical = context_.physicalDevice();
-    VkSurfaceKHR surface = context_.surface();
+    VkPhysicalDevice physical = context_->physicalDevice();
+    VkSurfaceKHR surface = context_->surface();
     VkSurfaceCapabilitiesKHR caps{};
     SR_VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface, &caps));
     uint32_t count = 0;
@@ -86,6 +112,17 @@ Status Presenter::createSwapchain(uint32_t width, uint32_t height)
     if ((caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) == 0)
         return makeError(ExitCode::Runtime, "view: the window's swapchain images cannot be copied into");
     canRead_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    if (!owned_ && swapRedBlue_) {
+        // presentBuffer() blits from an RGBA image into the BGRA swapchain image.
+        VkFormatProperties src{}, dst{};
+        vkGetPhysicalDeviceFormatProperties(physical, VK_FORMAT_R8G8B8A8_UNORM, &src);
+        vkGetPhysicalDeviceFormatProperties(physical, format_, &dst);
+        if ((src.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) == 0 ||
+            (dst.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT) == 0)
+            return makeError(
+                ExitCode::Runtime,
+                "view: the device cannot blit into the window's BGRA images; use --present host");
+    }
     VkExtent2D extent = caps.currentExtent;
     if (extent.width == 0xFFFFFFFFu) extent = {width, height};
     extent.width = std::clamp(extent.width, caps.minImageExtent.width, caps.maxImageExtent.width);
@@ -111,126 +148,178 @@ Status Presenter::createSwapchain(uint32_t width, uint32_t height)
     info.clipped = VK_TRUE;
     info.oldSwapchain = swapchain_;
     VkSwapchainKHR created = VK_NULL_HANDLE;
-    SR_VK_CHECK(vkCreateSwapchainKHR(context_.device(), &info, nullptr, &created));
+    SR_VK_CHECK(vkCreateSwapchainKHR(context_->device(), &info, nullptr, &created));
     destroySwapchain();
     swapchain_ = created;
     extent_ = extent;
-    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, nullptr));
+    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_->device(), swapchain_, &count, nullptr));
     images_.resize(count);
-    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, images_.data()));
+    SR_VK_CHECK(vkGetSwapchainImagesKHR(context_->device(), swapchain_, &count, images_.data()));
     return okStatus();
 }
 
-Status Presenter::present(const RgbaImage& image, uint32_t windowWidth, uint32_t windowHeight,
-                          RgbaImage* readback)
+Status Presenter::ensurePixels(VkDeviceSize bytes)
+{
+    if (pixels_.capacity >= bytes) return okStatus();
+    context_->destroyBuffer(pixels_);
+    return context_->allocateBuffer(
+        pixels_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+        {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT});
+}
+
+template <typename Fill>
+Status Presenter::presentFrame(uint32_t width, uint32_t height, uint32_t windowWidth, uint32_t windowHeight,
+                               RgbaImage* readback, Fill fill)
 {
     if (windowWidth == 0 || windowHeight == 0) return okStatus();  // minimized: nothing to show
+    VkDevice device = context_->device();
     // A window resized since the last frame, or a swapchain the window system declared stale, is
     // made again and the frame presented once more.
     for (int attempt = 0; attempt < 3; ++attempt) {
         if (swapchain_ == VK_NULL_HANDLE || extent_.width != windowWidth || extent_.height != windowHeight)
             SR_TRY(createSwapchain(windowWidth, windowHeight));
-        bool outOfDate = false;
-        SR_TRY(presentOnce(image, readback, outOfDate));
-        if (!outOfDate) return context_.validationStatus();
-        SR_VK_CHECK(vkDeviceWaitIdle(context_.device()));
-        destroySwapchain();
+        SR_TRY(ensurePixels(VkDeviceSize(extent_.width) * extent_.height * 4));
+        uint32_t index = 0;
+        VkResult acquired =
+            vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
+        if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+            SR_VK_CHECK(vkDeviceWaitIdle(device));
+            destroySwapchain();
+            continue;
+        }
+        if (acquired != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(acquired);
+        SR_VK_CHECK(vkWaitForFences(device, 1, &acquired_, VK_TRUE, UINT64_MAX));
+        SR_VK_CHECK(vkResetFences(device, 1, &acquired_));
+
+        const uint32_t w = std::min(width, extent_.width), h = std::min(height, extent_.height);
+        VkImage target = images_[index];
+        SR_TRY(context_->beginCommands());
+        VkCommandBuffer cmd = context_->commandBuffer();
+        imageBarrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                     VK_ACCESS_TRANSFER_WRITE_BIT);
+        if (w < extent_.width || h < extent_.height) {
+            VkClearColorValue black{};
+            black.float32[3] = 1.0f;
+            VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
+            memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        }
+        if (w > 0 && h > 0) SR_TRY(fill(cmd, target, w, h));
+        const bool read = readback != nullptr && canRead_;
+        if (read) {
+            imageBarrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_ACCESS_TRANSFER_READ_BIT);
+            // A host frame's copy in read the buffer; the copy out overwrites it.
+            memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {extent_.width, extent_.height, 1};
+            vkCmdCopyImageToBuffer(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pixels_.buffer, 1,
+                                   &region);
+            memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+        }
+        imageBarrier(cmd, target,
+                     read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                     read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+        // Waited for here, so the presentation below needs no semaphore: the image is complete.
+        SR_TRY(context_->submitAndWait());
+        if (readback != nullptr) {
+            if (!read)
+                return makeError(ExitCode::Runtime, "view: this window's swapchain cannot be read back");
+            readback->width = extent_.width;
+            readback->height = extent_.height;
+            readback->pixels.resize(size_t(extent_.width) * extent_.height);
+            const auto* src = static_cast<const uint32_t*>(pixels_.mapped);
+            for (size_t i = 0; i < readback->pixels.size(); ++i)
+                readback->pixels[i] = swapRedBlue_ ? swapRedBlue(src[i]) : src[i];
+        }
+
+        VkPresentInfoKHR info{};
+        info.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR;
+        info.swapchainCount = 1;
+        info.pSwapchains = &swapchain_;
+        info.pImageIndices = &index;
+        VkResult presented = vkQueuePresentKHR(context_->queue(), &info);
+        if (presented == VK_ERROR_OUT_OF_DATE_KHR) {
+            SR_VK_CHECK(vkDeviceWaitIdle(device));
+            destroySwapchain();
+            continue;
+        }
+        if (presented != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(presented);
+        return context_->validationStatus();
     }
     return makeError(ExitCode::Runtime, "view: the window's swapchain stayed out of date");
 }
 
-Status Presenter::presentOnce(const RgbaImage& image, RgbaImage* readback, bool& outOfDate)
+Status Presenter::present(const RgbaImage& image, uint32_t windowWidth, uint32_t windowHeight,
+                          RgbaImage* readback)
 {
-    VkDevice device = context_.device();
-    const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * 4;
-    if (pixels_.capacity < bytes) {
-        context_.destroyBuffer(pixels_);
-        SR_TRY(context_.allocateBuffer(
-            pixels_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-            {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
-    }
-    uint32_t index = 0;
-    VkResult acquired =
-        vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
-    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
-        outOfDate = true;
-        return okStatus();
-    }
-    if (acquired != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(acquired);
-    SR_VK_CHECK(vkWaitForFences(device, 1, &acquired_, VK_TRUE, UINT64_MAX));
-    SR_VK_CHECK(vkResetFences(device, 1, &acquired_));
+    return presentFrame(image.width, image.height, windowWidth, windowHeight, readback,
+                        [&](VkCommandBuffer cmd, VkImage target, uint32_t w, uint32_t h) -> Status {
+                            // The frame's rows into the buffer at the swapchain's pitch, cropped to the
+                            // window.
+                            auto* dst = static_cast<uint32_t*>(pixels_.mapped);
+                            for (uint32_t y = 0; y < h; ++y)
+                                for (uint32_t x = 0; x < w; ++x) {
+                                    uint32_t p = image.pixels[size_t(y) * image.width + x];
+                                    dst[size_t(y) * extent_.width + x] = swapRedBlue_ ? swapRedBlue(p) : p;
+                                }
+                            VkBufferImageCopy region{};
+                            region.bufferRowLength = extent_.width;
+                            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                            region.imageExtent = {w, h, 1};
+                            vkCmdCopyBufferToImage(cmd, pixels_.buffer, target,
+                                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+                            return okStatus();
+                        });
+}
 
-    // The frame's rows into the buffer at the swapchain's pitch, cropped to the window.
-    const uint32_t w = std::min(image.width, extent_.width), h = std::min(image.height, extent_.height);
-    auto* dst = static_cast<uint32_t*>(pixels_.mapped);
-    for (uint32_t y = 0; y < h; ++y)
-        for (uint32_t x = 0; x < w; ++x) {
-            uint32_t p = image.pixels[size_t(y) * image.width + x];
-            dst[size_t(y) * extent_.width + x] = swapRedBlue_ ? swapRedBlue(p) : p;
-        }
-
-    VkImage target = images_[index];
-    SR_TRY(context_.beginCommands());
-    VkCommandBuffer cmd = context_.commandBuffer();
-    imageBarrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-                 VK_ACCESS_TRANSFER_WRITE_BIT);
-    if (w < extent_.width || h < extent_.height) {
-        VkClearColorValue black{};
-        black.float32[3] = 1.0f;
-        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
-        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    }
-    if (w > 0 && h > 0) {
-        VkBufferImageCopy region{};
-        region.bufferRowLength = extent_.width;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {w, h, 1};
-        vkCmdCopyBufferToImage(cmd, pixels_.buffer, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    }
-    const bool read = readback != nullptr && canRead_;
-    if (read) {
-        imageBarrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                     VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-        // The buffer was read by the copy in; the copy out overwrites it.
-        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {extent_.width, extent_.height, 1};
-        vkCmdCopyImageToBuffer(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pixels_.buffer, 1, &region);
-        memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    }
-    imageBarrier(cmd, target,
-                 read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                 read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
-    // Waited for here, so the presentation below needs no semaphore: the image is complete.
-    SR_TRY(context_.submitAndWait());
-    if (readback != nullptr) {
-        if (!read) return makeError(ExitCode::Runtime, "view: this window's swapchain cannot be read back");
-        readback->width = extent_.width;
-        readback->height = extent_.height;
-        readback->pixels.resize(size_t(extent_.width) * extent_.height);
-        const auto* src = static_cast<const uint32_t*>(pixels_.mapped);
-        for (size_t i = 0; i < readback->pixels.size(); ++i)
-            readback->pixels[i] = swapRedBlue_ ? swapRedBlue(src[i]) : src[i];
-    }
-
-    VkPresentInfoKHR info{};
-    info.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR;
-    info.swapchainCount = 1;
-    info.pSwapchains = &swapchain_;
-    info.pImageIndices = &index;
-    VkResult presented = vkQueuePresentKHR(context_.queue(), &info);
-    if (presented == VK_ERROR_OUT_OF_DATE_KHR) {
-        outOfDate = true;
-        return okStatus();
-    }
-    if (presented != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(presented);
-    return okStatus();
+Status Presenter::presentBuffer(VkBuffer buffer, uint32_t width, uint32_t height, uint32_t windowWidth,
+                                uint32_t windowHeight, RgbaImage* readback)
+{
+    if (owned_) return makeError(ExitCode::Runtime, "view: a host presenter cannot read a device buffer");
+    return presentFrame(
+        width, height, windowWidth, windowHeight, readback,
+        [&](VkCommandBuffer cmd, VkImage target, uint32_t w, uint32_t h) -> Status {
+            VkBufferImageCopy region{};
+            region.bufferRowLength = width;
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {w, h, 1};
+            if (!swapRedBlue_) {
+                vkCmdCopyBufferToImage(cmd, buffer, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+                return okStatus();
+            }
+            // A BGRA swapchain: the words land in an RGBA image, and a blit (which converts between
+            // formats by component) writes them into the swapchain image in its order.
+            if (rgba_.image == VK_NULL_HANDLE || rgbaExtent_.width != width || rgbaExtent_.height != height) {
+                context_->destroyImage(rgba_);
+                SR_TRY(context_->allocateImage(
+                    rgba_, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_ASPECT_COLOR_BIT, width, height,
+                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                        VK_IMAGE_USAGE_SAMPLED_BIT));  // the view allocateImage makes needs one
+                rgbaExtent_ = {width, height};
+            }
+            imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                         VK_ACCESS_TRANSFER_WRITE_BIT);
+            vkCmdCopyBufferToImage(cmd, buffer, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                                   &region);
+            imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_ACCESS_TRANSFER_READ_BIT);
+            VkImageBlit blit{};
+            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            blit.srcOffsets[1] = {int32_t(w), int32_t(h), 1};
+            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            blit.dstOffsets[1] = {int32_t(w), int32_t(h), 1};
+            vkCmdBlitImage(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
+            return okStatus();
+        });
 }
 
 }  // namespace sr

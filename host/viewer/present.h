@@ -1,12 +1,12 @@
 // present.h - showing a rendered frame in the viewer's window through a Vulkan swapchain.
 //
-// The presenter owns a Vulkan context of its own on the window's surface (any Vulkan device that can
-// present to it: lavapipe under Xvfb, a GPU with a display). Each frame the resolved sRGB image goes
-// into a host-visible buffer, is copied into the acquired swapchain image on that device and
-// presented; with `readback`, the swapchain image is copied back before presentation, so a test sees
-// exactly the pixels the window shows. Frames come from either backend through the host (the renderer
-// downloads every frame's image anyway); sharing the compute device's framebuffer with the swapchain is
-// the faster path this leaves for later (docs/viewer.md says what it would save).
+// Two paths. The Vulkan compute backend, made on the window's surface, presents from its own
+// framebuffer buffer: the frame is copied (or blitted, to reorder the channels) into the acquired
+// swapchain image on the GPU, and never leaves the device. Any other source (CUDA) presents from the
+// host: the presenter owns a Vulkan context of its own on the window (any device that can present to
+// it: lavapipe under Xvfb, a GPU with a display), and the frame goes into a host-visible buffer and from
+// there into the swapchain image. With `readback`, the swapchain image is copied back before
+// presentation, so a test sees exactly the pixels the window shows.
 #ifndef RASTER_VIEWER_PRESENT_H
 #define RASTER_VIEWER_PRESENT_H
 
@@ -22,9 +22,12 @@ namespace sr {
 
 class Presenter {
 public:
-    // A presenter for the window `target` describes, on Vulkan device `deviceIndex` (-1: the first that
-    // can present to it).
+    // A presenter with a Vulkan context of its own for the window `target` describes, on Vulkan device
+    // `deviceIndex` (-1: the first that can present to it): frames come from the host (present()).
     static Result<std::unique_ptr<Presenter>> create(const PresentTarget& target, int deviceIndex);
+    // A presenter on `shared`, the context of a Vulkan compute device made on the window
+    // (vulkan_present_source.h): frames come from that device's buffers (presentBuffer()).
+    static Result<std::unique_ptr<Presenter>> createOn(VulkanContext& shared);
     ~Presenter();
     Presenter(const Presenter&) = delete;
     Presenter& operator=(const Presenter&) = delete;
@@ -33,25 +36,42 @@ public:
     // windowWidth x windowHeight: copied to the top-left corner, the rest cleared to black. The
     // swapchain follows the window's size. With `readback`, it receives the presented image.
     Status present(const RgbaImage& image, uint32_t windowWidth, uint32_t windowHeight, RgbaImage* readback);
+    // The same from `buffer`, a width x height image of the same words on the shared context's device
+    // (the compute device's BUF_FRAMEBUFFER), copied on the GPU: into an RGBA swapchain image directly,
+    // into a BGRA one through an RGBA image and a blit, which reorders the channels.
+    Status presentBuffer(VkBuffer buffer, uint32_t width, uint32_t height, uint32_t windowWidth,
+                         uint32_t windowHeight, RgbaImage* readback);
+    // Gives the window's swapchain up (another presenter is about to take the window: a window has one
+    // swapchain at a time); the next present makes a new one.
+    void releaseSwapchain();
 
     const DeviceInfo& info() const { return info_; }
 
 private:
     Presenter() = default;
+    Status init();
     Status createSwapchain(uint32_t width, uint32_t height);
     void destroySwapchain();
-    Status presentOnce(const RgbaImage& image, RgbaImage* readback, bool& outOfDate);
+    // Acquires an image, clears it where the frame (width x height) does not reach, lets `fill` record
+    // the frame's copy into it (layout TRANSFER_DST_OPTIMAL), reads it back if asked, presents it.
+    template <typename Fill>
+    Status presentFrame(uint32_t width, uint32_t height, uint32_t windowWidth, uint32_t windowHeight,
+                        RgbaImage* readback, Fill fill);
+    Status ensurePixels(VkDeviceSize bytes);
 
-    VulkanContext context_;
+    std::unique_ptr<VulkanContext> owned_;  // the context create() made; empty for createOn()
+    VulkanContext* context_ = nullptr;
     DeviceInfo info_;
     VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
     std::vector<VkImage> images_;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
-    bool swapRedBlue_ = false;  // the swapchain is BGRA: bytes swizzled on the way in and out
+    bool swapRedBlue_ = false;  // the swapchain is BGRA: host frames swizzled on the way in and out
     bool canRead_ = false;      // the swapchain images allow transfers out (readback)
     VkExtent2D extent_{0, 0};
     VkFence acquired_ = VK_NULL_HANDLE;
-    GpuBuffer pixels_;  // host-visible: the frame going in, the readback coming out
+    GpuBuffer pixels_;  // host-visible: a host frame going in, the readback coming out
+    GpuImage rgba_;     // presentBuffer() into a BGRA swapchain: the frame as an RGBA image to blit from
+    VkExtent2D rgbaExtent_{0, 0};
 };
 
 }  // namespace sr

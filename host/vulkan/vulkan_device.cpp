@@ -25,6 +25,7 @@
 #include "render/compute_device.h"
 #include "vulkan/vulkan_context.h"
 #include "vulkan/vulkan_device_internal.h"
+#include "vulkan/vulkan_present_source.h"
 
 namespace sr {
 namespace {
@@ -127,7 +128,9 @@ public:
     ~VulkanDevice() override;
 
     // Creates everything; on failure the destructor releases whatever was created.
-    Status init(int index);
+    Status init(int index, const PresentTarget* present);
+    VulkanContext& context() { return context_; }
+    VkBuffer buffer(uint32_t index) const { return buffers_[index].buffer; }
     Status injectValidationError(const char* message) { return context_.injectValidationError(message); }
 
     const DeviceInfo& info() const override { return info_; }
@@ -221,9 +224,9 @@ VulkanDevice::~VulkanDevice()
         vkDestroyPipeline(context_.device(), pipeline, nullptr);
 }
 
-Status VulkanDevice::init(int index)
+Status VulkanDevice::init(int index, const PresentTarget* present)
 {
-    SR_TRY(context_.init(index, QueueKind::Compute));
+    SR_TRY(context_.init(index, QueueKind::Compute, present));
     info_ = context_.deviceInfo("vulkan");
     SR_TRY(createPipelines());
     // Host-visible so that run() writes the parameters directly; device-local where the device
@@ -466,8 +469,22 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
 Result<std::unique_ptr<ComputeDevice>> makeVulkanDevice(int index)
 {
     auto device = std::make_unique<VulkanDevice>();
-    SR_TRY(device->init(index));
+    SR_TRY(device->init(index, nullptr));
     return std::unique_ptr<ComputeDevice>(std::move(device));
+}
+
+Result<std::unique_ptr<ComputeDevice>> makeVulkanPresentingDevice(int index, const PresentTarget& target)
+{
+    auto device = std::make_unique<VulkanDevice>();
+    SR_TRY(device->init(index, &target));
+    return std::unique_ptr<ComputeDevice>(std::move(device));
+}
+
+std::optional<VulkanPresentSource> vulkanPresentSource(ComputeDevice& device)
+{
+    auto* vulkan = dynamic_cast<VulkanDevice*>(&device);
+    if (vulkan == nullptr || vulkan->context().surface() == VK_NULL_HANDLE) return std::nullopt;
+    return VulkanPresentSource{&vulkan->context(), vulkan->buffer(BUF_FRAMEBUFFER)};
 }
 
 Status injectVulkanValidationError(ComputeDevice& device, const char* message)
