@@ -51,9 +51,10 @@ TEST(ViewerCommandLine, ABadScriptNamesItsLine)
 
 // The session with frames presented by `present` (--present device: the Vulkan device's framebuffer
 // copied and blitted into the swapchain on the device; host: through a host buffer).
-void scriptedSession(const std::string& present)
+// offscreen: no window (--offscreen), the same copies into an image of the presenter's; else under Xvfb.
+void scriptedSession(const std::string& present, bool offscreen = false)
 {
-    if (!haveXvfb()) {
+    if (!offscreen && !haveXvfb()) {
         if (displayMayBeMissing())
             GTEST_SKIP() << "xvfb-run absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
         FAIL() << "xvfb-run not found (Debian package xvfb; ci/setup installs it)";
@@ -80,9 +81,9 @@ void scriptedSession(const std::string& present)
            "key p\n"
            "save "
         << c << "\n# a resized window renders at its new size\nresize 200 150\nsave " << d << "\nkey q\n";
-    ToolRun run = runTool("view --backend vulkan --present " + present +
+    ToolRun run = runTool("view --backend vulkan --present " + present + (offscreen ? " --offscreen" : "") +
                               " --width 160 --height 120 --script " + dir.file("script.txt"),
-                          "", "xvfb-run -a -s '-screen 0 640x480x24'");
+                          "", offscreen ? "env -u DISPLAY" : "xvfb-run -a -s '-screen 0 640x480x24'");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     EXPECT_NE(run.stdoutText.find("view: 5 frames at 200x150"), std::string::npos) << run.stdoutText;
 
@@ -135,6 +136,14 @@ TEST(ViewerXvfb, PresentedFromTheDeviceTheWindowShowsTheRender)
 TEST(ViewerXvfb, PresentedThroughTheHostTheWindowShowsTheRender)
 {
     scriptedSession("host");
+}
+
+// Without a display (--offscreen: the GPU machine's way to time the paths), both paths run the same
+// copies into an image of the presenter's and read back what a window would show.
+TEST(ViewerOffscreen, BothPathsShowTheRender)
+{
+    scriptedSession("device", true);
+    scriptedSession("host", true);
 }
 
 }  // namespace

@@ -572,6 +572,9 @@ int main(int argc, char** argv)
                      "device (the Vulkan backend presents its own framebuffer, copied on the GPU; CUDA goes "
                      "through the host) or host (every frame through the host)")
         ->check(CLI::IsMember({"device", "host"}));
+    viewApp->add_flag("--offscreen", view.offscreen,
+                      "no window: present into an image instead of a swapchain (with --script; machines "
+                      "without a display, timings)");
     viewApp->footer("Controls:\n" + controlsHelp());
 
     StudyCommand study;

@@ -111,18 +111,27 @@ Status runView(const ViewOptions& o)
         if (!loaded) return loaded.error();
         script = std::move(*loaded);
     }
-    auto window = Window::open(o.settings.width, o.settings.height, "raster view");
-    if (!window) return window.error();
-    const PresentTarget target = (*window)->presentTarget();
-    auto devices = openBackends(o.backend, o.device, o.present == "device" ? &target : nullptr);
+    // Offscreen: no window; the frames go through the same copies into an image of the presenter's.
+    if (o.offscreen && o.scriptPath.empty())
+        return makeError(ExitCode::Usage,
+                         "view: --offscreen needs --script (there is no window to take input)");
+    std::unique_ptr<Window> window;
+    PresentTarget target;
+    if (!o.offscreen) {
+        auto opened = Window::open(o.settings.width, o.settings.height, "raster view");
+        if (!opened) return opened.error();
+        window = std::move(*opened);
+        target = window->presentTarget();
+    }
+    auto devices = openBackends(o.backend, o.device, o.present == "device" && window ? &target : nullptr);
     if (!devices) return devices.error();
     // One presenter per path, made when first needed; a window has one swapchain at a time, so a
     // switch of path releases the other's.
     std::unique_ptr<Presenter> hostPresenter;
     std::vector<std::unique_ptr<Presenter>> devicePresenters(devices->size());
 
-    uint32_t width = 0, height = 0;
-    (*window)->framebufferSize(width, height);
+    uint32_t width = o.settings.width, height = o.settings.height;
+    if (window) window->framebufferSize(width, height);
     RenderSettings settings = o.settings;
     settings.width = std::max(width, 1u);
     settings.height = std::max(height, 1u);
@@ -142,16 +151,17 @@ Status runView(const ViewOptions& o)
     while (!state.quit) {
         bool draw = false;
         if (!o.scriptPath.empty()) {
-            (*window)->poll();  // keeps the window system served; live input is ignored
+            if (window) window->poll();  // keeps the window system served; live input is ignored
             if (next == script.size()) break;
             ScriptEffect effect = applyScriptEvent(state, script[next++]);
-            if (effect.resizeWindow) SR_TRY((*window)->resize(state.settings.width, state.settings.height));
+            if (effect.resizeWindow && window)
+                SR_TRY(window->resize(state.settings.width, state.settings.height));
             draw = effect.renderFrame || state.saveRequested;
         } else {
-            std::vector<InputEvent> events = (*window)->poll();
+            std::vector<InputEvent> events = window->poll();
             for (const InputEvent& e : events) applyInput(state, e);
             dirty = dirty || !events.empty();
-            if ((*window)->closeRequested()) break;
+            if (window->closeRequested()) break;
             draw = dirty || state.sceneChanged || state.backendChanged || state.saveRequested;
         }
         if (state.quit) break;
@@ -173,17 +183,20 @@ Status runView(const ViewOptions& o)
             session.emplace(std::move(*created));
         }
         const size_t backend = state.backendIndex % devices->size();
-        std::optional<VulkanPresentSource> source = vulkanPresentSource(device);
+        // The device path: a Vulkan device made on the window, or any Vulkan device offscreen.
+        std::optional<VulkanPresentSource> source;
+        if (o.present == "device") source = vulkanPresentSource(device);
+        if (source && !o.offscreen && source->context->surface() == VK_NULL_HANDLE) source.reset();
         RenderSettings s = state.settings;
         // From the device, the frame stays there unless it is saved.
         s.downloadImages = !source || state.saveRequested;
         auto out = session->render(state.camera.matrices(s.width, s.height), s);
         if (!out) return out.error();
         // The buffer as this frame left it (a new size replaces it).
-        if (source) source = vulkanPresentSource(device);
+        if (source) source->framebuffer = vulkanPresentSource(device)->framebuffer;
         Clock::time_point presentStart = Clock::now();
-        uint32_t windowWidth = 0, windowHeight = 0;
-        (*window)->framebufferSize(windowWidth, windowHeight);
+        uint32_t windowWidth = s.width, windowHeight = s.height;
+        if (window) window->framebufferSize(windowWidth, windowHeight);
         RgbaImage shown;
         RgbaImage* readback = state.saveRequested ? &shown : nullptr;
         if (source) {
@@ -191,7 +204,8 @@ Status runView(const ViewOptions& o)
             for (size_t k = 0; k < devicePresenters.size(); ++k)
                 if (k != backend && devicePresenters[k]) devicePresenters[k]->releaseSwapchain();
             if (!devicePresenters[backend]) {
-                auto created = Presenter::createOn(*source->context);
+                auto created = o.offscreen ? Presenter::createOffscreen(source->context, -1)
+                                           : Presenter::createOn(*source->context);
                 if (!created) return created.error();
                 devicePresenters[backend] = std::move(*created);
             }
@@ -201,7 +215,8 @@ Status runView(const ViewOptions& o)
             for (auto& p : devicePresenters)
                 if (p) p->releaseSwapchain();
             if (!hostPresenter) {
-                auto created = Presenter::create(target, o.presentDevice);
+                auto created = o.offscreen ? Presenter::createOffscreen(nullptr, o.presentDevice)
+                                           : Presenter::create(target, o.presentDevice);
                 if (!created) return created.error();
                 hostPresenter = std::move(*created);
             }
@@ -220,11 +235,12 @@ Status runView(const ViewOptions& o)
         }
         double frameMs = msSince(start);
         fps = frameMs > 0.0 ? 1000.0 / frameMs : 0.0;
-        (*window)->setTitle(
-            fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
-                        "{} triangles - {}",
-                        out->device.backend, out->device.name, out->total.medianMs, presentMs.back(), fps,
-                        out->stats.trianglesIn, stateSummary(state)));
+        if (window)
+            window->setTitle(
+                fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
+                            "{} triangles - {}",
+                            out->device.backend, out->device.name, out->total.medianMs, presentMs.back(), fps,
+                            out->stats.trianglesIn, stateSummary(state)));
         dirty = false;
     }
     if (!gpuMs.empty() && !o.scriptPath.empty()) {

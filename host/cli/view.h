@@ -23,7 +23,10 @@ struct ViewOptions {
     // device: the Vulkan backend presents from its own framebuffer on the GPU (the CUDA backend always
     // goes through the host); host: every frame through the host.
     std::string present = "device";
-    RenderSettings settings;       // width x height is the initial window size
+    // No window (machines without a display): the frames go through the same copies into an image of
+    // the presenter's instead of a swapchain; needs scriptPath.
+    bool offscreen = false;
+    RenderSettings settings;  // width x height is the initial window size
 };
 
 Status runView(const ViewOptions& options);

@@ -51,6 +51,21 @@ Result<std::unique_ptr<Presenter>> Presenter::createOn(VulkanContext& shared)
     return p;
 }
 
+Result<std::unique_ptr<Presenter>> Presenter::createOffscreen(VulkanContext* shared, int deviceIndex)
+{
+    std::unique_ptr<Presenter> p(new Presenter());
+    p->offscreen_ = true;
+    if (shared != nullptr) {
+        p->context_ = shared;
+    } else {
+        p->owned_ = std::make_unique<VulkanContext>();
+        p->context_ = p->owned_.get();
+        SR_TRY(p->context_->init(deviceIndex, QueueKind::Compute));
+    }
+    SR_TRY(p->init());
+    return p;
+}
+
 Status Presenter::init()
 {
     info_ = context_->deviceInfo("vulkan");
@@ -67,6 +82,7 @@ Presenter::~Presenter()
     destroySwapchain();
     context_->destroyBuffer(pixels_);
     context_->destroyImage(rgba_);
+    context_->destroyImage(target_);
     if (acquired_ != VK_NULL_HANDLE) vkDestroyFence(context_->device(), acquired_, nullptr);
 }
 
@@ -87,6 +103,19 @@ void Presenter::destroySwapchain()
 Status Presenter::createSwapchain(uint32_t width, uint32_t height)
 {
     VkPhysicalDevice physical = context_->physicalDevice();
+    if (offscreen_) {
+        // The format a GPU's swapchain usually has, so the device path blits as it would there.
+        context_->destroyImage(target_);
+        format_ = VK_FORMAT_B8G8R8A8_UNORM;
+        swapRedBlue_ = true;
+        canRead_ = true;
+        SR_TRY(context_->allocateImage(
+            target_, format_, VK_IMAGE_ASPECT_COLOR_BIT, width, height,
+            VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT));
+        extent_ = {width, height};
+        images_.assign(1, target_.image);
+        return okStatus();
+    }
     VkSurfaceKHR surface = context_->surface();
     VkSurfaceCapabilitiesKHR caps{};
     SR_VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface, &caps));
@@ -176,20 +205,22 @@ Status Presenter::presentFrame(uint32_t width, uint32_t height, uint32_t windowW
     // A window resized since the last frame, or a swapchain the window system declared stale, is
     // made again and the frame presented once more.
     for (int attempt = 0; attempt < 3; ++attempt) {
-        if (swapchain_ == VK_NULL_HANDLE || extent_.width != windowWidth || extent_.height != windowHeight)
+        if (images_.empty() || extent_.width != windowWidth || extent_.height != windowHeight)
             SR_TRY(createSwapchain(windowWidth, windowHeight));
         SR_TRY(ensurePixels(VkDeviceSize(extent_.width) * extent_.height * 4));
         uint32_t index = 0;
-        VkResult acquired =
-            vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
-        if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
-            SR_VK_CHECK(vkDeviceWaitIdle(device));
-            destroySwapchain();
-            continue;
+        if (!offscreen_) {
+            VkResult acquired =
+                vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
+            if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+                SR_VK_CHECK(vkDeviceWaitIdle(device));
+                destroySwapchain();
+                continue;
+            }
+            if (acquired != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(acquired);
+            SR_VK_CHECK(vkWaitForFences(device, 1, &acquired_, VK_TRUE, UINT64_MAX));
+            SR_VK_CHECK(vkResetFences(device, 1, &acquired_));
         }
-        if (acquired != VK_SUBOPTIMAL_KHR) SR_VK_CHECK(acquired);
-        SR_VK_CHECK(vkWaitForFences(device, 1, &acquired_, VK_TRUE, UINT64_MAX));
-        SR_VK_CHECK(vkResetFences(device, 1, &acquired_));
 
         const uint32_t w = std::min(width, extent_.width), h = std::min(height, extent_.height);
         VkImage target = images_[index];
@@ -222,10 +253,11 @@ Status Presenter::presentFrame(uint32_t width, uint32_t height, uint32_t windowW
             memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
         }
-        imageBarrier(cmd, target,
-                     read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                     VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                     read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+        if (!offscreen_)
+            imageBarrier(cmd, target,
+                         read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                         read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
         // Waited for here, so the presentation below needs no semaphore: the image is complete.
         SR_TRY(context_->submitAndWait());
         if (readback != nullptr) {
@@ -239,6 +271,7 @@ Status Presenter::presentFrame(uint32_t width, uint32_t height, uint32_t windowW
                 readback->pixels[i] = swapRedBlue_ ? swapRedBlue(src[i]) : src[i];
         }
 
+        if (offscreen_) return context_->validationStatus();
         VkPresentInfoKHR info{};
         info.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR;
         info.swapchainCount = 1;

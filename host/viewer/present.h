@@ -25,6 +25,10 @@ public:
     // A presenter with a Vulkan context of its own for the window `target` describes, on Vulkan device
     // `deviceIndex` (-1: the first that can present to it): frames come from the host (present()).
     static Result<std::unique_ptr<Presenter>> create(const PresentTarget& target, int deviceIndex);
+    // Offscreen (`raster view --offscreen`, machines without a display): the same copies into a B8G8R8A8
+    // image the presenter owns instead of a swapchain image, nothing acquired or presented. `shared`: the
+    // compute device's context (presentBuffer); null: a context of its own on device `deviceIndex`.
+    static Result<std::unique_ptr<Presenter>> createOffscreen(VulkanContext* shared, int deviceIndex);
     // A presenter on `shared`, the context of a Vulkan compute device made on the window
     // (vulkan_present_source.h): frames come from that device's buffers (presentBuffer()).
     static Result<std::unique_ptr<Presenter>> createOn(VulkanContext& shared);
@@ -72,6 +76,8 @@ private:
     GpuBuffer pixels_;  // host-visible: a host frame going in, the readback coming out
     GpuImage rgba_;     // presentBuffer() into a BGRA swapchain: the frame as an RGBA image to blit from
     VkExtent2D rgbaExtent_{0, 0};
+    bool offscreen_ = false;
+    GpuImage target_;  // offscreen: the image standing in for the swapchain's
 };
 
 }  // namespace sr

@@ -483,7 +483,7 @@ Result<std::unique_ptr<ComputeDevice>> makeVulkanPresentingDevice(int index, con
 std::optional<VulkanPresentSource> vulkanPresentSource(ComputeDevice& device)
 {
     auto* vulkan = dynamic_cast<VulkanDevice*>(&device);
-    if (vulkan == nullptr || vulkan->context().surface() == VK_NULL_HANDLE) return std::nullopt;
+    if (vulkan == nullptr) return std::nullopt;
     return VulkanPresentSource{&vulkan->context(), vulkan->buffer(BUF_FRAMEBUFFER)};
 }
 

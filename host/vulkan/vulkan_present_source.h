@@ -15,14 +15,14 @@
 namespace sr {
 
 struct VulkanPresentSource {
-    VulkanContext* context;  // the device's context, on the window's surface
+    VulkanContext* context;  // the device's context (on the window's surface when made for one)
     VkBuffer framebuffer;    // BUF_FRAMEBUFFER as the last run left it (output width x height words)
 };
 
 // A Vulkan compute device on device `index` that can present to `target`'s window.
 Result<std::unique_ptr<ComputeDevice>> makeVulkanPresentingDevice(int index, const PresentTarget& target);
 
-// The context and framebuffer of `device` when it is a Vulkan device made on a window, else nothing.
+// The context and framebuffer of `device` when it is a Vulkan device, else nothing.
 std::optional<VulkanPresentSource> vulkanPresentSource(ComputeDevice& device);
 
 }  // namespace sr
