@@ -147,7 +147,7 @@ Status runView(const ViewOptions& o)
     size_t next = 0;  // the script's next event
     bool dirty = true;
     double fps = 0.0;
-    std::vector<double> gpuMs, presentMs;
+    std::vector<double> gpuMs, presentMs, wallMs;  // per frame: GPU time, presentation, the whole frame
     while (!state.quit) {
         bool draw = false;
         if (!o.scriptPath.empty()) {
@@ -234,6 +234,7 @@ Status runView(const ViewOptions& o)
             state.saveRequested = false;
         }
         double frameMs = msSince(start);
+        wallMs.push_back(frameMs);
         fps = frameMs > 0.0 ? 1000.0 / frameMs : 0.0;
         if (window)
             window->setTitle(
@@ -244,11 +245,16 @@ Status runView(const ViewOptions& o)
         dirty = false;
     }
     if (!gpuMs.empty() && !o.scriptPath.empty()) {
-        std::sort(gpuMs.begin(), gpuMs.end());
-        std::sort(presentMs.begin(), presentMs.end());
-        fmt::print("view: {} frames at {}x{}, median GPU {:.3f} ms, median present {:.3f} ms\n", gpuMs.size(),
-                   state.settings.width, state.settings.height, gpuMs[gpuMs.size() / 2],
-                   presentMs[presentMs.size() / 2]);
+        auto median = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+        };
+        fmt::print(
+            "view: {} frames at {}x{}, median GPU {:.3f} ms, median present {:.3f} ms, median frame {:.3f} "
+            "ms "
+            "(render, downloads, presentation)\n",
+            gpuMs.size(), state.settings.width, state.settings.height, median(gpuMs), median(presentMs),
+            median(wallMs));
     }
     return okStatus();
 }
