@@ -190,6 +190,8 @@ Status runView(const ViewOptions& o)
         RenderSettings s = state.settings;
         // From the device, the frame stays there unless it is saved.
         s.downloadImages = !source || state.saveRequested;
+        // Through the host, only the colour image is needed, unless the frame is saved.
+        s.downloadAovs = state.saveRequested;
         auto out = session->render(state.camera.matrices(s.width, s.height), s);
         if (!out) return out.error();
         // The buffer as this frame left it (a new size replaces it).

@@ -446,6 +446,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     if (!settings.downloadImages) return out;
     out.color.pixels.resize(pixels);
     SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
+    if (!settings.downloadAovs) return out;
     if (countsHits(settings)) {
         out.hitCount.resize(samples);
         SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), samples * sizeof(uint32_t)));

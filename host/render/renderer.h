@@ -69,6 +69,9 @@ struct RenderSettings {
     // left empty; statistics and timings are filled): the viewer presenting from the device's own
     // framebuffer (BUF_FRAMEBUFFER) needs no download.
     bool downloadImages = true;
+    // false: only the colour image comes back (the viewer presenting through the host): no visibility
+    // download, no AOVs, sample AOVs or hit counts.
+    bool downloadAovs = true;
 };
 
 // The SHADING_* modes are 0 .. kShadingModeCount - 1.
