@@ -469,17 +469,9 @@ TEST_F(LinesGraphicsTest, SegmentsRenderInEveryOutputMode)
     const std::vector<WindowLine> lines = {{{2.9375, 2.125, 0.25f}, {13.0625, 8.875, 0.25f}},
                                            {{1.21875, 13.0, 0.5f}, {14.0, 13.0, 0.5f}}};
     const Scene scene = lineScene(lines);
-    struct Mode {
-        uint32_t msaa, ssaa;
-        bool visibilityOnly;
-    };
-    for (const Mode& mode : {Mode{1, 1, false}, Mode{1, 1, true}, Mode{4, 1, false}, Mode{4, 1, true},
-                             Mode{1, 2, false}, Mode{4, 2, false}}) {
-        RenderSettings s = unlitSettings(kSize, kSize);
+    for (const OutputMode& mode : kOutputModes) {
+        RenderSettings s = outputModeSettings(mode, kSize, kSize);
         s.lineWidth = 4.0f;
-        s.msaa = mode.msaa;
-        s.ssaa = mode.ssaa;
-        s.visibilityOnly = mode.visibilityOnly;
         RenderOutput out = render(scene, s);
         ASSERT_EQ(out.aov.id.size(), size_t(kSize) * kSize);
         EXPECT_EQ(out.stats.linesIn, 2u);

@@ -14,6 +14,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -271,6 +272,16 @@ Result<Scene> loadText(const test::ScratchDir& dir, const std::string& name, con
 {
     writeFile(dir.file(name), text);
     return loadScene(dir.file(name));
+}
+
+// Writes `text` to `path` and loads it: the result and the warnings the load printed on stderr.
+std::pair<Result<Scene>, std::string> loadCapturingWarnings(const std::string& path, const std::string& text)
+{
+    writeFile(path, text);
+    ::testing::internal::CaptureStderr();
+    Result<Scene> scene = loadScene(path);
+    std::string warnings = ::testing::internal::GetCapturedStderr();
+    return {std::move(scene), std::move(warnings)};
 }
 
 // The error must be a single line that names the file.
@@ -630,11 +641,8 @@ TEST(GltfLoader, OutOfRangeIndicesAndNanPositionsAreDropped)
     int mesh = doc.addMesh({primitive(pos, nrm, indices), primitive(pos, -1, flatIndices)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     test::ScratchDir dir("sr_loader");
-    std::string path = dir.file("bad_indices.gltf");
-    writeFile(path, doc.text());
-    ::testing::internal::CaptureStderr();
-    Result<Scene> scene = loadScene(path);
-    std::string warnings = ::testing::internal::GetCapturedStderr();
+    const std::string path = dir.file("bad_indices.gltf");
+    auto [scene, warnings] = loadCapturingWarnings(path, doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(scene->droppedTriangles, 3u);
     ASSERT_EQ(scene->triangleCount(), 3u);
@@ -674,11 +682,8 @@ TEST(GltfLoader, LineModesBecomeSegments)
     // World: x' = 2 x + 10; normals go through the cofactor matrix diag(1, 2, 2).
     doc.setRoots({doc.addNode({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"scale", {2, 1, 1}}})});
     test::ScratchDir dir("sr_loader");
-    std::string path = dir.file("lines.gltf");
-    writeFile(path, doc.text());
-    ::testing::internal::CaptureStderr();
-    Result<Scene> scene = loadScene(path);
-    std::string warnings = ::testing::internal::GetCapturedStderr();
+    const std::string path = dir.file("lines.gltf");
+    auto [scene, warnings] = loadCapturingWarnings(path, doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(warnings, "warning: " + path +
                             ": dropped the unpaired last vertex of 1 LINES primitive(s) with an odd vertex "
@@ -780,11 +785,8 @@ TEST(GltfLoader, BadSegmentsAreDropped)
                             primitive(pos, -1, -1, kLineStrip)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     test::ScratchDir dir("sr_loader");
-    std::string path = dir.file("bad_lines.gltf");
-    writeFile(path, doc.text());
-    ::testing::internal::CaptureStderr();
-    Result<Scene> scene = loadScene(path);
-    std::string warnings = ::testing::internal::GetCapturedStderr();
+    const std::string path = dir.file("bad_lines.gltf");
+    auto [scene, warnings] = loadCapturingWarnings(path, doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(warnings, "warning: " + path +
                             ": dropped 3 segment(s) with out-of-range indices or non-finite positions\n");
@@ -870,11 +872,8 @@ TEST(GltfLoader, PointsOnlyFileDropsBadPoints)
                             primitive(pos, -1, -1, kPoints)});
     doc.setRoots({doc.addNode({{"mesh", mesh}})});
     test::ScratchDir dir("sr_loader");
-    std::string path = dir.file("bad_points.gltf");
-    writeFile(path, doc.text());
-    ::testing::internal::CaptureStderr();
-    Result<Scene> scene = loadScene(path);
-    std::string warnings = ::testing::internal::GetCapturedStderr();
+    const std::string path = dir.file("bad_points.gltf");
+    auto [scene, warnings] = loadCapturingWarnings(path, doc.text());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(warnings, "warning: " + path +
                             ": dropped 3 point(s) with out-of-range indices or non-finite positions\n");

@@ -303,17 +303,9 @@ TEST_F(PointsGraphicsTest, PointsRenderInEveryOutputMode)
 {
     const std::vector<WindowPoint> points = {{6.25, 6.25, 0.25f}, {12.25, 3.25, 0.5f}};
     const Scene scene = pointScene(points);
-    struct Mode {
-        uint32_t msaa, ssaa;
-        bool visibilityOnly;
-    };
-    for (const Mode& mode : {Mode{1, 1, false}, Mode{1, 1, true}, Mode{4, 1, false}, Mode{4, 1, true},
-                             Mode{1, 2, false}, Mode{4, 2, false}}) {
-        RenderSettings s = unlitSettings(kSize, kSize);
+    for (const OutputMode& mode : kOutputModes) {
+        RenderSettings s = outputModeSettings(mode, kSize, kSize);
         s.pointSize = 3.0f;
-        s.msaa = mode.msaa;
-        s.ssaa = mode.ssaa;
-        s.visibilityOnly = mode.visibilityOnly;
         RenderOutput out = render(scene, s);
         ASSERT_EQ(out.aov.id.size(), size_t(kSize) * kSize);
         EXPECT_EQ(out.stats.pointsIn, 2u);

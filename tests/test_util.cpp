@@ -166,6 +166,18 @@ int channelDifference(uint32_t a, uint32_t b)
     return worst;
 }
 
+const std::vector<OutputMode> kOutputModes = {{1, 1, false}, {1, 1, true},  {4, 1, false},
+                                              {4, 1, true},  {1, 2, false}, {4, 2, false}};
+
+RenderSettings outputModeSettings(const OutputMode& mode, uint32_t width, uint32_t height)
+{
+    RenderSettings s = unlitSettings(width, height);
+    s.msaa = mode.msaa;
+    s.ssaa = mode.ssaa;
+    s.visibilityOnly = mode.visibilityOnly;
+    return s;
+}
+
 bool isOneLine(const std::string& message)
 {
     return !message.empty() && message.find('\n') == std::string::npos;

@@ -192,6 +192,16 @@ private:
     size_t errorsBefore_ = 0;
 };
 
+// The output modes a renderer must serve alike: 1x and MSAA 4x, each with colour and depth + ids only
+// (RenderSettings::visibilityOnly), and SSAA 2 at 1x and MSAA 4x.
+struct OutputMode {
+    uint32_t msaa, ssaa;
+    bool visibilityOnly;
+};
+extern const std::vector<OutputMode> kOutputModes;
+// unlitSettings(width, height) in output mode `mode`.
+RenderSettings outputModeSettings(const OutputMode& mode, uint32_t width, uint32_t height);
+
 // Number of pixels whose id equals `id`.
 size_t countId(const AovImage& aov, uint32_t id);
 

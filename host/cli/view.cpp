@@ -63,16 +63,11 @@ Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::stri
     return devices;
 }
 
-MouseButton buttonOf(int button)
-{
-    return button == 1 ? MouseButton::Right : button == 2 ? MouseButton::Middle : MouseButton::Left;
-}
-
 // Live input, through the same controls a script uses.
 void applyInput(ViewerState& state, const InputEvent& e)
 {
     switch (e.kind) {
-    case InputEvent::Kind::Drag: onDrag(state, buttonOf(e.button), float(e.dx), float(e.dy)); break;
+    case InputEvent::Kind::Drag: onDrag(state, e.button, float(e.dx), float(e.dy)); break;
     case InputEvent::Kind::Scroll: onScroll(state, float(e.dy)); break;
     case InputEvent::Kind::Key: onKey(state, char(e.key)); break;
     case InputEvent::Kind::Resize: onResize(state, uint32_t(e.dx), uint32_t(e.dy)); break;
@@ -184,18 +179,21 @@ Status runView(const ViewOptions& o)
         }
         const size_t backend = state.backendIndex % devices->size();
         // The device path: a Vulkan device made on the window, or any Vulkan device offscreen.
-        std::optional<VulkanPresentSource> source;
-        if (o.present == "device") source = vulkanPresentSource(device);
-        if (source && !o.offscreen && source->context->surface() == VK_NULL_HANDLE) source.reset();
+        std::optional<VulkanPresentSource> deviceSource;
+        if (o.present == "device") deviceSource = vulkanPresentSource(device);
+        const bool fromDevice =
+            deviceSource && (o.offscreen || deviceSource->context->surface() != VK_NULL_HANDLE);
         RenderSettings s = state.settings;
-        // From the device, the frame stays there unless it is saved.
-        s.downloadImages = !source || state.saveRequested;
-        // Through the host, only the colour image is needed, unless the frame is saved.
-        s.downloadAovs = state.saveRequested;
+        // From the device nothing comes back, through the host only the colour image, unless the frame
+        // is saved.
+        s.download = state.saveRequested ? ImageDownload::All
+                     : fromDevice        ? ImageDownload::None
+                                         : ImageDownload::Colour;
         auto out = session->render(state.camera.matrices(s.width, s.height), s);
         if (!out) return out.error();
-        // The buffer as this frame left it (a new size replaces it).
-        if (source) source->framebuffer = vulkanPresentSource(device)->framebuffer;
+        // Read after the frame: a new size replaces the buffer.
+        std::optional<VulkanPresentSource> source;
+        if (fromDevice) source = vulkanPresentSource(device);
         Clock::time_point presentStart = Clock::now();
         uint32_t windowWidth = s.width, windowHeight = s.height;
         if (window) window->framebufferSize(windowWidth, windowHeight);

@@ -443,10 +443,10 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
 
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;
-    if (!settings.downloadImages) return out;
+    if (settings.download == ImageDownload::None) return out;
     out.color.pixels.resize(pixels);
     SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
-    if (!settings.downloadAovs) return out;
+    if (settings.download == ImageDownload::Colour) return out;
     if (countsHits(settings)) {
         out.hitCount.resize(samples);
         SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), samples * sizeof(uint32_t)));

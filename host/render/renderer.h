@@ -29,6 +29,11 @@ namespace sr {
 // another surface stays hidden unless the two lie within 0.4% of the distance.
 constexpr float kWireframeDepthBias = 1.0f / 256.0f;
 
+// What a render downloads. All: the colour image, the id and depth AOVs (from the visibility buffer),
+// the sample AOVs and hit counts where asked for. Colour: the colour image alone. None: nothing (the
+// images stay on the device; statistics and timings are still filled).
+enum class ImageDownload { All, Colour, None };
+
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;
@@ -65,13 +70,9 @@ struct RenderSettings {
     // The rule that decides which samples a triangle covers (RASTER_*, --raster-method;
     // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
     uint32_t rasterMethod = RASTER_FIXED8;
-    // false: the frame's images stay on the device (RenderOutput's color, aov, samples and hitCount are
-    // left empty; statistics and timings are filled): the viewer presenting from the device's own
-    // framebuffer (BUF_FRAMEBUFFER) needs no download.
-    bool downloadImages = true;
-    // false: only the colour image comes back (the viewer presenting through the host): no visibility
-    // download, no AOVs, sample AOVs or hit counts.
-    bool downloadAovs = true;
+    // What of the frame comes back to the host (ImageDownload): the viewer presenting from the device
+    // needs nothing, through the host only the colour image.
+    ImageDownload download = ImageDownload::All;
 };
 
 // The SHADING_* modes are 0 .. kShadingModeCount - 1.

@@ -123,12 +123,13 @@ void Window::onCursor(GLFWwindow* w, double x, double y)
 {
     Window* me = self(w);
     if (me->haveCursor_) {
-        int buttons[3] = {GLFW_MOUSE_BUTTON_LEFT, GLFW_MOUSE_BUTTON_RIGHT, GLFW_MOUSE_BUTTON_MIDDLE};
+        const int buttons[3] = {GLFW_MOUSE_BUTTON_LEFT, GLFW_MOUSE_BUTTON_RIGHT, GLFW_MOUSE_BUTTON_MIDDLE};
+        const MouseButton names[3] = {MouseButton::Left, MouseButton::Right, MouseButton::Middle};
         for (int b = 0; b < 3; ++b)
             if (glfwGetMouseButton(w, buttons[b]) == GLFW_PRESS) {
                 InputEvent e;
                 e.kind = InputEvent::Kind::Drag;
-                e.button = b;
+                e.button = names[b];
                 e.dx = x - me->lastX_;
                 e.dy = y - me->lastY_;
                 me->pending_.push_back(e);

@@ -17,13 +17,13 @@ struct GLFWwindow;
 
 namespace sr {
 
-// One input event in window pixels. Drag: the cursor moved by (dx, dy) with `button` held (0 left,
-// 1 right, 2 middle). Scroll: dy wheel steps (positive away from the user). Key: `key` is the
-// character ('1', 'm', ...) or kKeyEscape (viewer/controls.h). Resize: the framebuffer is now dx x dy pixels.
+// One input event in window pixels. Drag: the cursor moved by (dx, dy) with `button` held. Scroll: dy wheel
+// steps (positive away from the user). Key: `key` is the character ('1', 'm', ...) or kKeyEscape
+// (viewer/controls.h). Resize: the framebuffer is now dx x dy pixels.
 struct InputEvent {
     enum class Kind { Drag, Scroll, Key, Resize };
     Kind kind = Kind::Key;
-    int button = 0;
+    MouseButton button = MouseButton::Left;
     double dx = 0.0, dy = 0.0;
     int key = 0;
 };
