@@ -59,7 +59,16 @@ SR_NAMESPACE_BEGIN
 #define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + lineCount + k)
 #define BUF_LINES \
     24  // uint pair per line segment: its two vertices (segment k is primitive triangleCount + k)
-#define BUF_COUNT 25
+// Tessellation (RasterParams.tessMode != TESS_OFF, common/shared/tessellate.h). The scene's vertices
+// stay at the head of the per-vertex buffers and the generated ones follow them; the generated triangles
+// replace the scene's in BUF_INDICES, BUF_TRI_FLAGS and BUF_TRI_MATERIALS, so every later stage draws
+// them unchanged. The scene's triangles live on here:
+#define BUF_TESS_SOURCE 25     // TessSource per scene triangle: corners, flags
+#define BUF_TESS_COUNTS 26     // uvec4 per scene triangle: vertices, triangles -> local offsets; factors; state
+#define BUF_TESS_SUMS 27       // uvec4: [0] the frame's totals; [1 + b] scan block b's totals -> its base
+#define BUF_TESS_IDS 28        // uint per generated triangle: its scene triangle (the id AOV maps through it)
+#define BUF_TESS_MATERIALS 29  // uint per scene primitive: its material (only when materialCount > 0)
+#define BUF_COUNT 30
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -92,7 +101,13 @@ SR_NAMESPACE_BEGIN
 #define STAGE_BIN_FILL 6     // per piece: write its triangle's ref into the bin of every tile it touches
 #define STAGE_RASTER_TILES 7  // per active 8x8 screen tile: resolve its bin in registers, no atomics
 #define STAGE_SHADE 8         // per pixel: resolve the visibility key and shade
-#define STAGE_COUNT 9
+// Tessellation, before the others (a frame of its own: tess_count and the scans run first, the host
+// sizes the generated buffers from their totals, then tess_emit runs at the head of the frame).
+#define STAGE_TESS_COUNT 9         // per scene triangle: cull, edge factors, generated vertex/triangle counts
+#define STAGE_TESS_SCAN_BLOCKS 10  // per 256 scene triangles: local exclusive scans of the counts
+#define STAGE_TESS_SCAN_SUMS 11    // one group: scan of the block totals, the grand totals
+#define STAGE_TESS_EMIT 12         // per scene triangle: write its generated vertices and triangles
+#define STAGE_COUNT 13
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
 #define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
@@ -180,6 +195,22 @@ SR_NAMESPACE_BEGIN
 #define FLOAT_EPSILON 1.52587890625e-5f  // 2^-16
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
 
+#define TESS_OFF 0u       // no tessellation: the tess_* stages do not run
+#define TESS_FLAT 1u      // split each triangle to the screen size its edges ask for, in its plane
+#define TESS_PN 2u        // the same pattern, new vertices moved onto the Curved PN triangle patch
+#define TESS_CENTROID 3u  // the course project's baseline: 1 -> 3 at the centroid, tessMaxLevel times
+#define TESS_MAX_LEVEL 64u      // largest edge factor (flat, pn): at most 4,222 triangles per scene triangle
+#define TESS_MAX_CENTROID 8u    // largest centroid level: 3^8 = 6,561 triangles per scene triangle
+// TessSource.flags bits. Bits 0-2: edge k (corner k -> corner k + 1 mod 3) stays straight under pn (its
+// two triangles disagree on the normals at its ends, or it has more than two); TESS_FLAT_PATCH: no pn
+// on this triangle (a corner normal is zero or not finite); bits 8-15: the triangle's TRI_FLAG_* bits.
+#define TESS_STRAIGHT_EDGES 7u
+#define TESS_FLAT_PATCH 8u
+#define TESS_TRI_FLAGS_SHIFT 8u
+// BUF_TESS_COUNTS .w bits.
+#define TESS_STATE_CULLED 1u  // outside the view volume or facing the culled way: generates nothing
+#define TESS_STATE_PASS 2u    // drawn as it is (factors all 1, non-finite corners, level 0)
+
 #define CULL_NONE 0u
 #define CULL_BACK 1u
 #define CULL_FRONT 2u
@@ -240,6 +271,12 @@ struct RasterParams {
     float lineDepthBias;  // b: a line's window depth z is drawn as z - b (1 - z) (0 unless --wireframe)
     uint rasterChunk;     // raster_tiles work item: 0 = a tile's whole bin (GPUs); else at most this many
                           // bin entries (CPU devices, RASTER_CPU_CHUNK / sampleCount)
+    uint tessMode;             // TESS_*; TESS_OFF: the tess_* stages do not run
+    uint tessMaxLevel;         // flat, pn: largest edge factor (1..TESS_MAX_LEVEL); centroid: 1 -> 3 splits
+    float tessEdgePx;          // flat, pn: target projected edge length in output pixels
+    uint tessSourceTriangles;  // scene triangles (BUF_TESS_SOURCE entries)
+    uint tessSourceVertices;   // scene vertices: generated vertex k is vertex tessSourceVertices + k
+    uint tessBlocks;           // scan blocks of scene triangles: ceil(tessSourceTriangles / SCAN_GROUP_SIZE)
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
@@ -276,8 +313,17 @@ struct TriSetup {
     vec4 depthPlane;  // z0, z1 - z0, z2 - z0 (window depth at the snapped vertices), 1 / area
 };
 
+// A scene triangle as tessellation reads it. 16 bytes.
+struct TessSource {
+    uint i0;     // corner vertices (validated on the host)
+    uint i1;
+    uint i2;
+    uint flags;  // TESS_STRAIGHT_EDGES bits, TESS_FLAT_PATCH, TRI_FLAG_* << TESS_TRI_FLAGS_SHIFT
+};
+
 #if defined(__cplusplus)
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 30 * 4, "RasterParams must match std140");
+static_assert(sizeof(TessSource) == 16, "TessSource must match std430");
+static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 36 * 4, "RasterParams must match std140");
 static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
@@ -294,5 +340,6 @@ SR_NAMESPACE_END
 #include "shared/methods.h"
 #include "shared/texture.h"
 #include "shared/shade.h"
+#include "shared/tessellate.h"
 
 #endif  // RASTER_SHARED_H

@@ -5,6 +5,7 @@
 #define RASTER_CUDA_BUFFERS_CUH
 
 #include "raster_shared.h"
+#include "shared/tess_emit.h"
 #include "method.cuh"
 
 namespace sr {
@@ -34,6 +35,12 @@ struct Buffers {
     const float* srgbTable;          // BUF_SRGB_TABLE
     const uint* points;              // BUF_POINTS
     const uint* lines;               // BUF_LINES
+    const TessSource* tessSource;    // BUF_TESS_SOURCE
+    uvec4* tessCounts;               // BUF_TESS_COUNTS
+    uvec4* tessSums;                 // BUF_TESS_SUMS
+    // tess_emit's writable view of the per-vertex and per-triangle buffers, BUF_TESS_IDS and
+    // BUF_TESS_MATERIALS (the stages above read the same memory through the const pointers).
+    TessWriter tess;
 };
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),

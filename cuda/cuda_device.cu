@@ -97,7 +97,7 @@ public:
         // A binding the scene does not use (e.g. colours) still needs a valid pointer.
         for (uint32_t buffer = 1; buffer < BUF_COUNT; ++buffer)
             if (!ptr_[buffer]) SR_TRY(resize(buffer, 16));
-        Buffers b = bufferTable();
+        Buffers b = bufferTable(params);
         while (events_.size() < 2 * dispatches.size()) {
             cudaEvent_t e;
             CUDA_TRY(cudaEventCreate(&e));
@@ -131,7 +131,7 @@ private:
         return static_cast<T*>(ptr_[buffer]);
     }
 
-    Buffers bufferTable() const
+    Buffers bufferTable(const RasterParams& params) const
     {
         Buffers b{};
         b.positions = as<vec4>(BUF_POSITIONS);
@@ -158,6 +158,23 @@ private:
         b.srgbTable = as<float>(BUF_SRGB_TABLE);
         b.points = as<uint>(BUF_POINTS);
         b.lines = as<uint>(BUF_LINES);
+        b.tessSource = as<TessSource>(BUF_TESS_SOURCE);
+        b.tessCounts = as<uvec4>(BUF_TESS_COUNTS);
+        b.tessSums = as<uvec4>(BUF_TESS_SUMS);
+        TessWriter& w = b.tess;
+        w.positions = as<vec4>(BUF_POSITIONS);
+        w.normals = as<vec4>(BUF_NORMALS);
+        w.texcoords = as<vec4>(BUF_TEXCOORDS);
+        w.colors = as<vec4>(BUF_COLORS);
+        w.indices = as<uint>(BUF_INDICES);
+        w.triFlags = as<uint>(BUF_TRI_FLAGS);
+        w.triMaterials = as<uint>(BUF_TRI_MATERIALS);
+        w.ids = as<uint>(BUF_TESS_IDS);
+        w.materials = params.materialCount > 0u ? as<uint>(BUF_TESS_MATERIALS) : nullptr;
+        w.sources = as<TessSource>(BUF_TESS_SOURCE);
+        w.sourceVertices = params.tessSourceVertices;
+        w.hasTexcoords = params.textureCount > 0u;
+        w.hasColors = params.hasColors != 0u;
         return b;
     }
 

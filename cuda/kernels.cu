@@ -7,6 +7,10 @@
 #include "scan_blocks.cuh"
 #include "scan_sums.cuh"
 #include "shade.cuh"
+#include "tess_count.cuh"
+#include "tess_emit.cuh"
+#include "tess_scan_blocks.cuh"
+#include "tess_scan_sums.cuh"
 #include "vertex.cuh"
 
 namespace sr {
@@ -36,6 +40,24 @@ __global__ void __launch_bounds__(SCAN_GROUP_SIZE) scanSumsKernel(const RasterPa
 {
     scanSumsStage(params, b);
 }
+__global__ void __launch_bounds__(GROUP_SIZE) tessCountKernel(const RasterParams params, const Buffers b)
+{
+    tessCountStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE)
+    tessScanBlocksKernel(const RasterParams params, const Buffers b)
+{
+    tessScanBlocksStage(params, b);
+}
+__global__ void __launch_bounds__(SCAN_GROUP_SIZE)
+    tessScanSumsKernel(const RasterParams params, const Buffers b)
+{
+    tessScanSumsStage(params, b);
+}
+__global__ void __launch_bounds__(GROUP_SIZE) tessEmitKernel(const RasterParams params, const Buffers b)
+{
+    tessEmitStage(params, b);
+}
 // shade comes in one build per sample count (RasterParams.sampleCount), which sizes each thread's array
 // of ids at compile time so that they stay in registers; its one-sample build without the resolve
 // (kResolve) runs frames without MSAA and SSAA.
@@ -49,7 +71,9 @@ uint stageBlockSize(uint stage)
 {
     switch (stage) {
     case STAGE_SCAN_BLOCKS:
-    case STAGE_SCAN_SUMS: return SCAN_GROUP_SIZE;
+    case STAGE_SCAN_SUMS:
+    case STAGE_TESS_SCAN_BLOCKS:
+    case STAGE_TESS_SCAN_SUMS: return SCAN_GROUP_SIZE;
     case STAGE_RASTER_TILES: return TILE_SIZE * TILE_SIZE;
     default: return GROUP_SIZE;
     }
@@ -80,6 +104,10 @@ cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, uint rasterMeth
         }
     case STAGE_SCAN_BLOCKS: scanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SCAN_SUMS: scanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_TESS_COUNT: tessCountKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_TESS_SCAN_BLOCKS: tessScanBlocksKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_TESS_SCAN_SUMS: tessScanSumsKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
+    case STAGE_TESS_EMIT: tessEmitKernel<<<blocks, threads, 0, stream>>>(params, buffers); break;
     case STAGE_SHADE:
         if (params.sampleCount == 1u && params.ssaa == 1u)
             shadeKernel<1, false><<<blocks, threads, 0, stream>>>(params, buffers);

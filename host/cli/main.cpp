@@ -10,6 +10,7 @@
 //                 [--primitive-mode triangles|lines|points] [--wireframe] [--point-size PX] [--line-width PX]
 //                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
 //                 [--raster-method fixed8|fixed4|float|scanline] [--quality psnr:N [--study FILE]]
+//                 [--tessellate off|flat|pn|centroid] [--tess-edge-px L] [--tess-max-level N]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
 //                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
@@ -66,6 +67,8 @@ struct RenderCommand {
     std::string textureFilter = "auto";
     std::string uvInterpolation = "perspective";
     std::string rasterMethod = "fixed8";
+    std::string tessellate = "off";
+    uint32_t tessMaxLevel = 0;  // 0: the mode's default (16 for flat and pn, 2 for centroid)
     std::string primitiveMode = "triangles";
     bool wireframe = false;
     uint32_t frames = 0;     // --frames N: a turntable of N frames (0: one render)
@@ -105,6 +108,8 @@ const std::map<std::string, uint32_t> kRasterMethods = {{"fixed8", RASTER_FIXED8
                                                         {"fixed4", RASTER_FIXED4},
                                                         {"float", RASTER_FLOAT},
                                                         {"scanline", RASTER_SCANLINE}};
+const std::map<std::string, uint32_t> kTessModes = {
+    {"off", TESS_OFF}, {"flat", TESS_FLAT}, {"pn", TESS_PN}, {"centroid", TESS_CENTROID}};
 const std::map<std::string, BackendKind> kBackends = {
     {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
 
@@ -118,6 +123,34 @@ Result<glm::vec3> parseVec3(const std::string& option, const std::string& text)
         !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
         return makeError(ExitCode::Usage, "invalid {} '{}': expected three numbers X,Y,Z", option, text);
     return v;
+}
+
+// vulkan-graphics: the hardware's (or lavapipe's) own rasterizer. A tessellated frame draws the mesh
+// the host's run of the tess_* stages generates (bit for bit what the compute backends draw), with the
+// ids mapped back to the scene's triangles the same way.
+Result<RenderOutput> renderGraphics(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
+                                    int device)
+{
+    if (s.tessellate == TESS_OFF) return renderVulkanGraphics(scene, camera, s, device);
+    SR_TRY(checkRenderInputs(scene, s));
+    const TessSources sources = tessSources(scene);
+    if (sources.flatPatches > 0)
+        fmt::print(
+            stderr,
+            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
+            sources.flatPatches);
+    TessellatedScene t = tessellateOnHost(scene, sources, frameParams(scene, camera, s, {}, {}));
+    RenderSettings plain = s;
+    plain.tessellate = TESS_OFF;
+    auto out = renderVulkanGraphics(t.scene, camera, plain, device);
+    if (!out) return out;
+    const auto sceneTriangles = uint32_t(scene.triangleCount());
+    mapToSourceIds(out->aov.id, t.sourceIds, sceneTriangles);
+    mapToSourceIds(out->samples.id, t.sourceIds, sceneTriangles);
+    out->stats.tessVertices = t.scene.vertexCount() - scene.vertexCount();
+    out->stats.tessTriangles = t.scene.triangleCount();
+    out->stats.tessCulled = t.culled;
+    return out;
 }
 
 void printStageTable(const RenderOutput& out)
@@ -174,6 +207,8 @@ Status runRender(RenderCommand& cmd)
     s.textureFilter = kTextureFilters.at(cmd.textureFilter);
     s.uvInterpolation = kUvInterpolations.at(cmd.uvInterpolation);
     s.rasterMethod = kRasterMethods.at(cmd.rasterMethod);
+    s.tessellate = kTessModes.at(cmd.tessellate);
+    s.tessMaxLevel = cmd.tessMaxLevel ? cmd.tessMaxLevel : (s.tessellate == TESS_CENTROID ? 2u : 16u);
     if (!cmd.lightDir.empty()) {
         auto v = parseVec3("--light-dir", cmd.lightDir);
         if (!v) return v.error();
@@ -272,7 +307,7 @@ Status runRender(RenderCommand& cmd)
             return makeError(ExitCode::Usage,
                              "--quality picks among the compute backends' settings: use --backend auto, cuda "
                              "or vulkan");
-        out = renderVulkanGraphics(*scene, *camera, s, cmd.device);
+        out = renderGraphics(*scene, *camera, s, cmd.device);
     } else {
         auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
         if (!device) return device.error();
@@ -471,6 +506,17 @@ int main(int argc, char** argv)
                 "(the same at 1/16 px), float (float barycentrics with an epsilon) or scanline (float "
                 "span ends per row); the last three are for comparison (raster study)")
             ->check(CLI::IsMember({"fixed8", "fixed4", "float", "scanline"}));
+    render
+        ->add_option("--tessellate", cmd.tessellate,
+                     "off, flat (split triangles to the screen size --tess-edge-px asks, in their plane), pn "
+                     "(the same, new vertices on Curved PN triangles: smooth silhouettes from vertex "
+                     "normals) or centroid (the course project's 1 -> 3 split, --tess-max-level times)")
+        ->check(CLI::IsMember({"off", "flat", "pn", "centroid"}));
+    render->add_option("--tess-edge-px", cmd.settings.tessEdgePx,
+                       "flat, pn: target projected edge length in output pixels (default 8)");
+    render->add_option(
+        "--tess-max-level", cmd.tessMaxLevel,
+        "flat, pn: most pieces per edge (1..64, default 16); centroid: splits (0..8, default 2)");
     CLI::Option* msaaOption =
         render
             ->add_option("--msaa", cmd.settings.msaa,

@@ -1,6 +1,7 @@
 // stats_json.cpp - JSON statistics through nlohmann::json.
 #include "cli/stats_json.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -24,7 +25,7 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) clip.push_back(out.params.clipFromWorld[c][r]);
     const RenderStats& s = out.stats;
-    return {
+    nlohmann::json json = {
         {"backend", out.device.backend},
         {"device", out.device.name},
         {"driver", out.device.driver},
@@ -57,6 +58,16 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
           {"pieces", s.capacities.pieces},
           {"bin_entries", s.capacities.binEntries}}},
     };
+    if (settings.tessellate != TESS_OFF) {
+        static const char* const modes[] = {"off", "flat", "pn", "centroid"};
+        json["tessellation"] = {{"mode", modes[std::min<uint32_t>(settings.tessellate, 3)]},
+                                {"edge_px", settings.tessEdgePx},
+                                {"max_level", settings.tessMaxLevel},
+                                {"vertices", s.tessVertices},
+                                {"triangles", s.tessTriangles},
+                                {"culled", s.tessCulled}};
+    }
+    return json;
 }
 
 Status writeJson(const std::string& path, const nlohmann::json& json)

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
 
 #include <glm/gtc/matrix_inverse.hpp>
 
@@ -32,13 +35,6 @@ Status uploadMaterials(ComputeDevice& device, const Scene& scene)
 {
     if (scene.materials.empty()) return okStatus();
     SR_TRY(uploadVector(device, BUF_MATERIALS, gpuMaterials(scene)));
-    // One material per primitive id: the triangles', then the line segments', then the points'.
-    std::vector<uint32_t> primitiveMaterials = scene.triMaterials;
-    primitiveMaterials.insert(primitiveMaterials.end(), scene.lineMaterials.begin(),
-                              scene.lineMaterials.end());
-    primitiveMaterials.insert(primitiveMaterials.end(), scene.pointMaterials.begin(),
-                              scene.pointMaterials.end());
-    SR_TRY(uploadVector(device, BUF_TRI_MATERIALS, primitiveMaterials));
     if (scene.textures.empty()) return okStatus();
     std::vector<uint32_t> texels;
     auto textures = gpuTextures(scene, texels);
@@ -47,6 +43,15 @@ Status uploadMaterials(ComputeDevice& device, const Scene& scene)
     SR_TRY(uploadVector(device, BUF_TEXELS, texels));
     SR_TRY(uploadVector(device, BUF_TEXCOORDS, scene.texcoords));
     return uploadVector(device, BUF_SRGB_TABLE, srgbDecodeTable());
+}
+
+// One material per primitive id: the triangles', then the line segments', then the points'.
+std::vector<uint32_t> primitiveMaterials(const Scene& scene)
+{
+    std::vector<uint32_t> materials = scene.triMaterials;
+    materials.insert(materials.end(), scene.lineMaterials.begin(), scene.lineMaterials.end());
+    materials.insert(materials.end(), scene.pointMaterials.begin(), scene.pointMaterials.end());
+    return materials;
 }
 
 // Screen tiles per row and per column for a width x height framebuffer (RasterParams.tilesX, tilesY).
@@ -174,6 +179,14 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.lineCount = uint32_t(scene.lineCount());
     p.lineWidth = s.lineWidth;
     p.lineDepthBias = s.lineDepthBias;
+    p.tessMode = s.tessellate;
+    p.tessMaxLevel = s.tessMaxLevel;
+    p.tessEdgePx = s.tessEdgePx;
+    p.tessSourceTriangles = p.triangleCount;
+    p.tessSourceVertices = p.vertexCount;
+    p.tessBlocks = groupsFor(p.triangleCount, SCAN_GROUP_SIZE);
+    // Generated vertices are shared by their triangles: the vertex stage transforms them once.
+    if (s.tessellate != TESS_OFF) p.transformInSetup = 0u;
     return p;
 }
 
@@ -234,6 +247,17 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
         settings.lineWidth * 8.0f != std::floor(settings.lineWidth * 8.0f))
         return makeError(ExitCode::Usage, "--line-width {} is not a multiple of 1/8 between 1 and {}",
                          settings.lineWidth, MAX_LINE_WIDTH);
+    if (settings.tessellate > TESS_CENTROID)
+        return makeError(ExitCode::Usage, "unknown tessellation mode {}", settings.tessellate);
+    if (settings.tessellate == TESS_CENTROID && settings.tessMaxLevel > TESS_MAX_CENTROID)
+        return makeError(ExitCode::Usage, "--tess-max-level {} is outside 0..{} for centroid tessellation",
+                         settings.tessMaxLevel, TESS_MAX_CENTROID);
+    if ((settings.tessellate == TESS_FLAT || settings.tessellate == TESS_PN) &&
+        (settings.tessMaxLevel < 1 || settings.tessMaxLevel > TESS_MAX_LEVEL))
+        return makeError(ExitCode::Usage, "--tess-max-level {} is outside 1..{}", settings.tessMaxLevel,
+                         TESS_MAX_LEVEL);
+    if (!(settings.tessEdgePx >= 0.25f && settings.tessEdgePx <= 65536.0f))
+        return makeError(ExitCode::Usage, "--tess-edge-px {} is outside 0.25..65536", settings.tessEdgePx);
     if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
         return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
     return checkSceneInputs(scene);
@@ -284,6 +308,77 @@ Status RenderSession::allocateLists()
     return ensureSize(BUF_BIN_ENTRIES, size_t(capacities_.binEntries) * sizeof(uint32_t));
 }
 
+// The scene's triangles and the materials of every primitive, where the later stages read them (again
+// after tessellated frames replaced them).
+Status RenderSession::uploadTriangles()
+{
+    const Scene& scene = *scene_;
+    for (uint32_t buffer : {BUF_INDICES, BUF_TRI_FLAGS, BUF_TRI_MATERIALS}) sizes_[buffer] = SIZE_MAX;
+    SR_TRY(uploadVector(*device_, BUF_INDICES, scene.indices));
+    SR_TRY(uploadVector(*device_, BUF_TRI_FLAGS, scene.triFlags));
+    if (!scene.materials.empty())
+        SR_TRY(uploadVector(*device_, BUF_TRI_MATERIALS, primitiveMaterials(scene)));
+    trianglesReplaced_ = false;
+    tessTriangleCapacity_ = 0;
+    return okStatus();
+}
+
+Status RenderSession::prepareTessellation()
+{
+    if (tessPrepared_) return okStatus();
+    const Scene& scene = *scene_;
+    tessSources_ = tessSources(scene);
+    if (tessSources_.flatPatches > 0)
+        fmt::print(
+            stderr,
+            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
+            tessSources_.flatPatches);
+    SR_TRY(uploadVector(*device_, BUF_TESS_SOURCE, tessSources_.sources));
+    if (!scene.materials.empty())
+        SR_TRY(uploadVector(*device_, BUF_TESS_MATERIALS, primitiveMaterials(scene)));
+    SR_TRY(ensureSize(BUF_TESS_COUNTS, std::max<size_t>(scene.triangleCount(), 1) * sizeof(glm::uvec4)));
+    SR_TRY(ensureSize(BUF_TESS_SUMS,
+                      (groupsFor(scene.triangleCount(), SCAN_GROUP_SIZE) + 1) * sizeof(glm::uvec4)));
+    tessPrepared_ = true;
+    return okStatus();
+}
+
+Status RenderSession::sizeTessellation(uint64_t vertices, uint64_t triangles)
+{
+    const Scene& scene = *scene_;
+    const uint64_t v = scene.vertexCount();
+    if (vertices > tessVertexCapacity_ || tessVertexCapacity_ == 0) {
+        tessVertexCapacity_ = grownCapacity(vertices);
+        const size_t bytes = (v + tessVertexCapacity_) * sizeof(glm::vec4);
+        // A resize loses the contents: the scene's vertices go back in at the head.
+        SR_TRY(ensureSize(BUF_POSITIONS, bytes));
+        SR_TRY(device_->upload(BUF_POSITIONS, scene.positions.data(), v * sizeof(glm::vec4)));
+        SR_TRY(ensureSize(BUF_NORMALS, bytes));
+        SR_TRY(device_->upload(BUF_NORMALS, scene.normals.data(), v * sizeof(glm::vec4)));
+        if (!scene.colors.empty()) {
+            SR_TRY(ensureSize(BUF_COLORS, bytes));
+            SR_TRY(device_->upload(BUF_COLORS, scene.colors.data(), v * sizeof(glm::vec4)));
+        }
+        if (!scene.textures.empty()) {
+            SR_TRY(ensureSize(BUF_TEXCOORDS, bytes));
+            SR_TRY(device_->upload(BUF_TEXCOORDS, scene.texcoords.data(), v * sizeof(glm::vec4)));
+        }
+        SR_TRY(ensureSize(BUF_CLIP_POS, bytes));
+    }
+    if (triangles > tessTriangleCapacity_ || !trianglesReplaced_) {
+        tessTriangleCapacity_ = std::max(tessTriangleCapacity_, grownCapacity(triangles));
+        const uint64_t t = tessTriangleCapacity_;
+        SR_TRY(ensureSize(BUF_INDICES, 3 * t * sizeof(uint32_t)));
+        SR_TRY(ensureSize(BUF_TRI_FLAGS, t * sizeof(uint32_t)));
+        SR_TRY(ensureSize(BUF_TESS_IDS, t * sizeof(uint32_t)));
+        if (!scene.materials.empty())
+            SR_TRY(ensureSize(BUF_TRI_MATERIALS,
+                              (t + scene.lineCount() + scene.pointCount()) * sizeof(uint32_t)));
+        trianglesReplaced_ = true;
+    }
+    return okStatus();
+}
+
 Status RenderSession::upload()
 {
     const Scene& scene = *scene_;
@@ -291,11 +386,10 @@ Status RenderSession::upload()
     SR_TRY(uploadVector(device, BUF_POSITIONS, scene.positions));
     SR_TRY(uploadVector(device, BUF_NORMALS, scene.normals));
     if (!scene.colors.empty()) SR_TRY(uploadVector(device, BUF_COLORS, scene.colors));
-    SR_TRY(uploadVector(device, BUF_INDICES, scene.indices));
-    SR_TRY(uploadVector(device, BUF_TRI_FLAGS, scene.triFlags));
     if (!scene.points.empty()) SR_TRY(uploadVector(device, BUF_POINTS, scene.points));
     if (!scene.lines.empty()) SR_TRY(uploadVector(device, BUF_LINES, scene.lines));
     SR_TRY(uploadMaterials(device, scene));
+    SR_TRY(uploadTriangles());
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
     SR_TRY(ensureSize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
@@ -351,6 +445,12 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
     SR_TRY(allocateLists());
 
+    const bool tessellating = settings.tessellate != TESS_OFF;
+    if (tessellating)
+        SR_TRY(prepareTessellation());
+    else if (trianglesReplaced_)
+        SR_TRY(uploadTriangles());
+
     // Every call starts with every stage on every tile, as a fresh render does, even in a session: the
     // previous call's choice fits its own camera, and carried over to a turntable's next frame on
     // lavapipe it made half of the frames draw twice (too few raster groups for the new view).
@@ -367,11 +467,36 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     std::vector<double> totalMs;
     uint32_t counters[COUNTER_COUNT] = {};
     RasterParams params{};
+    glm::uvec4 tessTotals(0u);  // generated vertices, triangles, culled scene triangles, overflow
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
         params = frameParams(scene, camera, settings, capacity, work.groups);
-        std::vector<Dispatch> dispatches = frameDispatches(params, work);
+        // Tessellation counts first and sizes the generated buffers from the totals (its own submission:
+        // the host reads them), then writes at the head of the frame.
+        std::vector<Dispatch> dispatches;  // every dispatch of the frame, in order, and its GPU times
         std::vector<double> gpuMs;
-        SR_TRY(device.run(params, dispatches, gpuMs));
+        std::vector<Dispatch> frame;
+        if (tessellating) {
+            dispatches = {{STAGE_TESS_COUNT, groupsFor(params.tessSourceTriangles, GROUP_SIZE)},
+                          {STAGE_TESS_SCAN_BLOCKS, params.tessBlocks},
+                          {STAGE_TESS_SCAN_SUMS, 1u}};
+            SR_TRY(device.run(params, dispatches, gpuMs));
+            SR_TRY(device.download(BUF_TESS_SUMS, &tessTotals, sizeof tessTotals));
+            if (tessTotals.w != 0u)
+                return makeError(ExitCode::Runtime,
+                                 "tessellation would generate over 2^31 vertices or triangles: raise "
+                                 "--tess-edge-px or lower --tess-max-level");
+            SR_TRY(sizeTessellation(tessTotals.x, tessTotals.y));
+            params.vertexCount = params.tessSourceVertices + tessTotals.x;
+            params.triangleCount = tessTotals.y;
+            frame.push_back({STAGE_TESS_EMIT, groupsFor(uint64_t(params.tessSourceTriangles) +
+                                                            params.lineCount + params.pointCount,
+                                                        GROUP_SIZE)});
+        }
+        for (const Dispatch& d : frameDispatches(params, work)) frame.push_back(d);
+        std::vector<double> frameMs;
+        SR_TRY(device.run(params, frame, frameMs));
+        dispatches.insert(dispatches.end(), frame.begin(), frame.end());
+        gpuMs.insert(gpuMs.end(), frameMs.begin(), frameMs.end());
         SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
         const uint64_t items = uint64_t(counters[COUNTER_ACTIVE_TILES]) *
                                rasterChunksPerTile(rasterChunk, counters[COUNTER_MAX_BIN]);
@@ -418,14 +543,23 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     }
 
     drawn_ = true;
-    for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage)
-        out.stages.push_back(summarize(stageName(stage), stageMs[stage]));
+    // Every stage of the pipeline (one with no work at 0 ms); the tess_* stages when they ran.
+    static const uint32_t kDispatchOrder[STAGE_COUNT] = {
+        STAGE_TESS_COUNT,  STAGE_TESS_SCAN_BLOCKS, STAGE_TESS_SCAN_SUMS, STAGE_TESS_EMIT,
+        STAGE_CLEAR,       STAGE_VERTEX,           STAGE_SETUP,          STAGE_BIN_COUNT,
+        STAGE_SCAN_BLOCKS, STAGE_SCAN_SUMS,        STAGE_BIN_FILL,       STAGE_RASTER_TILES,
+        STAGE_SHADE};
+    for (uint32_t stage : kDispatchOrder)
+        if (!stageMs[stage].empty()) out.stages.push_back(summarize(stageName(stage), stageMs[stage]));
     out.total = summarize("total", totalMs);
     out.params = params;
     out.peakDeviceBytes = device.peakAllocatedBytes();
 
     RenderStats& st = out.stats;
-    st.trianglesIn = scene.triangleCount();
+    st.trianglesIn = tessellating ? tessTotals.y : scene.triangleCount();
+    st.tessVertices = tessTotals.x;
+    st.tessTriangles = tessTotals.y;
+    st.tessCulled = tessTotals.z;
     st.culled = counters[COUNTER_CULLED];
     st.clipped = counters[COUNTER_CLIPPED];
     st.invalid = counters[COUNTER_INVALID];
@@ -474,6 +608,19 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
             all.id[i] = visibilityId(visibility[i]);
             all.depth[i] = visibilityDepth(visibility[i]);
         }
+    }
+    if (tessellating) {
+        // Generated triangles map back to the scene's (their surfaces come from the host's copy of the
+        // generated mesh, bit for bit the device's).
+        std::vector<uint32_t> sourceIds(tessTotals.y);
+        SR_TRY(device.download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
+        if (settings.surfaceAovs)
+            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, params).scene, outputParams(out.params),
+                            out.aov);
+        const auto sceneTriangles = uint32_t(scene.triangleCount());
+        mapToSourceIds(out.aov.id, sourceIds, sceneTriangles);
+        mapToSourceIds(out.samples.id, sourceIds, sceneTriangles);
+        return out;
     }
     if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
     return out;

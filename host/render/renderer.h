@@ -15,6 +15,7 @@
 
 #include "scene/camera.h"
 #include "render/compute_device.h"
+#include "render/tessellate.h"
 #include "io/image_io.h"
 #include "raster_shared.h"
 #include "base/result.h"
@@ -73,6 +74,12 @@ struct RenderSettings {
     // What of the frame comes back to the host (ImageDownload): the viewer presenting from the device
     // needs nothing, through the host only the colour image.
     ImageDownload download = ImageDownload::All;
+    // Tessellation (--tessellate, common/shared/tessellate.h): TESS_*. flat and pn split every edge into
+    // pieces of at most tessEdgePx output pixels on screen, at most tessMaxLevel of them; centroid splits
+    // each triangle at its centroid tessMaxLevel times. The id AOV names the scene's triangles.
+    uint32_t tessellate = TESS_OFF;
+    float tessEdgePx = 8.0f;
+    uint32_t tessMaxLevel = 16;
 };
 
 // The SHADING_* modes are 0 .. kShadingModeCount - 1.
@@ -112,22 +119,25 @@ struct StageTiming {
 };
 
 struct RenderStats {
-    uint64_t trianglesIn = 0;   // triangles handed to the GPU
-    uint64_t culled = 0;        // input primitives that produced nothing to rasterize
-    uint64_t clipped = 0;       // input triangles that went through the clipper
-    uint64_t invalid = 0;       // input primitives dropped on the GPU for NaN/Inf positions
-    uint64_t rasterized = 0;    // (sub-)triangles set up for rasterization
-    uint64_t smallTris = 0;     // of which rasterized by their setup thread
-    uint64_t bigTris = 0;       // of which binned to screen tiles
-    uint64_t linesIn = 0;       // line segments handed to the GPU
-    uint64_t lines = 0;         // of which set up (the others culled, clipped away or invalid)
-    uint64_t pointsIn = 0;      // points handed to the GPU
-    uint64_t points = 0;        // of which rasterized (the others culled or invalid)
-    uint64_t records = 0;       // big sub-triangles of clipped triangles, stored as records
-    uint64_t pieces = 0;        // pieces the big triangles were cut into
-    uint64_t binEntries = 0;    // (big triangle, screen tile) bin entries
-    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list or for a skipped stage
-    ListCapacities capacities;  // final capacities of the lists
+    uint64_t trianglesIn = 0;    // triangles handed to the GPU (generated ones when tessellating)
+    uint64_t culled = 0;         // input primitives that produced nothing to rasterize
+    uint64_t clipped = 0;        // input triangles that went through the clipper
+    uint64_t invalid = 0;        // input primitives dropped on the GPU for NaN/Inf positions
+    uint64_t rasterized = 0;     // (sub-)triangles set up for rasterization
+    uint64_t smallTris = 0;      // of which rasterized by their setup thread
+    uint64_t bigTris = 0;        // of which binned to screen tiles
+    uint64_t linesIn = 0;        // line segments handed to the GPU
+    uint64_t lines = 0;          // of which set up (the others culled, clipped away or invalid)
+    uint64_t pointsIn = 0;       // points handed to the GPU
+    uint64_t points = 0;         // of which rasterized (the others culled or invalid)
+    uint64_t records = 0;        // big sub-triangles of clipped triangles, stored as records
+    uint64_t pieces = 0;         // pieces the big triangles were cut into
+    uint64_t binEntries = 0;     // (big triangle, screen tile) bin entries
+    uint64_t tessVertices = 0;   // vertices tessellation generated (0 without it)
+    uint64_t tessTriangles = 0;  // triangles it generated (they are trianglesIn)
+    uint64_t tessCulled = 0;     // scene triangles it culled before refining
+    uint32_t redraws = 0;        // frames redrawn after growing an overflowing list or for a skipped stage
+    ListCapacities capacities;   // final capacities of the lists
 };
 
 // Every sample of a frame (RenderSettings::aovSamples). The raster grid is rasterWidth x rasterHeight
@@ -196,6 +206,11 @@ private:
     // Resizes `buffer` unless this session already gave it exactly `bytes` (a CUDA resize reallocates).
     Status ensureSize(uint32_t buffer, size_t bytes);
     Status allocateLists();
+    Status uploadTriangles();
+    // Tessellation: the scene triangles' records (once per session), and the generated buffers sized to
+    // a frame's totals (grown, never shrunk; the scene's vertices uploaded again after a reallocation).
+    Status prepareTessellation();
+    Status sizeTessellation(uint64_t vertices, uint64_t triangles);
 
     ComputeDevice* device_;
     const Scene* scene_;
@@ -203,6 +218,10 @@ private:
     bool alphaTest_ = false;  // some triangle is alphaMode MASK (FrameWork::alphaTest)
     bool drawn_ = false;      // a frame was drawn: capacities_ hold what its lists grew to
     ListCapacities capacities_;
+    bool tessPrepared_ = false;  // BUF_TESS_SOURCE and BUF_TESS_MATERIALS hold tessSources_
+    TessSources tessSources_;
+    bool trianglesReplaced_ = false;  // BUF_INDICES etc. hold generated triangles, not the scene's
+    uint64_t tessVertexCapacity_ = 0, tessTriangleCapacity_ = 0;
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline

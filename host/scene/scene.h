@@ -114,7 +114,9 @@ Scene builtinScene();
 // A unit sphere of rings x 2 rings quads (about 4 rings^2 triangles, indexed, smooth normals).
 Scene tessellatedSphere(int rings);
 // Procedural scenes by name: "builtin" (the scene above), "builtin:dense" (a sphere of ~65k triangles,
-// sub-pixel at small resolutions) and "builtin:huge" (the built-in objects on a 200,000-unit ground plane).
+// sub-pixel at small resolutions), "builtin:huge" (the built-in objects on a 200,000-unit ground plane),
+// "builtin:checker", "builtin:cutout" (textures) and "builtin:lowpoly" (the built-in objects with a 4-ring
+// sphere and a 12 x 6 torus: what --tessellate pn smooths).
 Result<Scene> builtinSceneNamed(const std::string& name);
 
 // Drops triangles, segments and points with out-of-range indices or non-finite positions (counting them

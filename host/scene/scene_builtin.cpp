@@ -101,10 +101,10 @@ void addCube(Scene& scene, const glm::vec3& center, float half, float yaw)
     }
 }
 
-void addTorus(Scene& scene, const glm::vec3& center, float major, float minor)
+void addTorus(Scene& scene, const glm::vec3& center, float major, float minor, int ring = 48, int tube = 20)
 {
     // Lying flat around +y: u goes round the ring, v round the tube; du x dv points outwards.
-    addGrid(scene, 48, 20, glm::vec4(0.9f, 0.7f, 0.2f, 1.0f), [=](float u, float v) {
+    addGrid(scene, ring, tube, glm::vec4(0.9f, 0.7f, 0.2f, 1.0f), [=](float u, float v) {
         float a = wrap(u) * 2.0f * kPi, b = wrap(v) * 2.0f * kPi;
         glm::vec3 ring(std::sin(a), 0.0f, std::cos(a));
         glm::vec3 n = std::cos(b) * ring + glm::vec3(0.0f, std::sin(b), 0.0f);
@@ -223,6 +223,16 @@ Scene tessellatedSphere(int rings)
     return finalized(std::move(scene), "tessellated sphere");
 }
 
+Scene lowPolyScene()
+{
+    Scene scene;
+    addGround(scene, 2.0f, 4);
+    addSphere(scene, {-0.9f, 0.6f, -0.4f}, 0.6f, 4);
+    addCube(scene, {0.9f, 0.4f, -0.7f}, 0.4f, 0.5f);
+    addTorus(scene, {0.4f, 0.2f, 0.9f}, 0.55f, 0.2f, 12, 6);
+    return finalized(std::move(scene), "built-in low-poly scene");
+}
+
 Result<Scene> builtinSceneNamed(const std::string& name)
 {
     if (name == "builtin") return builtinScene();
@@ -235,9 +245,10 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     }
     if (name == "builtin:checker") return checkerScene();
     if (name == "builtin:cutout") return cutoutScene();
+    if (name == "builtin:lowpoly") return lowPolyScene();
     return makeError(ExitCode::Usage,
                      "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:huge, "
-                     "builtin:checker or builtin:cutout",
+                     "builtin:checker, builtin:cutout or builtin:lowpoly",
                      name);
 }
 

@@ -41,6 +41,10 @@ namespace {
 #include "setup_lines_points.spv.h"
 #include "raster_tiles_chunked.spv.h"
 #include "shade.spv.h"
+#include "tess_count.spv.h"
+#include "tess_emit.spv.h"
+#include "tess_scan_blocks.spv.h"
+#include "tess_scan_sums.spv.h"
 #include "vertex.spv.h"
 #include "bin_count_fixed4.spv.h"
 #include "bin_fill_fixed4.spv.h"
@@ -74,9 +78,11 @@ struct StageSpirv {
 // Indexed by STAGE_*: the modules of the stages no raster method changes (the others are in
 // kMethodSpirv).
 const StageSpirv kStageSpirv[] = {
-    SR_SPIRV(kSpv_clear),     SR_SPIRV(kSpv_vertex),       SR_SPIRV(kSpv_setup),
-    SR_SPIRV(kSpv_bin_count), SR_SPIRV(kSpv_scan_blocks),  SR_SPIRV(kSpv_scan_sums),
-    SR_SPIRV(kSpv_bin_fill),  SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_shade),
+    SR_SPIRV(kSpv_clear),      SR_SPIRV(kSpv_vertex),           SR_SPIRV(kSpv_setup),
+    SR_SPIRV(kSpv_bin_count),  SR_SPIRV(kSpv_scan_blocks),      SR_SPIRV(kSpv_scan_sums),
+    SR_SPIRV(kSpv_bin_fill),   SR_SPIRV(kSpv_raster_tiles),     SR_SPIRV(kSpv_shade),
+    SR_SPIRV(kSpv_tess_count), SR_SPIRV(kSpv_tess_scan_blocks), SR_SPIRV(kSpv_tess_scan_sums),
+    SR_SPIRV(kSpv_tess_emit),
 };
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
 
@@ -246,7 +252,8 @@ Status VulkanDevice::createPipelines()
     // work is done, and lazy creation would only move the compile time into the first frame. The
     // builds of setup, raster_tiles and shade for MSAA or SSAA are made when a frame first asks for them
     // (pipeline()), so that a device nobody asks for anti-aliasing compiles no more shaders.
-    for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage) {
+    // The tessellation stages are made when a frame first tessellates, like the anti-aliasing builds.
+    for (uint32_t stage = 0; stage < STAGE_TESS_COUNT; ++stage) {
         bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
         SR_TRY(createPipeline(stage, Build{}, pipelines_[stage]));
         if (variants) SR_TRY(createPipeline(stage, Build{true, 1, false}, materialPipelines_[stage]));
@@ -325,8 +332,12 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
-    if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8)
-        return build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
+    if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8) {
+        if (build.materials) return materialPipelines_[d.stage];
+        if (pipelines_[d.stage] == VK_NULL_HANDLE)
+            SR_TRY(createPipeline(d.stage, build, pipelines_[d.stage]));
+        return pipelines_[d.stage];
+    }
     VkPipeline& p = sampledPipelines_[{d.stage, build}];
     if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
     return p;
