@@ -27,6 +27,7 @@ public:
     {
         // Errors cannot be reported from a destructor. The presenter waited for its last copy; the
         // stream may still hold this writer's last signal.
+        cudaSetDevice(ordinal_);
         if (stream_ != nullptr) cudaStreamSynchronize(stream_);
         if (mapped_ != nullptr) cudaFree(mapped_);
         if (memory_ != nullptr) cudaDestroyExternalMemory(memory_);
@@ -70,7 +71,8 @@ private:
             return makeError(ExitCode::Runtime, "cuda: the shared frame's device is not a CUDA device");
         if (handles.memoryFd < 0 || handles.semaphoreFd < 0 || handles.bufferBytes > handles.memoryBytes)
             return makeError(ExitCode::Runtime, "cuda: invalid handles for the shared frame");
-        CUDA_TRY(cudaSetDevice(view->ordinal));
+        ordinal_ = view->ordinal;
+        CUDA_TRY(cudaSetDevice(ordinal_));
 
         cudaExternalMemoryHandleDesc memoryDesc{};
         memoryDesc.type = cudaExternalMemoryHandleTypeOpaqueFd;
@@ -95,6 +97,7 @@ private:
     }
 
     ComputeDevice& device_;
+    int ordinal_ = 0;
     cudaStream_t stream_ = nullptr;
     cudaExternalMemory_t memory_ = nullptr;
     void* mapped_ = nullptr;

@@ -32,7 +32,9 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImag
 }
 
 // The shared buffer's ownership between the external API (the device writing it) and the queue
-// family `family` that copies from it: acquired before the copy, released after it.
+// family `family` that copies from it: acquired before the copy, released after it. The acquisition's
+// first scope is the transfer stage, at which the submission waits on the device's semaphore, so that
+// it follows the wait.
 void externalBarrier(VkCommandBuffer cmd, VkBuffer buffer, uint32_t family, bool acquire)
 {
     VkBufferMemoryBarrier b{};
@@ -44,7 +46,7 @@ void externalBarrier(VkCommandBuffer cmd, VkBuffer buffer, uint32_t family, bool
     b.buffer = buffer;
     b.offset = 0;
     b.size = VK_WHOLE_SIZE;
-    vkCmdPipelineBarrier(cmd, acquire ? VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT : VK_PIPELINE_STAGE_TRANSFER_BIT,
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
                          acquire ? VK_PIPELINE_STAGE_TRANSFER_BIT : VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0,
                          0, nullptr, 1, &b, 0, nullptr);
 }
