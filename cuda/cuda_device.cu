@@ -10,6 +10,7 @@
 
 #include "render/compute_device.h"
 #include "cuda_check.h"
+#include "cuda_device_internal.h"
 #include "kernels.h"
 
 namespace sr {
@@ -32,7 +33,7 @@ public:
         if (err != cudaSuccess || count == 0)
             return makeError(ExitCode::Usage, "cuda backend unavailable: no CUDA GPU or driver found ({})",
                              err != cudaSuccess ? cudaGetErrorName(err) : "0 devices");
-        int device = index < 0 ? 0 : index;
+        const int device = index < 0 ? 0 : index;
         if (device >= count)
             return makeError(ExitCode::Usage, "cuda device {} does not exist ({} CUDA device(s))", device,
                              count);
@@ -47,6 +48,8 @@ public:
         info_.driver = fmt::format("CUDA driver {}.{}, runtime {}.{}", driver / 1000, (driver % 1000) / 10,
                                    runtime / 1000, (runtime % 1000) / 10);
         info_.isCpu = false;
+        ordinal_ = device;
+        std::copy(prop.uuid.bytes, prop.uuid.bytes + 16, reinterpret_cast<char*>(uuid_.data()));
         CUDA_TRY(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking));
         return okStatus();
     }
@@ -124,6 +127,11 @@ public:
     size_t allocatedBytes() const override { return allocated_; }
     size_t peakAllocatedBytes() const override { return peak_; }
 
+    CudaDeviceView view() const
+    {
+        return {ordinal_, uuid_, stream_, ptr_[BUF_FRAMEBUFFER], bytes_[BUF_FRAMEBUFFER]};
+    }
+
 private:
     template <typename T>
     T* as(uint32_t buffer) const
@@ -179,6 +187,8 @@ private:
     }
 
     DeviceInfo info_;
+    int ordinal_ = 0;
+    std::array<uint8_t, 16> uuid_{};
     cudaStream_t stream_ = nullptr;
     std::array<void*, BUF_COUNT> ptr_{};
     std::array<size_t, BUF_COUNT> bytes_{};
@@ -194,6 +204,13 @@ Result<std::unique_ptr<ComputeDevice>> makeCudaDevice(int index)
     auto device = std::make_unique<CudaDevice>();
     SR_TRY(device->init(index));
     return std::unique_ptr<ComputeDevice>(std::move(device));
+}
+
+std::optional<CudaDeviceView> cudaDeviceView(ComputeDevice& device)
+{
+    auto* cuda = dynamic_cast<CudaDevice*>(&device);
+    if (cuda == nullptr) return std::nullopt;
+    return cuda->view();
 }
 
 }  // namespace sr

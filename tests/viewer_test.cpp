@@ -3,7 +3,9 @@
 // anti-aliasing and primitive mode and saves, and every saved frame must equal `raster render` of the
 // same view (ids identical, colour within 1/255), while the pixels read back from the window's swapchain
 // must equal the saved frame exactly. Needs xvfb-run (Debian xvfb); SR_ALLOW_MISSING_BACKENDS=display is
-// the explicit switch for machines without it (the GPU machine).
+// the explicit switch for machines without it (the GPU machine). The CUDA backend's shared buffer
+// (ViewerInterop) runs the same session offscreen on a CUDA GPU, skipped under
+// SR_ALLOW_MISSING_BACKENDS=cuda.
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/image_io.h"
+#include "render/compute_device.h"
 #include "test_util.h"
 
 namespace sr::test {
@@ -50,9 +53,12 @@ TEST(ViewerCommandLine, ABadScriptNamesItsLine)
 }
 
 // The session with frames presented by `present` (--present device: the Vulkan device's framebuffer
-// copied and blitted into the swapchain on the device; host: through a host buffer).
+// copied and blitted into the swapchain on the device; host: through a host buffer; shared: CUDA's
+// framebuffer through a buffer it shares with the presenter) from compute backend `backend`, which the
+// summary must name with the path the frames took (`path`: "vulkan device", "cuda shared", ...).
 // offscreen: no window (--offscreen), the same copies into an image of the presenter's; else under Xvfb.
-void scriptedSession(const std::string& present, bool offscreen = false)
+void scriptedSession(const std::string& present, bool offscreen = false,
+                     const std::string& backend = "vulkan", const std::string& path = "")
 {
     if (!offscreen && !haveXvfb()) {
         if (displayMayBeMissing())
@@ -81,11 +87,17 @@ void scriptedSession(const std::string& present, bool offscreen = false)
            "key p\n"
            "save "
         << c << "\n# a resized window renders at its new size\nresize 200 150\nsave " << d << "\nkey q\n";
-    ToolRun run = runTool("view --backend vulkan --present " + present + (offscreen ? " --offscreen" : "") +
-                              " --width 160 --height 120 --script " + dir.file("script.txt"),
-                          "", offscreen ? "env -u DISPLAY" : "xvfb-run -a -s '-screen 0 640x480x24'");
+    ToolRun run =
+        runTool("view --backend " + backend + " --present " + present + (offscreen ? " --offscreen" : "") +
+                    " --width 160 --height 120 --script " + dir.file("script.txt"),
+                "", offscreen ? "env -u DISPLAY" : "xvfb-run -a -s '-screen 0 640x480x24'");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
-    EXPECT_NE(run.stdoutText.find("view: 5 frames at 200x150"), std::string::npos) << run.stdoutText;
+    EXPECT_NE(run.stdoutText.find(
+                  "view: 5 frames at 200x150 (" +
+                  (path.empty() ? backend + " " + (present == "host" ? "host" : "device") : path) + "), "),
+              std::string::npos)
+        << run.stdoutText;
+    EXPECT_EQ(run.stderrText.find("go through the host"), std::string::npos) << run.stderrText;
 
     std::vector<uint32_t> firstIds;
     for (const std::string& prefix : {a, b, c, d}) {
@@ -93,8 +105,8 @@ void scriptedSession(const std::string& present, bool offscreen = false)
         std::ifstream viewFile(prefix + ".view.json");
         ASSERT_TRUE(viewFile.good());
         nlohmann::json view = nlohmann::json::parse(viewFile);
-        ToolRun ref = runTool("render " + view["render_args"].get<std::string>() +
-                              " --backend vulkan -q -o " + prefix + ".ref.png --aov " + prefix + ".ref.exr");
+        ToolRun ref = runTool("render " + view["render_args"].get<std::string>() + " --backend " + backend +
+                              " -q -o " + prefix + ".ref.png --aov " + prefix + ".ref.exr");
         ASSERT_EQ(ref.exitCode, 0) << ref.stderrText;
         auto saved = readPng(prefix + ".png");
         auto window = readPng(prefix + ".window.png");
@@ -144,6 +156,21 @@ TEST(ViewerOffscreen, BothPathsShowTheRender)
 {
     scriptedSession("device", true);
     scriptedSession("host", true);
+}
+
+// The CUDA backend offscreen through the buffer it shares with the presenter (VK_KHR_external_memory_fd +
+// cudaImportExternalMemory, a semaphore CUDA signals): the same frames as `raster render --backend cuda`,
+// and the presenter's image equal to the saved frame, with no fallback to the host (--present shared
+// fails instead). --present device takes the same path. On a CUDA GPU only (the GPU machine: ci/gpu-viewer).
+TEST(ViewerInterop, CudaSharedBufferShowsTheRender)
+{
+    bool skip = false;
+    if (!openBackend("cuda", skip)) {
+        if (skip) GTEST_SKIP() << "cuda absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        return;  // openBackend reported the failure
+    }
+    scriptedSession("shared", true, "cuda", "cuda shared");
+    scriptedSession("device", true, "cuda", "cuda shared");
 }
 
 }  // namespace

@@ -615,9 +615,10 @@ int main(int argc, char** argv)
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
     viewApp
         ->add_option("--present", view.present,
-                     "device (the Vulkan backend presents its own framebuffer, copied on the GPU; CUDA goes "
-                     "through the host) or host (every frame through the host)")
-        ->check(CLI::IsMember({"device", "host"}));
+                     "device (frames stay on the GPU: the Vulkan backend presents its own framebuffer, CUDA "
+                     "shares a buffer with the presenter, or goes through the host where it cannot), shared "
+                     "(as device, but CUDA must share) or host (every frame through the host)")
+        ->check(CLI::IsMember({"device", "shared", "host"}));
     viewApp->add_flag("--offscreen", view.offscreen,
                       "no window: present into an image instead of a swapchain (with --script; machines "
                       "without a display, timings)");

@@ -13,6 +13,7 @@
 #include "cli/outputs.h"
 #include "cli/stats_json.h"
 #include "io/image_io.h"
+#include "render/frame_share.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "viewer/controls.h"
@@ -118,12 +119,15 @@ Status runView(const ViewOptions& o)
         window = std::move(*opened);
         target = window->presentTarget();
     }
-    auto devices = openBackends(o.backend, o.device, o.present == "device" && window ? &target : nullptr);
+    auto devices = openBackends(o.backend, o.device, o.present != "host" && window ? &target : nullptr);
     if (!devices) return devices.error();
     // One presenter per path, made when first needed; a window has one swapchain at a time, so a
-    // switch of path releases the other's.
+    // switch of path releases the other's. devicePresenters[k]: backend k's frames from the GPU (the
+    // Vulkan device's own buffer, or the buffer CUDA shares).
     std::unique_ptr<Presenter> hostPresenter;
     std::vector<std::unique_ptr<Presenter>> devicePresenters(devices->size());
+    std::vector<bool> shareFailed(devices->size(), false);  // CUDA could not share: through the host
+    std::vector<std::string> paths;                         // "BACKEND PATH" of the frames, in order
 
     uint32_t width = o.settings.width, height = o.settings.height;
     if (window) window->framebufferSize(width, height);
@@ -178,17 +182,44 @@ Status runView(const ViewOptions& o)
             session.emplace(std::move(*created));
         }
         const size_t backend = state.backendIndex % devices->size();
-        // The device path: a Vulkan device made on the window, or any Vulkan device offscreen.
+        // The path of this frame, decided here and nowhere else. Device: a Vulkan device made on the
+        // window, or any Vulkan device offscreen. Shared: the CUDA device writes into a buffer it shares
+        // with a presenter on its GPU (render/frame_share.h); where that presenter cannot be made
+        // (no Vulkan device is CUDA's GPU, it cannot export), CUDA goes through the host with a notice,
+        // unless --present shared asked for it. Host: everything else, and --present host.
         std::optional<VulkanPresentSource> deviceSource;
-        if (o.present == "device") deviceSource = vulkanPresentSource(device);
+        if (o.present != "host") deviceSource = vulkanPresentSource(device);
         const bool fromDevice =
             deviceSource && (o.offscreen || deviceSource->context->surface() != VK_NULL_HANDLE);
+        std::optional<FrameShareSource> shareSource;
+        if (o.present != "host" && !fromDevice && !shareFailed[backend])
+            shareSource = cudaFrameShareSource(device);
+        if (shareSource && !devicePresenters[backend]) {
+            auto created =
+                Presenter::createShared(o.offscreen ? nullptr : &target, o.presentDevice, *shareSource,
+                                        size_t(state.settings.width) * state.settings.height * 4);
+            if (created) {
+                devicePresenters[backend] = std::move(*created);
+            } else if (o.present == "shared") {
+                return created.error();
+            } else {
+                shareFailed[backend] = true;
+                shareSource.reset();
+                fmt::print(stderr, "view: CUDA frames go through the host: {}\n", created.error().message);
+            }
+        }
+        const bool shared = shareSource.has_value();
+        const std::string path = fmt::format("{} {}", device.info().backend,
+                                             fromDevice ? "device"
+                                             : shared   ? "shared"
+                                                        : "host");
+        if (std::find(paths.begin(), paths.end(), path) == paths.end()) paths.push_back(path);
         RenderSettings s = state.settings;
-        // From the device nothing comes back, through the host only the colour image, unless the frame
+        // From the GPU nothing comes back, through the host only the colour image, unless the frame
         // is saved.
-        s.download = state.saveRequested ? ImageDownload::All
-                     : fromDevice        ? ImageDownload::None
-                                         : ImageDownload::Colour;
+        s.download = state.saveRequested    ? ImageDownload::All
+                     : fromDevice || shared ? ImageDownload::None
+                                            : ImageDownload::Colour;
         auto out = session->render(state.camera.matrices(s.width, s.height), s);
         if (!out) return out.error();
         // Read after the frame: a new size replaces the buffer.
@@ -199,7 +230,7 @@ Status runView(const ViewOptions& o)
         if (window) window->framebufferSize(windowWidth, windowHeight);
         RgbaImage shown;
         RgbaImage* readback = state.saveRequested ? &shown : nullptr;
-        if (source) {
+        if (source || shared) {
             if (hostPresenter) hostPresenter->releaseSwapchain();
             for (size_t k = 0; k < devicePresenters.size(); ++k)
                 if (k != backend && devicePresenters[k]) devicePresenters[k]->releaseSwapchain();
@@ -209,8 +240,12 @@ Status runView(const ViewOptions& o)
                 if (!created) return created.error();
                 devicePresenters[backend] = std::move(*created);
             }
-            SR_TRY(devicePresenters[backend]->presentBuffer(source->framebuffer, s.width, s.height,
-                                                            windowWidth, windowHeight, readback));
+            if (shared)
+                SR_TRY(devicePresenters[backend]->presentShared(s.width, s.height, windowWidth, windowHeight,
+                                                                readback));
+            else
+                SR_TRY(devicePresenters[backend]->presentBuffer(source->framebuffer, s.width, s.height,
+                                                                windowWidth, windowHeight, readback));
         } else {
             for (auto& p : devicePresenters)
                 if (p) p->releaseSwapchain();
@@ -237,11 +272,11 @@ Status runView(const ViewOptions& o)
         wallMs.push_back(frameMs);
         fps = frameMs > 0.0 ? 1000.0 / frameMs : 0.0;
         if (window)
-            window->setTitle(
-                fmt::format("raster view - {} ({}) - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
-                            "{} triangles - {}",
-                            out->device.backend, out->device.name, out->total.medianMs, presentMs.back(), fps,
-                            out->stats.trianglesIn, stateSummary(state)));
+            window->setTitle(fmt::format(
+                "raster view - {} ({}), {} - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
+                "{} triangles - {}",
+                out->device.backend, out->device.name, path.substr(path.find(' ') + 1), out->total.medianMs,
+                presentMs.back(), fps, out->stats.trianglesIn, stateSummary(state)));
         dirty = false;
     }
     if (!gpuMs.empty() && !o.scriptPath.empty()) {
@@ -249,11 +284,12 @@ Status runView(const ViewOptions& o)
             std::sort(v.begin(), v.end());
             return v[v.size() / 2];
         };
+        std::string via;
+        for (const std::string& p : paths) via += (via.empty() ? "" : ", ") + p;
         fmt::print(
-            "view: {} frames at {}x{}, median GPU {:.3f} ms, median present {:.3f} ms, median frame {:.3f} "
-            "ms "
-            "(render, downloads, presentation)\n",
-            gpuMs.size(), state.settings.width, state.settings.height, median(gpuMs), median(presentMs),
+            "view: {} frames at {}x{} ({}), median GPU {:.3f} ms, median present {:.3f} ms, median frame "
+            "{:.3f} ms (render, downloads, presentation)\n",
+            gpuMs.size(), state.settings.width, state.settings.height, via, median(gpuMs), median(presentMs),
             median(wallMs));
     }
     return okStatus();

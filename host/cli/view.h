@@ -20,8 +20,10 @@ struct ViewOptions {
     int presentDevice = -1;        // Vulkan device that presents (-1: the first that can)
     std::string camera = "auto";   // initial camera, as --camera of `raster render`
     std::string scriptPath;        // replay this input script instead of waiting for the user
-    // device: the Vulkan backend presents from its own framebuffer on the GPU (the CUDA backend always
-    // goes through the host); host: every frame through the host.
+    // device: frames stay on the GPU: the Vulkan backend presents from its own framebuffer, the CUDA
+    // backend shares a buffer with the presenter (render/frame_share.h) or, where it cannot (no Vulkan
+    // device is its GPU, no export), goes through the host with a one-line notice; shared: the same, but
+    // CUDA failing to share is an error; host: every frame through the host.
     std::string present = "device";
     // No window (machines without a display): the frames go through the same copies into an image of
     // the presenter's instead of a swapchain; needs scriptPath.

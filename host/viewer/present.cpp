@@ -1,6 +1,8 @@
 // present.cpp - see present.h.
 #include "viewer/present.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstring>
 
@@ -29,6 +31,31 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImag
                          0, nullptr, 1, &b);
 }
 
+// The shared buffer's ownership between the external API (the device writing it) and the queue
+// family `family` that copies from it: acquired before the copy, released after it. The acquisition's
+// first scope is the transfer stage, at which the submission waits on the device's semaphore, so that
+// it follows the wait.
+void externalBarrier(VkCommandBuffer cmd, VkBuffer buffer, uint32_t family, bool acquire)
+{
+    VkBufferMemoryBarrier b{};
+    b.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+    b.srcAccessMask = acquire ? 0 : VK_ACCESS_TRANSFER_READ_BIT;
+    b.dstAccessMask = acquire ? VK_ACCESS_TRANSFER_READ_BIT : 0;
+    b.srcQueueFamilyIndex = acquire ? VK_QUEUE_FAMILY_EXTERNAL : family;
+    b.dstQueueFamilyIndex = acquire ? family : VK_QUEUE_FAMILY_EXTERNAL;
+    b.buffer = buffer;
+    b.offset = 0;
+    b.size = VK_WHOLE_SIZE;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         acquire ? VK_PIPELINE_STAGE_TRANSFER_BIT : VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0,
+                         0, nullptr, 1, &b, 0, nullptr);
+}
+
+void closeFd(int fd)
+{
+    if (fd >= 0) close(fd);
+}
+
 }  // namespace
 
 Result<std::unique_ptr<Presenter>> Presenter::create(const PresentTarget& target, int deviceIndex)
@@ -47,8 +74,62 @@ Result<std::unique_ptr<Presenter>> Presenter::createOn(VulkanContext& shared)
         return makeError(ExitCode::Runtime, "view: the compute device was not made on the window");
     std::unique_ptr<Presenter> p(new Presenter());
     p->context_ = &shared;
+    p->gpuFrames_ = true;
     SR_TRY(p->init());
     return p;
+}
+
+Result<std::unique_ptr<Presenter>> Presenter::createShared(const PresentTarget* target, int deviceIndex,
+                                                           const FrameShareSource& source, size_t frameBytes)
+{
+    std::unique_ptr<Presenter> p(new Presenter());
+    p->offscreen_ = target == nullptr;
+    p->gpuFrames_ = true;
+    p->owned_ = std::make_unique<VulkanContext>();
+    p->context_ = p->owned_.get();
+    ExternalSharing sharing{source.deviceUuid};
+    SR_TRY(p->context_->init(deviceIndex, QueueKind::Compute, target, &sharing));
+    SR_TRY(p->init());
+    // A binary semaphore: per frame the device signals it once and the presenter's submission waits on it
+    // once, and the host orders the two (the signal is queued before the wait is submitted, and the next
+    // signal only after that submission's fence), which is all a binary semaphore needs; a timeline
+    // semaphore would add nothing but a counter.
+    SR_TRY(p->context_->createExportableSemaphore(p->frameReady_));
+    p->source_ = source;
+    SR_TRY(p->ensureShared(std::max<VkDeviceSize>(frameBytes, kMinBufferBytes)));
+    return p;
+}
+
+Status Presenter::ensureShared(VkDeviceSize bytes)
+{
+    if (writer_ && shared_.capacity >= bytes) return okStatus();
+    // The device's end first: it maps the memory about to be freed.
+    context_->waitIdle();
+    writer_.reset();
+    if (shared_.buffer != VK_NULL_HANDLE) context_->destroyBuffer(shared_);
+    VkDeviceSize memoryBytes = 0;
+    bool dedicated = false;
+    SR_TRY(context_->allocateExportableBuffer(
+        shared_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, memoryBytes,
+        dedicated));
+    Result<int> memoryFd = context_->exportMemoryFd(shared_);
+    if (!memoryFd.ok()) return memoryFd.error();
+    Result<int> semaphoreFd = context_->exportSemaphoreFd(frameReady_);
+    if (!semaphoreFd.ok()) {
+        closeFd(*memoryFd);
+        return semaphoreFd.error();
+    }
+    SharedFrameHandles handles;
+    handles.memoryFd = *memoryFd;
+    handles.memoryBytes = memoryBytes;
+    handles.bufferBytes = bytes;
+    handles.dedicated = dedicated;
+    handles.semaphoreFd = *semaphoreFd;
+    // The importer takes both descriptors, whether or not it succeeds.
+    auto writer = source_->import(handles);
+    if (!writer.ok()) return writer.error();
+    writer_ = std::move(*writer);
+    return okStatus();
 }
 
 Result<std::unique_ptr<Presenter>> Presenter::createOffscreen(VulkanContext* shared, int deviceIndex)
@@ -83,6 +164,9 @@ Presenter::~Presenter()
     context_->destroyBuffer(pixels_);
     context_->destroyImage(rgba_);
     context_->destroyImage(target_);
+    writer_.reset();  // the device's end unmaps the memory before Vulkan frees it
+    context_->destroyBuffer(shared_);
+    if (frameReady_ != VK_NULL_HANDLE) vkDestroySemaphore(context_->device(), frameReady_, nullptr);
     if (acquired_ != VK_NULL_HANDLE) vkDestroyFence(context_->device(), acquired_, nullptr);
 }
 
@@ -141,8 +225,8 @@ Status Presenter::createSwapchain(uint32_t width, uint32_t height)
     if ((caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) == 0)
         return makeError(ExitCode::Runtime, "view: the window's swapchain images cannot be copied into");
     canRead_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
-    if (!owned_ && swapRedBlue_) {
-        // presentBuffer() blits from an RGBA image into the BGRA swapchain image.
+    if (gpuFrames_ && swapRedBlue_) {
+        // presentBuffer() and presentShared() blit from an RGBA image into the BGRA swapchain image.
         VkFormatProperties src{}, dst{};
         vkGetPhysicalDeviceFormatProperties(physical, VK_FORMAT_R8G8B8A8_UNORM, &src);
         vkGetPhysicalDeviceFormatProperties(physical, format_, &dst);
@@ -258,8 +342,11 @@ Status Presenter::presentFrame(uint32_t width, uint32_t height, uint32_t windowW
                          read ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                          VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                          read ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_TRANSFER_WRITE_BIT, 0);
-        // Waited for here, so the presentation below needs no semaphore: the image is complete.
-        SR_TRY(context_->submitAndWait());
+        // Waited for here, so the presentation below needs no semaphore: the image is complete. A
+        // shared frame's copy waits for the device's signal that the frame is in the buffer.
+        VkSemaphore wait = waitOnSubmit_;
+        waitOnSubmit_ = VK_NULL_HANDLE;
+        SR_TRY(context_->submitAndWait(wait, VK_PIPELINE_STAGE_TRANSFER_BIT));
         if (readback != nullptr) {
             if (!read)
                 return makeError(ExitCode::Runtime, "view: this window's swapchain cannot be read back");
@@ -316,43 +403,66 @@ Status Presenter::presentBuffer(VkBuffer buffer, uint32_t width, uint32_t height
                                 uint32_t windowHeight, RgbaImage* readback)
 {
     if (owned_) return makeError(ExitCode::Runtime, "view: a host presenter cannot read a device buffer");
-    return presentFrame(
-        width, height, windowWidth, windowHeight, readback,
-        [&](VkCommandBuffer cmd, VkImage target, uint32_t w, uint32_t h) -> Status {
-            VkBufferImageCopy region{};
-            region.bufferRowLength = width;
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {w, h, 1};
-            if (!swapRedBlue_) {
-                vkCmdCopyBufferToImage(cmd, buffer, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-                return okStatus();
-            }
-            // A BGRA swapchain: the words land in an RGBA image, and a blit (which converts between
-            // formats by component) writes them into the swapchain image in its order.
-            if (rgba_.image == VK_NULL_HANDLE || rgbaExtent_.width != width || rgbaExtent_.height != height) {
-                context_->destroyImage(rgba_);
-                SR_TRY(context_->allocateImage(
-                    rgba_, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_ASPECT_COLOR_BIT, width, height,
-                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                        VK_IMAGE_USAGE_SAMPLED_BIT));  // the view allocateImage makes needs one
-                rgbaExtent_ = {width, height};
-            }
-            imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-                         VK_ACCESS_TRANSFER_WRITE_BIT);
-            vkCmdCopyBufferToImage(cmd, buffer, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                                   &region);
-            imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-                         VK_ACCESS_TRANSFER_READ_BIT);
-            VkImageBlit blit{};
-            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            blit.srcOffsets[1] = {int32_t(w), int32_t(h), 1};
-            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            blit.dstOffsets[1] = {int32_t(w), int32_t(h), 1};
-            vkCmdBlitImage(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
-            return okStatus();
-        });
+    return presentFrame(width, height, windowWidth, windowHeight, readback,
+                        [&](VkCommandBuffer cmd, VkImage target, uint32_t w, uint32_t h) -> Status {
+                            return recordBufferCopy(cmd, buffer, width, height, target, w, h);
+                        });
+}
+
+Status Presenter::presentShared(uint32_t width, uint32_t height, uint32_t windowWidth, uint32_t windowHeight,
+                                RgbaImage* readback)
+{
+    if (!source_) return makeError(ExitCode::Runtime, "view: this presenter has no shared buffer");
+    const VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
+    SR_TRY(ensureShared(bytes));
+    return presentFrame(width, height, windowWidth, windowHeight, readback,
+                        [&](VkCommandBuffer cmd, VkImage target, uint32_t w, uint32_t h) -> Status {
+                            // Queued on the device's stream now, so that the signal this submission
+                            // waits on is pending when it is submitted; only where a copy follows.
+                            SR_TRY(writer_->writeFrame(size_t(bytes)));
+                            waitOnSubmit_ = frameReady_;
+                            const uint32_t family = context_->queueFamily();
+                            externalBarrier(cmd, shared_.buffer, family, true);
+                            SR_TRY(recordBufferCopy(cmd, shared_.buffer, width, height, target, w, h));
+                            externalBarrier(cmd, shared_.buffer, family, false);
+                            return okStatus();
+                        });
+}
+
+Status Presenter::recordBufferCopy(VkCommandBuffer cmd, VkBuffer buffer, uint32_t width, uint32_t height,
+                                   VkImage target, uint32_t w, uint32_t h)
+{
+    VkBufferImageCopy region{};
+    region.bufferRowLength = width;
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {w, h, 1};
+    if (!swapRedBlue_) {
+        vkCmdCopyBufferToImage(cmd, buffer, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+        return okStatus();
+    }
+    // A BGRA swapchain: the words land in an RGBA image, and a blit (which converts between formats by
+    // component) writes them into the swapchain image in its order.
+    if (rgba_.image == VK_NULL_HANDLE || rgbaExtent_.width != width || rgbaExtent_.height != height) {
+        context_->destroyImage(rgba_);
+        SR_TRY(context_->allocateImage(
+            rgba_, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_ASPECT_COLOR_BIT, width, height,
+            VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                VK_IMAGE_USAGE_SAMPLED_BIT));  // the view allocateImage makes needs one
+        rgbaExtent_ = {width, height};
+    }
+    imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                 VK_ACCESS_TRANSFER_WRITE_BIT);
+    vkCmdCopyBufferToImage(cmd, buffer, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    imageBarrier(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkImageBlit blit{};
+    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.srcOffsets[1] = {int32_t(w), int32_t(h), 1};
+    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.dstOffsets[1] = {int32_t(w), int32_t(h), 1};
+    vkCmdBlitImage(cmd, rgba_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
+    return okStatus();
 }
 
 }  // namespace sr

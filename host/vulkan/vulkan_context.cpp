@@ -117,6 +117,7 @@ struct Candidate {
     uint32_t graphicsFamily = UINT32_MAX;  // UINT32_MAX: no graphics queue with timestamps
     uint32_t graphicsTimestampBits = 0;
     bool geometryShader = false;
+    std::array<uint8_t, 16> uuid{};  // VkPhysicalDeviceIDProperties::deviceUUID
 };
 
 struct DeviceList {
@@ -132,8 +133,11 @@ bool inspectDevice(VkPhysicalDevice device, Candidate& candidate)
     // The *2 queries below are only valid on a device that knows their structures.
     if (basic.apiVersion < VK_API_VERSION_1_2 || !(basic.limits.timestampPeriod > 0.0f)) return false;
 
+    VkPhysicalDeviceIDProperties id{};
+    id.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES;
     VkPhysicalDeviceDriverProperties driver{};
     driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
+    driver.pNext = &id;
     VkPhysicalDeviceMaintenance3Properties maintenance3{};
     maintenance3.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES;
     maintenance3.pNext = &driver;
@@ -176,6 +180,7 @@ bool inspectDevice(VkPhysicalDevice device, Candidate& candidate)
     if (driver.driverInfo[0] != '\0') candidate.driver += std::string(" ") + driver.driverInfo;
     candidate.maxAllocationSize = maintenance3.maxMemoryAllocationSize;
     candidate.geometryShader = features.features.geometryShader == VK_TRUE;
+    std::copy(id.deviceUUID, id.deviceUUID + VK_UUID_SIZE, candidate.uuid.begin());
     return true;
 }
 
@@ -193,6 +198,25 @@ Result<DeviceList> listDevices(VkInstance instance)
         return deviceTypeRank(a.properties.deviceType) < deviceTypeRank(b.properties.deviceType);
     });
     return list;
+}
+
+std::string uuidText(const std::array<uint8_t, 16>& uuid)
+{
+    std::string text;
+    for (size_t i = 0; i < uuid.size(); ++i)
+        text += fmt::format("{}{:02x}", i == 4 || i == 6 || i == 8 || i == 10 ? "-" : "", uuid[i]);
+    return text;
+}
+
+Result<bool> offersExtension(VkPhysicalDevice device, const char* name)
+{
+    uint32_t count = 0;
+    SR_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
+    std::vector<VkExtensionProperties> all(count);
+    SR_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, all.data()));
+    return std::any_of(all.begin(), all.end(), [&](const VkExtensionProperties& e) {
+        return std::strcmp(e.extensionName, name) == 0;
+    });
 }
 
 }  // namespace
@@ -302,12 +326,13 @@ VulkanContext::~VulkanContext()
     if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
-Status VulkanContext::init(int index, QueueKind kind, const PresentTarget* present)
+Status VulkanContext::init(int index, QueueKind kind, const PresentTarget* present,
+                           const ExternalSharing* sharing)
 {
     SR_TRY(createInstance(present));
     if (present != nullptr) SR_VK_CHECK(present->createSurface(instance_, &surface_));
-    SR_TRY(selectDevice(index, kind));
-    SR_TRY(createDevice(kind));
+    SR_TRY(selectDevice(index, kind, sharing));
+    SR_TRY(createDevice(kind, sharing));
     SR_TRY(createDescriptorObjects());
     SR_TRY(createCommandObjects());
     return validationStatus();
@@ -383,7 +408,7 @@ Status VulkanContext::createInstance(const PresentTarget* present)
     return okStatus();
 }
 
-Status VulkanContext::selectDevice(int index, QueueKind kind)
+Status VulkanContext::selectDevice(int index, QueueKind kind, const ExternalSharing* sharing)
 {
     Result<DeviceList> list = listDevices(instance_);
     if (!list.ok()) return list.error();
@@ -400,7 +425,27 @@ Status VulkanContext::selectDevice(int index, QueueKind kind)
         return makeError(ExitCode::Usage, "vulkan: device index {} out of range; {} suitable device(s): {}",
                          index, suitable.size(), names);
     }
-    const Candidate& chosen = suitable[index < 0 ? 0 : static_cast<size_t>(index)];
+    size_t pick = index < 0 ? 0 : static_cast<size_t>(index);
+    if (sharing != nullptr) {
+        // The GPU of the API that imports: by index -1 wherever it is, else device `index` must be it.
+        auto same = [&](const Candidate& c) { return c.uuid == sharing->deviceUuid; };
+        if (index < 0) {
+            auto found = std::find_if(suitable.begin(), suitable.end(), same);
+            if (found == suitable.end()) {
+                std::string names;
+                for (size_t i = 0; i < suitable.size(); ++i)
+                    names += fmt::format("{}{}", i > 0 ? ", " : "", suitable[i].properties.deviceName);
+                return makeError(ExitCode::Usage,
+                                 "vulkan: no Vulkan device is the GPU of UUID {} (devices: {})",
+                                 uuidText(sharing->deviceUuid), names);
+            }
+            pick = static_cast<size_t>(found - suitable.begin());
+        } else if (!same(suitable[pick])) {
+            return makeError(ExitCode::Usage, "vulkan: device {} ({}) is not the GPU of UUID {}", index,
+                             suitable[pick].properties.deviceName, uuidText(sharing->deviceUuid));
+        }
+    }
+    const Candidate& chosen = suitable[pick];
     if (kind == QueueKind::Graphics) {
         if (chosen.graphicsFamily == UINT32_MAX)
             return makeError(ExitCode::Usage, "vulkan: {} has no graphics queue with timestamps",
@@ -424,6 +469,7 @@ Status VulkanContext::selectDevice(int index, QueueKind kind)
     physical_ = chosen.device;
     properties_ = chosen.properties;
     driver_ = chosen.driver;
+    deviceUuid_ = chosen.uuid;
     queueFamily_ = kind == QueueKind::Graphics ? chosen.graphicsFamily : chosen.computeFamily;
     timestampValidBits_ =
         kind == QueueKind::Graphics ? chosen.graphicsTimestampBits : chosen.computeTimestampBits;
@@ -433,7 +479,7 @@ Status VulkanContext::selectDevice(int index, QueueKind kind)
     return okStatus();
 }
 
-Status VulkanContext::createDevice(QueueKind kind)
+Status VulkanContext::createDevice(QueueKind kind, const ExternalSharing* sharing)
 {
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{};
@@ -481,6 +527,17 @@ Status VulkanContext::createDevice(QueueKind kind)
     std::vector<const char*> extensions;
     if (lineExtension != nullptr) extensions.push_back(lineExtension);
     if (surface_ != VK_NULL_HANDLE) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    if (sharing != nullptr) {
+        // Each where offered: lavapipe, for one, exports memory but not semaphores.
+        Result<bool> memory = offersExtension(physical_, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+        if (!memory.ok()) return memory.error();
+        Result<bool> semaphore = offersExtension(physical_, VK_KHR_EXTERNAL_SEMAPHORE_FD_EXTENSION_NAME);
+        if (!semaphore.ok()) return semaphore.error();
+        externalMemoryFd_ = *memory;
+        externalSemaphoreFd_ = *semaphore;
+        if (externalMemoryFd_) extensions.push_back(VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+        if (externalSemaphoreFd_) extensions.push_back(VK_KHR_EXTERNAL_SEMAPHORE_FD_EXTENSION_NAME);
+    }
     info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
     SR_VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
@@ -581,7 +638,7 @@ Status VulkanContext::allocateMemory(const char* what, VkDeviceSize bytes,
                                      const VkMemoryRequirements& requirements,
                                      std::initializer_list<VkMemoryPropertyFlags> preferredMemory,
                                      VkDeviceMemory& memory, VkDeviceSize& allocated,
-                                     VkMemoryPropertyFlags& flags)
+                                     VkMemoryPropertyFlags& flags, const void* allocateNext)
 {
     uint32_t type = UINT32_MAX;
     for (VkMemoryPropertyFlags wanted : preferredMemory) {
@@ -597,6 +654,7 @@ Status VulkanContext::allocateMemory(const char* what, VkDeviceSize bytes,
 
     VkMemoryAllocateInfo allocInfo{};
     allocInfo.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    allocInfo.pNext = allocateNext;
     allocInfo.allocationSize = requirements.size;
     allocInfo.memoryTypeIndex = type;
     SR_VK_CHECK(vkAllocateMemory(device_, &allocInfo, nullptr, &memory));
@@ -642,6 +700,124 @@ void VulkanContext::destroyBuffer(GpuBuffer& b)
     vkDestroyBuffer(device_, b.buffer, nullptr);
     freeMemory(b.memory, b.allocated);
     b = GpuBuffer{};
+}
+
+Status VulkanContext::allocateExportableBuffer(GpuBuffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                                               VkDeviceSize& memoryBytes, bool& dedicated)
+{
+    constexpr auto kHandle = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
+    if (!externalMemoryFd_)
+        return makeError(ExitCode::Runtime,
+                         "vulkan: {} does not offer {} (or the context was not made for sharing)",
+                         properties_.deviceName, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+    VkPhysicalDeviceExternalBufferInfo query{};
+    query.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_BUFFER_INFO;
+    query.usage = usage;
+    query.handleType = kHandle;
+    VkExternalBufferProperties external{};
+    external.sType = VK_STRUCTURE_TYPE_EXTERNAL_BUFFER_PROPERTIES;
+    vkGetPhysicalDeviceExternalBufferProperties(physical_, &query, &external);
+    const VkExternalMemoryProperties& memory = external.externalMemoryProperties;
+    if ((memory.externalMemoryFeatures & VK_EXTERNAL_MEMORY_FEATURE_EXPORTABLE_BIT) == 0 ||
+        (memory.compatibleHandleTypes & kHandle) == 0)
+        return makeError(ExitCode::Runtime, "vulkan: {} cannot export buffer memory as an OPAQUE_FD",
+                         properties_.deviceName);
+
+    VkExternalMemoryBufferCreateInfo externalInfo{};
+    externalInfo.sType = VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO;
+    externalInfo.handleTypes = kHandle;
+    VkBufferCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    info.pNext = &externalInfo;
+    info.size = bytes;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    SR_VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &b.buffer));
+
+    VkMemoryDedicatedRequirements dedicatedNeeds{};
+    dedicatedNeeds.sType = VK_STRUCTURE_TYPE_MEMORY_DEDICATED_REQUIREMENTS;
+    VkMemoryRequirements2 requirements{};
+    requirements.sType = VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2;
+    requirements.pNext = &dedicatedNeeds;
+    VkBufferMemoryRequirementsInfo2 requirementsInfo{};
+    requirementsInfo.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_REQUIREMENTS_INFO_2;
+    requirementsInfo.buffer = b.buffer;
+    vkGetBufferMemoryRequirements2(device_, &requirementsInfo, &requirements);
+    dedicated = (memory.externalMemoryFeatures & VK_EXTERNAL_MEMORY_FEATURE_DEDICATED_ONLY_BIT) != 0 ||
+                dedicatedNeeds.requiresDedicatedAllocation || dedicatedNeeds.prefersDedicatedAllocation;
+
+    VkMemoryDedicatedAllocateInfo dedicatedInfo{};
+    dedicatedInfo.sType = VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO;
+    dedicatedInfo.buffer = b.buffer;
+    VkExportMemoryAllocateInfo exportInfo{};
+    exportInfo.sType = VK_STRUCTURE_TYPE_EXPORT_MEMORY_ALLOCATE_INFO;
+    exportInfo.pNext = dedicated ? &dedicatedInfo : nullptr;
+    exportInfo.handleTypes = kHandle;
+    VkMemoryPropertyFlags flags = 0;
+    SR_TRY(allocateMemory("an exportable buffer", bytes, requirements.memoryRequirements,
+                          {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}, b.memory, b.allocated, flags, &exportInfo));
+    SR_VK_CHECK(vkBindBufferMemory(device_, b.buffer, b.memory, 0));
+    b.capacity = bytes;
+    memoryBytes = requirements.memoryRequirements.size;
+    return okStatus();
+}
+
+Result<int> VulkanContext::exportMemoryFd(const GpuBuffer& b)
+{
+    auto getFd = reinterpret_cast<PFN_vkGetMemoryFdKHR>(vkGetDeviceProcAddr(device_, "vkGetMemoryFdKHR"));
+    if (!externalMemoryFd_ || getFd == nullptr)
+        return makeError(ExitCode::Runtime, "vulkan: vkGetMemoryFdKHR is not available on {}",
+                         properties_.deviceName);
+    VkMemoryGetFdInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_GET_FD_INFO_KHR;
+    info.memory = b.memory;
+    info.handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
+    int fd = -1;
+    SR_VK_CHECK(getFd(device_, &info, &fd));
+    return fd;
+}
+
+Status VulkanContext::createExportableSemaphore(VkSemaphore& semaphore)
+{
+    constexpr auto kHandle = VK_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_FD_BIT;
+    if (!externalSemaphoreFd_)
+        return makeError(ExitCode::Runtime,
+                         "vulkan: {} does not offer {} (or the context was not made for sharing)",
+                         properties_.deviceName, VK_KHR_EXTERNAL_SEMAPHORE_FD_EXTENSION_NAME);
+    VkPhysicalDeviceExternalSemaphoreInfo query{};
+    query.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_SEMAPHORE_INFO;
+    query.handleType = kHandle;
+    VkExternalSemaphoreProperties external{};
+    external.sType = VK_STRUCTURE_TYPE_EXTERNAL_SEMAPHORE_PROPERTIES;
+    vkGetPhysicalDeviceExternalSemaphoreProperties(physical_, &query, &external);
+    if ((external.externalSemaphoreFeatures & VK_EXTERNAL_SEMAPHORE_FEATURE_EXPORTABLE_BIT) == 0 ||
+        (external.compatibleHandleTypes & kHandle) == 0)
+        return makeError(ExitCode::Runtime, "vulkan: {} cannot export a semaphore as an OPAQUE_FD",
+                         properties_.deviceName);
+    VkExportSemaphoreCreateInfo exportInfo{};
+    exportInfo.sType = VK_STRUCTURE_TYPE_EXPORT_SEMAPHORE_CREATE_INFO;
+    exportInfo.handleTypes = kHandle;
+    VkSemaphoreCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO;
+    info.pNext = &exportInfo;
+    SR_VK_CHECK(vkCreateSemaphore(device_, &info, nullptr, &semaphore));
+    return okStatus();
+}
+
+Result<int> VulkanContext::exportSemaphoreFd(VkSemaphore semaphore)
+{
+    auto getFd =
+        reinterpret_cast<PFN_vkGetSemaphoreFdKHR>(vkGetDeviceProcAddr(device_, "vkGetSemaphoreFdKHR"));
+    if (!externalSemaphoreFd_ || getFd == nullptr)
+        return makeError(ExitCode::Runtime, "vulkan: vkGetSemaphoreFdKHR is not available on {}",
+                         properties_.deviceName);
+    VkSemaphoreGetFdInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_SEMAPHORE_GET_FD_INFO_KHR;
+    info.semaphore = semaphore;
+    info.handleType = VK_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_FD_BIT;
+    int fd = -1;
+    SR_VK_CHECK(getFd(device_, &info, &fd));
+    return fd;
 }
 
 Status VulkanContext::allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect,
@@ -771,7 +947,7 @@ Status VulkanContext::beginCommands()
     return okStatus();
 }
 
-Status VulkanContext::submitAndWait()
+Status VulkanContext::submitAndWait(VkSemaphore wait, VkPipelineStageFlags waitStages)
 {
     SR_VK_CHECK(vkEndCommandBuffer(commandBuffer_));
     // Reset here rather than after the wait, so that a failed wait cannot leave it signalled.
@@ -780,6 +956,11 @@ Status VulkanContext::submitAndWait()
     submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &commandBuffer_;
+    if (wait != VK_NULL_HANDLE) {
+        submit.waitSemaphoreCount = 1;
+        submit.pWaitSemaphores = &wait;
+        submit.pWaitDstStageMask = &waitStages;
+    }
     SR_VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence_));
     SR_VK_CHECK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
     return okStatus();

@@ -17,6 +17,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -103,6 +104,15 @@ struct PresentTarget {
     std::function<VkResult(VkInstance, VkSurfaceKHR*)> createSurface;
 };
 
+// A context whose memory and semaphores another API imports (the viewer's CUDA path,
+// render/frame_share.h): it must be on that API's GPU, which both name by the same UUID
+// (VkPhysicalDeviceIDProperties::deviceUUID, cudaDeviceProp::uuid). Its device enables
+// VK_KHR_external_memory_fd and VK_KHR_external_semaphore_fd where offered (the non-fd halves are core in
+// Vulkan 1.1); the export calls below fail in one line where they are not.
+struct ExternalSharing {
+    std::array<uint8_t, 16> deviceUuid{};
+};
+
 class VulkanContext {
 public:
     VulkanContext();
@@ -113,7 +123,10 @@ public:
     // Creates everything on device `index` of the project's device list (GPUs first, CPU
     // implementations last; -1 picks the first), the same list for both kinds, so an index names
     // the same device for every backend. On failure the destructor releases whatever was created.
-    Status init(int index, QueueKind kind, const PresentTarget* present = nullptr);
+    // With `sharing`, only the device of that UUID is taken (index -1: wherever it is in the list; else
+    // device `index` must be it), and the device enables what exporting needs.
+    Status init(int index, QueueKind kind, const PresentTarget* present = nullptr,
+                const ExternalSharing* sharing = nullptr);
 
     // Waits for all submitted work; a failure is printed, as there is no caller left to return it
     // to when this runs before destruction.
@@ -132,6 +145,9 @@ public:
     // The window surface of a context made with a PresentTarget, else VK_NULL_HANDLE.
     VkSurfaceKHR surface() const { return surface_; }
     VkPhysicalDevice physicalDevice() const { return physical_; }
+    uint32_t queueFamily() const { return queueFamily_; }
+    // VkPhysicalDeviceIDProperties::deviceUUID of the selected device.
+    const std::array<uint8_t, 16>& deviceUuid() const { return deviceUuid_; }
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     // Largest buffer a storage descriptor can cover whole.
     VkDeviceSize maxStorageBytes() const { return maxStorageBytes_; }
@@ -147,6 +163,17 @@ public:
     Status allocateBuffer(GpuBuffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage,
                           std::initializer_list<VkMemoryPropertyFlags> preferredMemory);
     void destroyBuffer(GpuBuffer& b);
+    // A device-local buffer whose memory can be exported as an OPAQUE_FD (a context made with
+    // ExternalSharing): `memoryBytes` is the allocation's size and `dedicated` whether it is a dedicated
+    // allocation (where the device requires or prefers one), both of which the importer must be told.
+    Status allocateExportableBuffer(GpuBuffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                                    VkDeviceSize& memoryBytes, bool& dedicated);
+    // A new file descriptor of `b`'s memory (vkGetMemoryFdKHR), which the caller then owns.
+    Result<int> exportMemoryFd(const GpuBuffer& b);
+    // A binary semaphore that can be exported as an OPAQUE_FD, and a new descriptor of it
+    // (vkGetSemaphoreFdKHR). The caller destroys the semaphore (vkDestroySemaphore) and owns the fd.
+    Status createExportableSemaphore(VkSemaphore& semaphore);
+    Result<int> exportSemaphoreFd(VkSemaphore semaphore);
     // Same for a device-local optimal-tiling image in layout UNDEFINED.
     Status allocateImage(GpuImage& image, VkFormat format, VkImageAspectFlags aspect, uint32_t width,
                          uint32_t height, VkImageUsageFlags usage);
@@ -184,7 +211,9 @@ public:
     // Recording and submission of the context's one command buffer.
     VkCommandBuffer commandBuffer() const { return commandBuffer_; }
     Status beginCommands();
-    Status submitAndWait();
+    // Submits the command buffer and waits for its fence. With `wait`, the submission first waits on
+    // that binary semaphore at `waitStages` (which must have a signal pending, e.g. from another API).
+    Status submitAndWait(VkSemaphore wait = VK_NULL_HANDLE, VkPipelineStageFlags waitStages = 0);
 
     // A timestamp query pool of at least `queries` entries.
     Status ensureQueryPool(uint32_t queries);
@@ -195,14 +224,15 @@ public:
 
 private:
     Status createInstance(const PresentTarget* present);
-    Status selectDevice(int index, QueueKind kind);
-    Status createDevice(QueueKind kind);
+    Status selectDevice(int index, QueueKind kind, const ExternalSharing* sharing);
+    Status createDevice(QueueKind kind, const ExternalSharing* sharing);
     Status createDescriptorObjects();
     Status createCommandObjects();
     uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const;
     Status allocateMemory(const char* what, VkDeviceSize bytes, const VkMemoryRequirements& requirements,
                           std::initializer_list<VkMemoryPropertyFlags> preferredMemory,
-                          VkDeviceMemory& memory, VkDeviceSize& allocated, VkMemoryPropertyFlags& flags);
+                          VkDeviceMemory& memory, VkDeviceSize& allocated, VkMemoryPropertyFlags& flags,
+                          const void* allocateNext = nullptr);
     void freeMemory(VkDeviceMemory& memory, VkDeviceSize& allocated);
 
     std::shared_ptr<ValidationLog> validationLog_;
@@ -220,6 +250,9 @@ private:
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
     bool rectangularLines_ = false;
+    std::array<uint8_t, 16> deviceUuid_{};
+    bool externalMemoryFd_ = false;     // VK_KHR_external_memory_fd enabled
+    bool externalSemaphoreFd_ = false;  // VK_KHR_external_semaphore_fd enabled
 
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
