@@ -89,7 +89,8 @@ bool hasKind(const json& value, Kind kind)
 {
     switch (kind) {
     case Kind::String: return value.is_string();
-    case Kind::Integer: return value.is_number_unsigned() && value.get<uint64_t>() <= 0xffffffffu;
+    case Kind::Integer:
+        return value.is_number_integer() && value.get<int64_t>() >= 0 && value.get<int64_t>() <= 0xffffffffll;
     case Kind::Number: return value.is_number() && std::isfinite(value.get<double>());
     case Kind::Bool: return value.is_boolean();
     case Kind::Vec3:
@@ -260,6 +261,19 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     return job;
 }
 
+// Defaults are checked where they are written, so that a bad value is reported there and not at the
+// first job that inherits it.
+Status checkDefaults(const json& defaults, const std::string& where)
+{
+    SR_TRY(checkKeys(defaults, true, where));
+    json probe = defaults;
+    if (!probe.contains("scene")) probe["scene"] = "builtin";
+    probe["output"] = "probe.png";
+    auto job = makeJob(probe, 0, where, "");
+    if (!job) return job.error();
+    return okStatus();
+}
+
 }  // namespace
 
 const std::vector<std::string>& manifestKeys()
@@ -275,7 +289,7 @@ const std::vector<std::string>& manifestKeys()
 Result<Manifest> parseManifest(const std::string& text, const std::string& name, const std::string& baseDir,
                                const nlohmann::json& commandLine)
 {
-    SR_TRY(checkKeys(commandLine, true, "command line"));
+    SR_TRY(checkDefaults(commandLine, "command line"));
     Manifest manifest;
     manifest.path = name;
     json defaults = commandLine;
@@ -302,7 +316,7 @@ Result<Manifest> parseManifest(const std::string& text, const std::string& name,
             if (object.size() != 1 || !object["defaults"].is_object())
                 return makeError(ExitCode::Usage,
                                  "{}: the header is {{\"defaults\": {{...}}}} and nothing else", where);
-            SR_TRY(checkKeys(object["defaults"], true, where));
+            SR_TRY(checkDefaults(object["defaults"], where));
             defaults.update(object["defaults"]);
             sawLine = true;
             continue;
