@@ -215,17 +215,17 @@ TEST(BatchManifest, TurntablesExpandIntoFrames)
         "{\"scene\": \"builtin\", \"orbit\": \"0:90\", \"frames\": 4, \"output\": \"t_%02d.png\", \"aov\": "
         "\"t_%d.exr\"}\n"
         "{\"scene\": \"builtin\", \"output\": \"single.png\"}\n",
-        "m", "", json::object());
+        "m", "100%", json::object());
     ASSERT_TRUE(m.ok()) << m.error().message;
     auto frames = expandJobs(*m);
     ASSERT_TRUE(frames.ok()) << frames.error().message;
     ASSERT_EQ(frames->size(), 5u);
-    EXPECT_EQ((*frames)[3].png, "t_03.png");
-    EXPECT_EQ((*frames)[3].aov, "t_3.exr");
+    EXPECT_EQ((*frames)[3].png, "100%/t_03.png");  // a % in the folder is no pattern
+    EXPECT_EQ((*frames)[3].aov, "100%/t_3.exr");
     EXPECT_EQ((*frames)[3].azimuthDeg, 90.0f);
     EXPECT_EQ((*frames)[1].azimuthDeg, 30.0f);
     EXPECT_EQ((*frames)[1].settings["frame"], 1);
-    EXPECT_EQ((*frames)[4].png, "single.png");
+    EXPECT_EQ((*frames)[4].png, "100%/single.png");
     EXPECT_EQ((*frames)[0].sceneKey, (*frames)[4].sceneKey);
 
     struct Case {

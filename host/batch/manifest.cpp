@@ -127,11 +127,15 @@ std::string parseMessage(const json::parse_error& e)
     return bracket == std::string::npos ? message : message.substr(bracket + 2);
 }
 
+}  // namespace
+
 std::string joinPath(const std::string& baseDir, const std::string& path)
 {
     if (baseDir.empty() || path.empty() || path.front() == '/') return path;
     return baseDir + "/" + path;
 }
+
+namespace {
 
 // NAME -> value in `table`, or a one-line error listing the names.
 Result<uint32_t> lookup(const std::map<std::string, uint32_t>& table, const json& job, const char* key,
@@ -228,6 +232,9 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     s.lightColor = vec3Of(merged, "light_color", s.lightColor);
     s.background = vec3Of(merged, "background", s.background);
 
+    job.outputPattern = output;
+    job.aovPattern = aov;
+    job.statsPattern = stats;
     job.output = joinPath(baseDir, output);
     job.aov = joinPath(baseDir, aov);
     job.stats = joinPath(baseDir, stats);
@@ -292,6 +299,7 @@ Result<Manifest> parseManifest(const std::string& text, const std::string& name,
     SR_TRY(checkDefaults(commandLine, "command line"));
     Manifest manifest;
     manifest.path = name;
+    manifest.baseDir = baseDir;
     json defaults = commandLine;
     bool sawLine = false;
     std::istringstream in(text);

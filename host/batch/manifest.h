@@ -35,13 +35,15 @@ struct ManifestJob {
     // light_dir, light_color, background, point_size, line_width; the rest at RenderSettings' defaults.
     RenderSettings settings;
     std::string output, aov, stats;  // resolved paths (patterns when frames > 0); aov, stats may be empty
+    std::string outputPattern, aovPattern, statsPattern;  // the same as written (joined after expansion)
     // Every setting that decides the images, with the defaults filled in and the paths as written:
     // equal for two jobs exactly when they render the same files (the sidecar records it).
     nlohmann::json canonical;
 };
 
 struct Manifest {
-    std::string path;  // as given, for messages
+    std::string path;     // as given, for messages
+    std::string baseDir;  // relative paths are joined to it (empty: used as written)
     std::vector<ManifestJob> jobs;
 };
 
@@ -53,6 +55,9 @@ Result<Manifest> parseManifest(const std::string& text, const std::string& name,
 
 // Reads and parses the file at `path` (relative paths in it against its folder).
 Result<Manifest> loadManifest(const std::string& path, const nlohmann::json& commandLine);
+
+// `path` joined to `baseDir` when it is relative (and baseDir is not empty).
+std::string joinPath(const std::string& baseDir, const std::string& path);
 
 // The keys a job may have, in the order the README lists them.
 const std::vector<std::string>& manifestKeys();

@@ -116,7 +116,8 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
         if (spec->kind == CameraSpec::Kind::Gltf)
             return makeError(ExitCode::Usage,
                              "{}: a turntable orbits the scene: 'camera' must be auto or orbit:...", where);
-        // The patterns are checked and expanded from the paths as written, so messages show them so.
+        // The patterns are the paths as written (a % in the manifest's folder is no conversion), joined to
+        // the manifest's folder once expanded.
         std::optional<FramePattern> png, aov, stats;
         auto pattern = [&](const char* option, const std::string& path,
                            std::optional<FramePattern>& out) -> Status {
@@ -126,17 +127,17 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
             out = *p;
             return okStatus();
         };
-        SR_TRY(pattern("output", job.output, png));
-        SR_TRY(pattern("aov", job.aov, aov));
-        SR_TRY(pattern("stats", job.stats, stats));
+        SR_TRY(pattern("output", job.outputPattern, png));
+        SR_TRY(pattern("aov", job.aovPattern, aov));
+        SR_TRY(pattern("stats", job.statsPattern, stats));
         for (uint32_t k = 0; k < job.frames; ++k) {
             BatchFrame f;
             f.job = &job;
             f.frame = k;
             f.azimuthDeg = turntableAzimuth(*range, k, job.frames);
-            f.png = framePath(*png, k);
-            f.aov = aov ? framePath(*aov, k) : "";
-            f.stats = stats ? framePath(*stats, k) : "";
+            f.png = joinPath(manifest.baseDir, framePath(*png, k));
+            f.aov = aov ? joinPath(manifest.baseDir, framePath(*aov, k)) : "";
+            f.stats = stats ? joinPath(manifest.baseDir, framePath(*stats, k)) : "";
             f.settings = job.canonical;
             f.settings["frame"] = k;
             f.sceneKey = key;
@@ -384,8 +385,8 @@ public:
             Status status = o.get_future().get();
             if (!status && !failure) failure = status.error();
         }
-        go.set_value(!failure);
         start_ = Clock::now();
+        go.set_value(!failure);
         std::vector<std::thread> writers;
         if (!failure)
             for (size_t t = 0; t < ioThreads_; ++t) writers.emplace_back([&] { write(); });
