@@ -18,6 +18,7 @@ namespace sr {
 enum class ExitCode : int {
     Ok = 0,
     CompareFailed = 1,  // `raster compare` found a difference beyond tolerance
+    JobsFailed = 1,     // `raster batch` rendered the rest, but some jobs failed (named in its summary)
     Usage = 2,          // bad arguments, missing backend, unreadable or malformed input
     Runtime = 3,        // a GPU API call failed at run time
 };

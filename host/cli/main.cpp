@@ -18,6 +18,8 @@
 //   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
 //                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
 //                [--repeat N] [--json F]
+//   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
+//                [--io-threads N] [--queue N] [--summary F] [--width W --height H --camera ... (defaults)]
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -32,6 +34,7 @@
 #include <fmt/format.h>
 
 #include "cli/backend.h"
+#include "cli/batch.h"
 #include "cli/bench.h"
 #include "cli/outputs.h"
 #include "cli/study.h"
@@ -650,6 +653,9 @@ int main(int argc, char** argv)
     studyApp->add_option("--device", study.options.device, "device index within each backend");
     studyApp->add_option("--json", study.jsonPath, "all results as JSON (ci/study-chart draws them)");
 
+    BatchOptions batch;
+    CLI::App* batchApp = addBatchCommand(app, batch);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -663,6 +669,11 @@ int main(int argc, char** argv)
     if (benchApp->parsed()) status = runBenchCommand(bench);
     if (studyApp->parsed()) status = runStudyCommand(study);
     if (viewApp->parsed()) status = runView(view);
+    if (batchApp->parsed()) {
+        auto allRendered = runBatch(batch);
+        if (allRendered.ok() && !*allRendered) return int(ExitCode::JobsFailed);
+        if (!allRendered.ok()) status = allRendered.error();
+    }
     if (cmp->parsed()) {
         auto pass = runCompare(compare);
         if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);

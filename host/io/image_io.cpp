@@ -76,15 +76,21 @@ struct ExrPlane {
     const void* data;
 };
 
+// RGBA bytes, spelled out byte by byte so the file does not depend on the host's endianness.
+std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
+{
+    std::vector<unsigned char> bytes(image.pixels.size() * 4);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (int c = 0; c < 4; ++c) bytes[4 * i + size_t(c)] = (image.pixels[i] >> (8 * c)) & 0xffu;
+    return bytes;
+}
+
 }  // namespace
 
 Status writePng(const std::string& path, const RgbaImage& image)
 {
     SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
-    // Spelled out byte by byte so the file does not depend on the host's endianness.
-    std::vector<unsigned char> bytes(image.pixels.size() * 4);
-    for (size_t i = 0; i < image.pixels.size(); ++i)
-        for (int c = 0; c < 4; ++c) bytes[4 * i + size_t(c)] = (image.pixels[i] >> (8 * c)) & 0xffu;
+    const std::vector<unsigned char> bytes = rgbaBytes(image);
     errno = 0;
     int ok = stbi_write_png(path.c_str(), int(image.width), int(image.height), 4, bytes.data(),
                             int(image.width * 4));
@@ -93,6 +99,23 @@ Status writePng(const std::string& path, const RgbaImage& image)
                          errno ? std::strerror(errno) : "stb_image_write failed");
     }
     return okStatus();
+}
+
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image)
+{
+    SR_TRY(checkSize("a PNG in memory", image.width, image.height, image.pixels.size(), "the image"));
+    const std::vector<unsigned char> bytes = rgbaBytes(image);
+    std::vector<unsigned char> file;
+    auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<unsigned char>*>(context);
+        out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+    };
+    // The same encoder and settings as stbi_write_png, so the bytes equal writePng's file.
+    if (!stbi_write_png_to_func(append, &file, int(image.width), int(image.height), 4, bytes.data(),
+                                int(image.width * 4)))
+        return makeError(ExitCode::Usage, "cannot encode a {}x{} PNG: stb_image_write failed", image.width,
+                         image.height);
+    return file;
 }
 
 Result<RgbaImage> readPng(const std::string& path)

@@ -49,6 +49,9 @@ struct AovImage {
 };
 
 Status writePng(const std::string& path, const RgbaImage& image);
+// The bytes writePng writes, in memory (`raster batch` encodes on its I/O threads and times the write
+// apart).
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image);
 Result<RgbaImage> readPng(const std::string& path);  // any PNG, expanded to RGBA8
 Status writeAovExr(const std::string& path, const AovImage& aov);
 // Needs the `id` and `Z` channels; reads each surface group whose channels are all present, and fails

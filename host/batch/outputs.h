@@ -1,0 +1,54 @@
+// outputs.h - the files of a batch job, written so that a killed batch never leaves a final name that a
+// rerun would trust: each file is written under a temporary name and renamed into place, and the job's
+// sidecar (NAME.job.json: the settings that produced the files) is written last. A job counts as done
+// exactly when its sidecar records the settings asked for now and every output exists.
+//
+// The renames protect against a killed process, not against a power cut (nothing is fsynced).
+#ifndef RASTER_BATCH_OUTPUTS_H
+#define RASTER_BATCH_OUTPUTS_H
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "base/result.h"
+
+namespace sr {
+
+// PATH.tmp.<pid>: where `path` is written before the rename. The process id keeps two processes that
+// were given the same job (two shards run by hand with overlapping jobs) from writing into one file.
+std::string temporaryPath(const std::string& path);
+
+// Renames `from` onto `to` (atomic within a file system).
+Status renameFile(const std::string& from, const std::string& to);
+
+// `bytes` written to `path` (no rename).
+Status writeFile(const std::string& path, const void* data, size_t bytes);
+
+// `bytes` written to temporaryPath(path), then renamed onto `path`.
+Status writeFileAtomically(const std::string& path, const void* data, size_t bytes);
+
+// The folder holding `path`, created with its parents when missing.
+Status createParentFolder(const std::string& path);
+
+// `png` + ".job.json".
+std::string sidecarPath(const std::string& png);
+
+// What a sidecar holds for a job: its settings, and the scene file's size and modification time so that
+// an edited scene renders again (procedural scenes and unreadable files have none).
+nlohmann::json sidecarJson(const nlohmann::json& settings, const std::string& scenePath);
+
+// Whether the job is done: the sidecar at `sidecar` parses and equals `expected`, and every one of
+// `outputs` exists.
+bool jobComplete(const std::string& sidecar, const nlohmann::json& expected,
+                 const std::vector<std::string>& outputs);
+
+// Removes the leftovers of killed runs: files named F.tmp.<digits> for any F in `finals`, in the
+// folders that hold them. Returns how many were removed.
+size_t removeTemporaries(const std::vector<std::string>& finals);
+
+}  // namespace sr
+
+#endif  // RASTER_BATCH_OUTPUTS_H
