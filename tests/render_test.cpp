@@ -269,13 +269,20 @@ TEST_P(RenderTest, TimingsAndMemoryAreReported)
     s.warmup = 1;
     s.repeat = 3;
     RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
-    ASSERT_EQ(out.stages.size(), size_t(STAGE_COUNT));
+    // Every pipeline stage; the tess_* stages (numbered after them) only in tessellated frames, first.
+    ASSERT_EQ(out.stages.size(), size_t(STAGE_TESS_COUNT));
     for (const StageTiming& t : out.stages) {
         EXPECT_LE(t.minMs, t.medianMs);
         EXPECT_LE(t.medianMs, t.maxMs);
         EXPECT_GE(t.minMs, 0.0);
     }
     EXPECT_GE(out.peakDeviceBytes, 32u * 32u * 12u);  // visibility + framebuffer at least
+    s.tessellate = TESS_FLAT;
+    RenderOutput tess = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
+    ASSERT_EQ(tess.stages.size(), size_t(STAGE_COUNT));
+    EXPECT_EQ(tess.stages[0].name, "tess_count");
+    EXPECT_EQ(tess.stages[3].name, "tess_emit");
+    EXPECT_EQ(tess.stages[4].name, "clear");
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RenderTest, ::testing::Values("vulkan", "cuda"),

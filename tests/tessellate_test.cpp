@@ -13,8 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include "cli/study.h"
 #include "render/tessellate.h"
 #include "scene/camera.h"
+#include "study/scenes.h"
 #include "shared/tess_emit.h"
 #include "test_util.h"
 #include "vulkan/vulkan_graphics.h"
@@ -416,6 +418,39 @@ TEST_P(TessellationTest, SessionFramesEqualFreshRenders)
         EXPECT_EQ(fromSession[k].aov.depth, fresh.aov.depth);
         EXPECT_EQ(fromSession[k].color.pixels, fresh.color.pixels);
     }
+}
+
+// The study's tessellation group on lowpoly-sphere (what its Pareto chart plots): against the smooth
+// sphere, pn's silhouette error and PSNR improve as the edge length falls, and beat no tessellation,
+// flat and the centroid baseline, which keep the polygon's silhouette.
+TEST_P(TessellationTest, StudyShowsPnErrorFallingWithEdgeLength)
+{
+    auto scene = makeStudyScene("lowpoly-sphere", 96, 96, "");
+    ASSERT_TRUE(scene.ok());
+    RenderSettings base = testSettings(96, 96);
+    base.cullMode = CULL_BACK;
+    auto rows = measureAccuracy(*device_, *scene, base, {"fixed8"});
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    std::map<std::string, nlohmann::json> byLabel;
+    for (const nlohmann::json& row : *rows)
+        if (row["group"] == "tessellation") byLabel[row["setting"]] = row;
+    ASSERT_EQ(byLabel.size(), 10u);
+    auto silhouette = [&](const char* label) { return byLabel.at(label)["silhouette_px"].get<double>(); };
+    auto psnr = [&](const char* label) { return byLabel.at(label)["psnr"].get<double>(); };
+    EXPECT_GT(silhouette("tess-off"), 50.0);
+    // At 96 px no facet edge reaches 32 px: pn-32px draws the polygon.
+    EXPECT_LE(silhouette("pn-32px"), silhouette("tess-off"));
+    EXPECT_LT(silhouette("pn-16px"), silhouette("pn-32px"));
+    EXPECT_LE(silhouette("pn-8px"), silhouette("pn-16px"));
+    EXPECT_LE(silhouette("pn-2px"), silhouette("pn-8px"));
+    EXPECT_LT(silhouette("pn-2px"), silhouette("tess-off") / 3.0);
+    EXPECT_GT(psnr("pn-2px"), psnr("tess-off") + 3.0);
+    for (const char* polygon : {"flat-8px", "centroid-3"})
+        EXPECT_NEAR(silhouette(polygon), silhouette("tess-off"), silhouette("tess-off") / 10.0) << polygon;
+    std::printf("[ study lowpoly-sphere ] silhouette px: off %g, pn 32/16/8/4/2 px %g %g %g %g %g; PSNR off %.2f, "
+                "pn-2px %.2f dB\n",
+                silhouette("tess-off"), silhouette("pn-32px"), silhouette("pn-16px"), silhouette("pn-8px"),
+                silhouette("pn-4px"), silhouette("pn-2px"), psnr("tess-off"), psnr("pn-2px"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, TessellationTest, ::testing::Values("vulkan", "cuda"));

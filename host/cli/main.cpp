@@ -315,7 +315,11 @@ Status runRender(RenderCommand& cmd)
         auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
         if (!device) return device.error();
         if (!cmd.quality.empty()) {
-            StudyScene study{studySceneNameFor(cmd.scenePath), *scene, *camera, !scene->textures.empty()};
+            StudyScene study;
+            study.name = studySceneNameFor(cmd.scenePath);
+            study.scene = *scene;
+            study.camera = *camera;
+            study.textured = !scene->textures.empty();
             auto choice = chooseQuality(cmd.quality, cmd.studyPath, **device, study, s);
             if (!choice) return choice.error();
             s = withSetting(s, choice->setting);

@@ -173,14 +173,19 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
         if (progress) progress(fmt::format("{} {} on {}", s.name, what, backend));
     };
     tell("reference");
-    auto reference = renderScene(device, s.scene, s.camera, referenceSettings(base));
+    auto reference =
+        renderScene(device, s.referenceScene ? *s.referenceScene : s.scene, s.camera, referenceSettings(base));
     if (!reference) return reference.error();
     nlohmann::json rows = nlohmann::json::array();
-    for (const StudySetting& setting : studySettings(s.textured, methods)) {
+    for (const StudySetting& setting : studySettings(s.textured, methods, s.tessellation)) {
         tell(setting.label);
         auto out = renderScene(device, s.scene, s.camera, withSetting(base, setting));
         if (!out) return out.error();
         ImageError e = imageError(out->color, reference->color);
+        // Silhouette error: pixels covered in one image and not in the other (ids at sample 0).
+        size_t silhouette = 0;
+        for (size_t i = 0; i < std::min(out->aov.id.size(), reference->aov.id.size()); ++i)
+            silhouette += (out->aov.id[i] == EMPTY_ID) != (reference->aov.id[i] == EMPTY_ID);
         rows.push_back({{"scene", s.name},
                         {"backend", backend},
                         {"group", setting.group},
@@ -190,6 +195,10 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
                         {"ssaa", setting.ssaa},
                         {"texture_filter", textureFilterName(setting.textureFilter)},
                         {"uv", uvInterpolationName(setting.uvInterpolation)},
+                        {"tessellate", setting.tessellate},
+                        {"tess_edge_px", setting.tessEdgePx},
+                        {"tess_max_level", setting.tessMaxLevel},
+                        {"silhouette_px", silhouette},
                         {"ms", out->total.medianMs},
                         {"psnr", psnrJson(e.psnr)},
                         {"max_error", e.maxError},

@@ -142,6 +142,17 @@ Result<StudySetting> settingFromRow(const nlohmann::json& row)
     s.uvInterpolation = *u;
     s.msaa = uint32_t(*msaa);
     s.ssaa = uint32_t(*ssaa);
+    // Rows of studies before tessellation have no tessellation keys: off.
+    if (row.contains("tessellate")) {
+        auto mode = rowNumber(row, "tessellate");
+        auto edge = rowNumber(row, "tess_edge_px");
+        auto level = rowNumber(row, "tess_max_level");
+        if (!mode || !edge || !level || *mode < 0 || *mode > TESS_CENTROID)
+            return makeError(ExitCode::Usage, "accuracy row with invalid tessellation keys: {}", row.dump());
+        s.tessellate = uint32_t(*mode);
+        s.tessEdgePx = float(*edge);
+        s.tessMaxLevel = uint32_t(*level);
+    }
     if (double(s.msaa) != *msaa || double(s.ssaa) != *ssaa || s.ssaa < 1 || s.ssaa > MAX_SSAA ||
         (s.msaa != 1 && s.msaa != 2 && s.msaa != 4 && s.msaa != 8 && s.msaa != 16))
         return makeError(ExitCode::Usage, "accuracy row with an invalid msaa or ssaa: {}", row.dump());

@@ -41,8 +41,8 @@ Result<Scene> paletted(Scene scene, const char* what, Colour colour)
 
 const std::vector<std::string>& studySceneNames()
 {
-    static const std::vector<std::string> names = {"builtin", "checker-grazing", "dense",
-                                                   "bunny",   "sliver-fan",      "jittered-grid"};
+    static const std::vector<std::string> names = {"builtin",    "checker-grazing", "dense",         "bunny",
+                                                   "sliver-fan", "jittered-grid",   "lowpoly-sphere"};
     return names;
 }
 
@@ -109,14 +109,24 @@ Result<StudyScene> makeStudyScene(const std::string& name, unsigned width, unsig
     } else if (name == "jittered-grid") {
         scene = jitteredGridScene();
         identityCamera = true;
+    } else if (name == "lowpoly-sphere") {
+        // A sphere of 4 x 8 facets with its exact normals, against the 128 x 256 one (builtin:dense).
+        scene = tessellatedSphere(4);
     } else {
         std::string known;
         for (const std::string& n : studySceneNames()) known += (known.empty() ? "" : ", ") + n;
         return makeError(ExitCode::Usage, "unknown study scene '{}' (expected {})", name, known);
     }
     if (!scene) return scene.error();
-    StudyScene s{name, std::move(*scene), clipCamera(), false};
+    StudyScene s;
+    s.name = name;
+    s.scene = std::move(*scene);
+    s.camera = clipCamera();
     s.textured = !s.scene.textures.empty();
+    if (name == "lowpoly-sphere") {
+        s.tessellation = true;
+        s.referenceScene = tessellatedSphere(128);
+    }
     if (!identityCamera) {
         auto camera = resolveCamera(spec, s.scene, width, height);
         if (!camera) return camera.error();

@@ -14,6 +14,7 @@
 #ifndef RASTER_STUDY_SCENES_H
 #define RASTER_STUDY_SCENES_H
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,14 @@ struct StudyScene {
     Scene scene;
     CameraMatrices camera;
     bool textured = false;  // the texture and UV groups apply
+    // The tessellation group applies, and the reference is this smooth surface instead of the scene
+    // itself (lowpoly-sphere: pn's silhouette and shading against the sphere it approximates).
+    bool tessellation = false;
+    std::optional<Scene> referenceScene;
 };
 
 // The scene names in the study's order: builtin, checker-grazing, dense, bunny, sliver-fan,
-// jittered-grid.
+// jittered-grid, lowpoly-sphere.
 const std::vector<std::string>& studySceneNames();
 
 // The study scene `name` framed for width x height: builtin and dense under the auto camera, the

@@ -76,7 +76,7 @@ std::string uvInterpolationName(uint32_t uv)
     return toName(kUvs, uv);
 }
 
-std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods)
+std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods, bool tessellation)
 {
     std::vector<StudySetting> out;
     for (uint32_t m : {1u, 2u, 4u, 8u, 16u}) out.push_back({"aa", "msaa" + std::to_string(m), m, 1});
@@ -94,6 +94,16 @@ std::vector<StudySetting> studySettings(bool textured, const std::vector<std::st
         auto method = rasterMethodFromName(name);
         if (method) out.push_back({"method", name, 1, 1, TEXTURE_FILTER_TRILINEAR, UV_PERSPECTIVE, *method});
     }
+    if (tessellation) {
+        auto tess = [&](std::string label, uint32_t mode, float edgePx, uint32_t level) {
+            out.push_back({"tessellation", std::move(label), 1, 1, TEXTURE_FILTER_TRILINEAR, UV_PERSPECTIVE,
+                           RASTER_FIXED8, mode, edgePx, level});
+        };
+        tess("tess-off", TESS_OFF, 8.0f, 16);
+        tess("flat-8px", TESS_FLAT, 8.0f, 16);
+        for (int px : {32, 16, 8, 4, 2}) tess("pn-" + std::to_string(px) + "px", TESS_PN, float(px), 64);
+        for (uint32_t level : {1u, 2u, 3u}) tess("centroid-" + std::to_string(level), TESS_CENTROID, 8.0f, level);
+    }
     return out;
 }
 
@@ -104,6 +114,9 @@ RenderSettings withSetting(RenderSettings base, const StudySetting& setting)
     base.textureFilter = setting.textureFilter;
     base.uvInterpolation = setting.uvInterpolation;
     base.rasterMethod = setting.rasterMethod;
+    base.tessellate = setting.tessellate;
+    base.tessEdgePx = setting.tessEdgePx;
+    base.tessMaxLevel = setting.tessMaxLevel;
     return base;
 }
 
@@ -114,6 +127,7 @@ RenderSettings referenceSettings(RenderSettings base)
     base.textureFilter = TEXTURE_FILTER_TRILINEAR;
     base.uvInterpolation = UV_PERSPECTIVE;
     base.rasterMethod = RASTER_FIXED8;
+    base.tessellate = TESS_OFF;
     base.warmup = 0;
     base.repeat = 1;
     return base;
