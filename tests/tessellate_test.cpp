@@ -447,10 +447,11 @@ TEST_P(TessellationTest, StudyShowsPnErrorFallingWithEdgeLength)
     EXPECT_GT(psnr("pn-2px"), psnr("tess-off") + 3.0);
     for (const char* polygon : {"flat-8px", "centroid-3"})
         EXPECT_NEAR(silhouette(polygon), silhouette("tess-off"), silhouette("tess-off") / 10.0) << polygon;
-    std::printf("[ study lowpoly-sphere ] silhouette px: off %g, pn 32/16/8/4/2 px %g %g %g %g %g; PSNR off %.2f, "
-                "pn-2px %.2f dB\n",
-                silhouette("tess-off"), silhouette("pn-32px"), silhouette("pn-16px"), silhouette("pn-8px"),
-                silhouette("pn-4px"), silhouette("pn-2px"), psnr("tess-off"), psnr("pn-2px"));
+    std::printf(
+        "[ study lowpoly-sphere ] silhouette px: off %g, pn 32/16/8/4/2 px %g %g %g %g %g; PSNR off %.2f, "
+        "pn-2px %.2f dB\n",
+        silhouette("tess-off"), silhouette("pn-32px"), silhouette("pn-16px"), silhouette("pn-8px"),
+        silhouette("pn-4px"), silhouette("pn-2px"), psnr("tess-off"), psnr("pn-2px"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, TessellationTest, ::testing::Values("vulkan", "cuda"));

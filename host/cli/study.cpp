@@ -173,8 +173,8 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
         if (progress) progress(fmt::format("{} {} on {}", s.name, what, backend));
     };
     tell("reference");
-    auto reference =
-        renderScene(device, s.referenceScene ? *s.referenceScene : s.scene, s.camera, referenceSettings(base));
+    auto reference = renderScene(device, s.referenceScene ? *s.referenceScene : s.scene, s.camera,
+                                 referenceSettings(base));
     if (!reference) return reference.error();
     nlohmann::json rows = nlohmann::json::array();
     for (const StudySetting& setting : studySettings(s.textured, methods, s.tessellation)) {

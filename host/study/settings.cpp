@@ -76,7 +76,8 @@ std::string uvInterpolationName(uint32_t uv)
     return toName(kUvs, uv);
 }
 
-std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods, bool tessellation)
+std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods,
+                                        bool tessellation)
 {
     std::vector<StudySetting> out;
     for (uint32_t m : {1u, 2u, 4u, 8u, 16u}) out.push_back({"aa", "msaa" + std::to_string(m), m, 1});
@@ -102,7 +103,8 @@ std::vector<StudySetting> studySettings(bool textured, const std::vector<std::st
         tess("tess-off", TESS_OFF, 8.0f, 16);
         tess("flat-8px", TESS_FLAT, 8.0f, 16);
         for (int px : {32, 16, 8, 4, 2}) tess("pn-" + std::to_string(px) + "px", TESS_PN, float(px), 64);
-        for (uint32_t level : {1u, 2u, 3u}) tess("centroid-" + std::to_string(level), TESS_CENTROID, 8.0f, level);
+        for (uint32_t level : {1u, 2u, 3u})
+            tess("centroid-" + std::to_string(level), TESS_CENTROID, 8.0f, level);
     }
     return out;
 }
