@@ -7,7 +7,9 @@
 // neighbours of different factors), coverage that flat tessellation must not change, and pn's
 // silhouette against the analytic sphere.
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <set>
 
@@ -455,6 +457,21 @@ TEST_P(TessellationTest, StudyShowsPnErrorFallingWithEdgeLength)
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, TessellationTest, ::testing::Values("vulkan", "cuda"));
+
+// Bad tessellation options: one line, exit 2, nothing rendered.
+TEST(TessellationTool, BadOptionsAreOneLineUsageErrors)
+{
+    ScratchDir dir("tess");
+    for (const char* options : {"--tessellate pn --tess-edge-px 0", "--tessellate flat --tess-edge-px nan",
+                                "--tessellate pn --tess-max-level 65",
+                                "--tessellate centroid --tess-max-level 9", "--tessellate sometimes"}) {
+        ToolRun run = runTool(std::string("render --backend vulkan --width 16 --height 16 -o ") +
+                              dir.file("t.png") + " " + options);
+        EXPECT_EQ(run.exitCode, 2) << options;
+        EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1) << run.stderrText;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("t.png"))) << options;
+    }
+}
 
 // lavapipe's graphics pipeline drawing the host's generated mesh (what `--backend vulkan-graphics
 // --tessellate` does) against the compute backend's frame: ids identical (mapped back to the scene's

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "render/option_names.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
 
@@ -53,18 +54,10 @@ const std::vector<KeyInfo> kKeys = {{"id", Kind::String, false},
                                     {"exr", Kind::String, false},
                                     {"stats", Kind::String, false}};
 
-const std::map<std::string, uint32_t> kCullModes = {
-    {"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}};
-const std::map<std::string, uint32_t> kTextureFilters = {{"auto", TEXTURE_FILTER_AUTO},
-                                                         {"nearest", TEXTURE_FILTER_NEAREST},
-                                                         {"bilinear", TEXTURE_FILTER_BILINEAR},
-                                                         {"trilinear", TEXTURE_FILTER_TRILINEAR}};
-const std::map<std::string, uint32_t> kUvInterpolations = {{"perspective", UV_PERSPECTIVE},
-                                                           {"affine", UV_AFFINE}};
-const std::map<std::string, uint32_t> kRasterMethods = {{"fixed8", RASTER_FIXED8},
-                                                        {"fixed4", RASTER_FIXED4},
-                                                        {"float", RASTER_FLOAT},
-                                                        {"scanline", RASTER_SCANLINE}};
+const std::map<std::string, uint32_t>& kCullModes = cullModesByName();
+const std::map<std::string, uint32_t>& kTextureFilters = textureFiltersByName();
+const std::map<std::string, uint32_t>& kUvInterpolations = uvInterpolationsByName();
+const std::map<std::string, uint32_t>& kRasterMethods = rasterMethodsByName();
 
 const KeyInfo* findKey(const std::string& name)
 {

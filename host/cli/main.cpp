@@ -47,6 +47,7 @@
 #include "render/compute_device.h"
 #include "io/image_io.h"
 #include "render/aov.h"
+#include "render/option_names.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "cli/stats_json.h"
@@ -86,8 +87,7 @@ struct RenderCommand {
 // Most samples per pixel --aov-samples writes (two EXR channels each).
 constexpr uint32_t kMaxAovSamples = 64;
 
-const std::map<std::string, uint32_t> kCullModes = {
-    {"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}};
+const std::map<std::string, uint32_t>& kCullModes = cullModesByName();
 // --shading names in SHADING_* order, and NAME -> SHADING_*, from the renderer's names.
 std::vector<std::string> shadingModeNames()
 {
@@ -101,18 +101,10 @@ std::map<std::string, uint32_t> shadingModesByName()
     for (uint32_t mode = 0; mode < kShadingModeCount; ++mode) modes[shadingModeName(mode)] = mode;
     return modes;
 }
-const std::map<std::string, uint32_t> kTextureFilters = {{"auto", TEXTURE_FILTER_AUTO},
-                                                         {"nearest", TEXTURE_FILTER_NEAREST},
-                                                         {"bilinear", TEXTURE_FILTER_BILINEAR},
-                                                         {"trilinear", TEXTURE_FILTER_TRILINEAR}};
-const std::map<std::string, uint32_t> kUvInterpolations = {{"perspective", UV_PERSPECTIVE},
-                                                           {"affine", UV_AFFINE}};
-const std::map<std::string, uint32_t> kRasterMethods = {{"fixed8", RASTER_FIXED8},
-                                                        {"fixed4", RASTER_FIXED4},
-                                                        {"float", RASTER_FLOAT},
-                                                        {"scanline", RASTER_SCANLINE}};
-const std::map<std::string, uint32_t> kTessModes = {
-    {"off", TESS_OFF}, {"flat", TESS_FLAT}, {"pn", TESS_PN}, {"centroid", TESS_CENTROID}};
+const std::map<std::string, uint32_t>& kTextureFilters = textureFiltersByName();
+const std::map<std::string, uint32_t>& kUvInterpolations = uvInterpolationsByName();
+const std::map<std::string, uint32_t>& kRasterMethods = rasterMethodsByName();
+const std::map<std::string, uint32_t>& kTessModes = tessModesByName();
 const std::map<std::string, BackendKind> kBackends = {
     {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
 
