@@ -1,8 +1,7 @@
 // tess_scan_sums.comp - stage `tess_scan_sums`: exclusive scan of the blocks' totals in tessSums[1..], in
 // place (each block's first vertex and triangle), and the frame's totals into tessSums[0], the one
-// entry the host reads:
-// generated vertices, generated triangles, culled scene triangles, and 1 in .w when a total passed 2^31
-// (the host reports it instead of letting offsets wrap). One group of SCAN_GROUP_SIZE threads.
+// entry the host reads: generated vertices, generated triangles, culled scene triangles, and 1 in .w
+// when a total passed 2^31 (the host reports it instead of letting offsets wrap). One group of SCAN_GROUP_SIZE threads.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"

@@ -1,8 +1,7 @@
 // tess_scan_sums.cuh - stage `tess_scan_sums`: exclusive scan of the blocks' totals in tessSums[1..], in
 // place (each block's first vertex and triangle), and the frame's totals into tessSums[0], the one
-// entry the host reads:
-// generated vertices, generated triangles, culled scene triangles, and 1 in .w when a total passed 2^31
-// (the host reports it instead of letting offsets wrap). One block of SCAN_GROUP_SIZE threads.
+// entry the host reads: generated vertices, generated triangles, culled scene triangles, and 1 in .w
+// when a total passed 2^31 (the host reports it instead of letting offsets wrap). One block of SCAN_GROUP_SIZE threads.
 namespace sr {
 
 // Running exclusive scan of one component: returns this lane's base and adds the chunk to carry.
