@@ -33,7 +33,7 @@ TessVertex loadTessVertex(uint i)
 
 TessPatch loadTessPatch(TessSource s)
 {
-    return tessMakePatch(loadTessVertex(s.i0), loadTessVertex(s.i1), loadTessVertex(s.i2), s.flags);
+    return tessMakePatch(params.tessMode, loadTessVertex(s.i0), loadTessVertex(s.i1), loadTessVertex(s.i2), s.flags);
 }
 
 #endif  // RASTER_TESS_BUFFERS_GLSL

@@ -17,7 +17,7 @@ __device__ inline TessVertex loadTessVertex(const RasterParams& params, const Bu
 
 __device__ inline TessPatch loadTessPatch(const RasterParams& params, const Buffers& b, const TessSource& s)
 {
-    return tessMakePatch(loadTessVertex(params, b, s.i0), loadTessVertex(params, b, s.i1),
+    return tessMakePatch(params.tessMode, loadTessVertex(params, b, s.i0), loadTessVertex(params, b, s.i1),
                          loadTessVertex(params, b, s.i2), s.flags);
 }
 

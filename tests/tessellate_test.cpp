@@ -83,7 +83,7 @@ PatternMesh pattern(uint32_t f0, uint32_t f1, uint32_t f2)
     TessVertex v0{scene.positions[0], scene.normals[0], glm::vec4(0), glm::vec4(1)};
     TessVertex v1{scene.positions[1], scene.normals[1], glm::vec4(0), glm::vec4(1)};
     TessVertex v2{scene.positions[2], scene.normals[2], glm::vec4(0), glm::vec4(1)};
-    TessPatch patch = tessMakePatch(v0, v1, v2, sources.sources[0].flags);
+    TessPatch patch = tessMakePatch(params.tessMode, v0, v1, v2, sources.sources[0].flags);
     uint32_t state = (f0 | f1 | f2) == 1 ? TESS_STATE_PASS : 0u;
     tessEmitTriangle(params, sources.sources[0], patch, 0, uvec4(0, 0, factors, state), 3, 0, w);
     return mesh;
@@ -229,7 +229,7 @@ TEST_P(TessellationTest, ClosedMeshStaysWatertightAcrossDifferentFactors)
             uint32_t corner[3] = {t.i0, t.i1, t.i2};
             for (int k = 0; k < 3; ++k)
                 v[k] = {sphere.positions[corner[k]], sphere.normals[corner[k]], {}, {1, 1, 1, 1}};
-            uvec4 e = tessCountTriangle(p, tessMakePatch(v[0], v[1], v[2], t.flags));
+            uvec4 e = tessCountTriangle(p, tessMakePatch(p.tessMode, v[0], v[1], v[2], t.flags));
             if (e.w != 0) continue;
             uint32_t f0 = tessFactor(e.z, 0), f1 = tessFactor(e.z, 1), f2 = tessFactor(e.z, 2);
             mixed += f0 != f1 || f1 != f2;

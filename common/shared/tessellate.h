@@ -146,15 +146,20 @@ SR_FN bool tessUsesPn(uint mode, uint flags)
     return mode == TESS_PN && (flags & TESS_FLAT_PATCH) == 0u;
 }
 
-// The pn control points of the triangle (unused under flat). Edge k's controls stay on its chord when
+// A scene triangle for tessellation mode `mode`, with its pn control points when it is a pn patch
+// (tessUsesPn; otherwise they are zero and nothing reads them). Edge k's controls stay on its chord when
 // TESS_STRAIGHT_EDGES says so, so that the patch meets the straight edge points tessEdgePoint puts there.
-SR_FN TessPatch tessMakePatch(TessVertex v0, TessVertex v1, TessVertex v2, uint flags)
+SR_FN TessPatch tessMakePatch(uint mode, TessVertex v0, TessVertex v1, TessVertex v2, uint flags)
 {
     TessPatch t;
     t.v0 = v0;
     t.v1 = v1;
     t.v2 = v2;
     t.flags = flags;
+    vec4 zero = vec4(0.0f);
+    t.b210 = t.b120 = t.b021 = t.b012 = t.b102 = t.b201 = t.b111 = zero;
+    t.n110 = t.n011 = t.n101 = zero;
+    if (!tessUsesPn(mode, flags)) return t;
     bool s0 = (flags & 1u) != 0u, s1 = (flags & 2u) != 0u, s2 = (flags & 4u) != 0u;
     vec4 p0 = v0.position, p1 = v1.position, p2 = v2.position;
     t.b210 = tessEdgeControl(p0, p1, v0.normal, s0);

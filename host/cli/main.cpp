@@ -129,11 +129,6 @@ Result<RenderOutput> renderGraphics(const Scene& scene, const CameraMatrices& ca
     if (s.tessellate == TESS_OFF) return renderVulkanGraphics(scene, camera, s, device);
     SR_TRY(checkRenderInputs(scene, s));
     const TessSources sources = tessSources(scene);
-    if (sources.flatPatches > 0)
-        fmt::print(
-            stderr,
-            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
-            sources.flatPatches);
     TessellatedScene t = tessellateOnHost(scene, sources, frameParams(scene, camera, s, {}, {}));
     RenderSettings plain = s;
     plain.tessellate = TESS_OFF;

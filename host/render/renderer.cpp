@@ -328,11 +328,6 @@ Status RenderSession::prepareTessellation()
     if (tessPrepared_) return okStatus();
     const Scene& scene = *scene_;
     tessSources_ = tessSources(scene);
-    if (tessSources_.flatPatches > 0)
-        fmt::print(
-            stderr,
-            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
-            tessSources_.flatPatches);
     SR_TRY(uploadVector(*device_, BUF_TESS_SOURCE, tessSources_.sources));
     if (!scene.materials.empty())
         SR_TRY(uploadVector(*device_, BUF_TESS_MATERIALS, primitiveMaterials(scene)));
@@ -467,7 +462,8 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     std::vector<double> totalMs;
     uint32_t counters[COUNTER_COUNT] = {};
     RasterParams params{};
-    glm::uvec4 tessTotals(0u);  // generated vertices, triangles, culled scene triangles, overflow
+    glm::uvec4 tessTotals(0u);             // generated vertices, triangles, culled scene triangles, overflow
+    std::vector<Dispatch> lastDispatches;  // the last timed frame's, in dispatch order
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
         params = frameParams(scene, camera, settings, capacity, work.groups);
         // Tessellation counts first and sizes the generated buffers from the totals (its own submission:
@@ -532,6 +528,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
             continue;
         }
         if (run >= settings.warmup) {
+            lastDispatches = dispatches;
             double total = 0.0;
             for (size_t i = 0; i < dispatches.size(); ++i) {
                 stageMs[dispatches[i].stage].push_back(gpuMs[i]);
@@ -543,14 +540,10 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     }
 
     drawn_ = true;
-    // Every stage of the pipeline (one with no work at 0 ms); the tess_* stages when they ran.
-    static const uint32_t kDispatchOrder[STAGE_COUNT] = {
-        STAGE_TESS_COUNT,  STAGE_TESS_SCAN_BLOCKS, STAGE_TESS_SCAN_SUMS, STAGE_TESS_EMIT,
-        STAGE_CLEAR,       STAGE_VERTEX,           STAGE_SETUP,          STAGE_BIN_COUNT,
-        STAGE_SCAN_BLOCKS, STAGE_SCAN_SUMS,        STAGE_BIN_FILL,       STAGE_RASTER_TILES,
-        STAGE_SHADE};
-    for (uint32_t stage : kDispatchOrder)
-        if (!stageMs[stage].empty()) out.stages.push_back(summarize(stageName(stage), stageMs[stage]));
+    // Every stage of the frame in dispatch order (one with no work at 0 ms): the tess_* stages first when
+    // they ran.
+    for (const Dispatch& d : lastDispatches)
+        out.stages.push_back(summarize(stageName(d.stage), stageMs[d.stage]));
     out.total = summarize("total", totalMs);
     out.params = params;
     out.peakDeviceBytes = device.peakAllocatedBytes();

@@ -3,8 +3,11 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <unordered_map>
+
+#include <fmt/format.h>
 
 #include "shared/tess_emit.h"
 
@@ -60,7 +63,7 @@ TessVertex hostVertex(const Scene& scene, const RasterParams& params, uint32_t i
 
 TessPatch hostPatch(const Scene& scene, const RasterParams& params, const TessSource& s)
 {
-    return tessMakePatch(hostVertex(scene, params, s.i0), hostVertex(scene, params, s.i1),
+    return tessMakePatch(params.tessMode, hostVertex(scene, params, s.i0), hostVertex(scene, params, s.i1),
                          hostVertex(scene, params, s.i2), s.flags);
 }
 
@@ -104,11 +107,13 @@ TessSources tessSources(const Scene& scene)
             straight =
                 straight || !sameNormal(sides[0].na, sides[1].na) || !sameNormal(sides[0].nb, sides[1].nb);
         if (!straight) continue;
-        for (const EdgeSide& side : sides) {
-            out.sources[side.tri].flags |= 1u << side.edge;
-            ++out.straightEdges;
-        }
+        for (const EdgeSide& side : sides) out.sources[side.tri].flags |= 1u << side.edge;
     }
+    if (out.flatPatches > 0)
+        fmt::print(
+            stderr,
+            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
+            out.flatPatches);
     return out;
 }
 

@@ -18,9 +18,9 @@ namespace sr {
 // triangle with a zero or non-finite corner normal is a flat patch, and its edges are straight.
 struct TessSources {
     std::vector<TessSource> sources;
-    uint64_t flatPatches = 0;    // triangles with a bad normal (warned about once by the renderer)
-    uint64_t straightEdges = 0;  // triangle edges marked straight
+    uint64_t flatPatches = 0;  // triangles with a bad normal
 };
+// The records, and the one warning line on stderr when some triangle is a flat patch.
 TessSources tessSources(const Scene& scene);
 
 // The frame's generated mesh: the scene's vertices followed by the generated ones, the generated
