@@ -144,20 +144,20 @@ TEST(BatchManifest, DefaultsMergeUnderJobsAndPathsJoinTheManifestFolder)
     EXPECT_EQ(a.scene, "dir/a.obj");
     EXPECT_EQ(a.output, "dir/out/a.png");
     EXPECT_EQ(a.aov, "dir/out/a.exr");
-    EXPECT_EQ(a.settings.width, 100u);  // the header over the command line
-    EXPECT_EQ(a.settings.height, 9u);   // the command line where nothing else says
-    EXPECT_EQ(a.settings.ssaa, 2u);
-    EXPECT_EQ(a.settings.shadingMode, uint32_t(SHADING_LAMBERT));
+    EXPECT_EQ(a.options.settings.width, 100u);  // the header over the command line
+    EXPECT_EQ(a.options.settings.height, 9u);   // the command line where nothing else says
+    EXPECT_EQ(a.options.settings.ssaa, 2u);
+    EXPECT_EQ(a.options.settings.shadingMode, uint32_t(SHADING_LAMBERT));
     EXPECT_EQ(a.id, "out/a.png");
     EXPECT_EQ(a.canonical["output"], "out/a.png");  // as written
     EXPECT_EQ(a.canonical["aov"], "out/a.exr");
     const ManifestJob& b = m->jobs[1];
     EXPECT_EQ(b.scene, "builtin");  // a name, not a path
     EXPECT_EQ(b.output, "/abs/b.png");
-    EXPECT_EQ(b.settings.width, 30u);  // the job over the header
-    EXPECT_EQ(b.settings.msaa, 4u);
+    EXPECT_EQ(b.options.settings.width, 30u);  // the job over the header
+    EXPECT_EQ(b.options.settings.msaa, 4u);
     EXPECT_EQ(b.id, "b");
-    EXPECT_EQ(b.camera, "auto");
+    EXPECT_EQ(b.options.camera, "auto");
     // Defaults spelled out or left implicit give the same canonical settings.
     auto explicitDefaults = parseManifest(
         "{\"scene\": \"builtin\", \"output\": \"x.png\", \"shading\": \"blinn-phong\", \"cull\": \"back\"}",
@@ -180,15 +180,16 @@ TEST(BatchManifest, ErrorsNameTheLine)
              {good + "{\"scene\": \"builtin\", \"output\": \"b.png\", \"widht\": 3}\n",
               "m.jsonl:2: unknown key 'widht'"},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"width\": -3}\n",
-              "m.jsonl:1: 'width' must be a non-negative integer, not -3"},
+              "m.jsonl:1: width must be a non-negative integer, not -3"},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"width\": 0}\n",
-              "m.jsonl:1: width and height"},
+              "m.jsonl:1: width 0 is outside 1..16384"},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"shading\": \"toon\"}\n",
               "m.jsonl:1: invalid shading 'toon'"},
-             {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"msaa\": 3}\n", "m.jsonl:1: 'msaa' must be"},
+             {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"msaa\": 3}\n",
+              "m.jsonl:1: msaa 3 is not one of 1, 2, 4, 8, 16"},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"camera\": \"orbit:1\"}\n", "m.jsonl:1: "},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"light_dir\": [1, 2]}\n",
-              "m.jsonl:1: 'light_dir' must be an array of three numbers"},
+              "m.jsonl:1: light_dir must be an array of three numbers"},
              {"{\"output\": \"b.png\"}\n", "m.jsonl:1: no 'scene'"},
              {"{\"scene\": \"builtin\"}\n", "m.jsonl:1: no 'output'"},
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"png\": \"c.png\"}\n",
@@ -446,7 +447,7 @@ TEST(BatchTool, BadRequestsAreOneLineUsageErrors)
              {"batch good.jsonl --devices x", "invalid --devices 'x'"},
              {"batch good.jsonl --devices 0,0", "invalid --devices '0,0'"},
              {"batch good.jsonl --backend vulkan --devices 7", "vulkan: device index 7 out of range"},
-             {"batch good.jsonl --shading toon", "command line: invalid shading 'toon'"}}) {
+             {"batch good.jsonl --shading toon", "invalid --shading 'toon'"}}) {
         ToolRun run = runTool(c.args, dir.file(""));
         EXPECT_EQ(run.exitCode, 2) << c.args << ": " << run.stderrText;
         EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1)

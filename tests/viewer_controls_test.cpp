@@ -17,7 +17,7 @@
 #include "scene/scene.h"
 #include "test_util.h"
 #include "viewer/controls.h"
-#include "viewer/orbit.h"
+#include "scene/orbit.h"
 #include "viewer/script.h"
 
 namespace sr::test {

@@ -9,90 +9,42 @@
 #include <map>
 #include <sstream>
 
-#include "render/option_names.h"
-#include "scene/camera.h"
-#include "scene/primitive_mode.h"
+#include "settings/schema.h"
 
 namespace sr {
 namespace {
 
 using nlohmann::json;
 
-enum class Kind { String, Integer, Number, Bool, Vec3 };
+enum class Kind { String, Integer };
+// The keys of a job that are no render setting (those come from the settings schema, by their keys:
+// width, shading, texture_filter, ...). png and exr are other names of output and aov.
 struct KeyInfo {
     const char* name;
     Kind kind;
     bool defaultable;  // may appear in the header's defaults and on the command line
 };
-// Each key mirrors the `raster render` option of that name (dashes as underscores); png and exr are
-// other names of output and aov.
-const std::vector<KeyInfo> kKeys = {{"id", Kind::String, false},
-                                    {"scene", Kind::String, true},
-                                    {"camera", Kind::String, true},
-                                    {"orbit", Kind::String, true},
-                                    {"frames", Kind::Integer, true},
-                                    {"width", Kind::Integer, true},
-                                    {"height", Kind::Integer, true},
-                                    {"shading", Kind::String, true},
-                                    {"cull", Kind::String, true},
-                                    {"msaa", Kind::Integer, true},
-                                    {"ssaa", Kind::Integer, true},
-                                    {"texture_filter", Kind::String, true},
-                                    {"uv_interpolation", Kind::String, true},
-                                    {"raster_method", Kind::String, true},
-                                    {"primitive_mode", Kind::String, true},
-                                    {"wireframe", Kind::Bool, true},
-                                    {"ambient", Kind::Number, true},
-                                    {"light_dir", Kind::Vec3, true},
-                                    {"light_color", Kind::Vec3, true},
-                                    {"background", Kind::Vec3, true},
-                                    {"point_size", Kind::Number, true},
-                                    {"line_width", Kind::Number, true},
-                                    {"output", Kind::String, false},
-                                    {"png", Kind::String, false},
-                                    {"aov", Kind::String, false},
-                                    {"exr", Kind::String, false},
-                                    {"stats", Kind::String, false}};
+const std::vector<KeyInfo> kJobKeys = {
+    {"id", Kind::String, false},     {"scene", Kind::String, true},   {"orbit", Kind::String, true},
+    {"frames", Kind::Integer, true}, {"output", Kind::String, false}, {"png", Kind::String, false},
+    {"aov", Kind::String, false},    {"exr", Kind::String, false},    {"stats", Kind::String, false}};
 
-const std::map<std::string, uint32_t>& kCullModes = cullModesByName();
-const std::map<std::string, uint32_t>& kTextureFilters = textureFiltersByName();
-const std::map<std::string, uint32_t>& kUvInterpolations = uvInterpolationsByName();
-const std::map<std::string, uint32_t>& kRasterMethods = rasterMethodsByName();
-
-const KeyInfo* findKey(const std::string& name)
+const KeyInfo* findJobKey(const std::string& name)
 {
-    for (const KeyInfo& k : kKeys)
+    for (const KeyInfo& k : kJobKeys)
         if (name == k.name) return &k;
     return nullptr;
 }
 
 const char* kindName(Kind kind)
 {
-    switch (kind) {
-    case Kind::String: return "a string";
-    case Kind::Integer: return "a non-negative integer";
-    case Kind::Number: return "a number";
-    case Kind::Bool: return "true or false";
-    case Kind::Vec3: return "an array of three numbers";
-    }
-    return "";
+    return kind == Kind::String ? "a string" : "a non-negative integer";
 }
 
 bool hasKind(const json& value, Kind kind)
 {
-    switch (kind) {
-    case Kind::String: return value.is_string();
-    case Kind::Integer:
-        return value.is_number_integer() && value.get<int64_t>() >= 0 && value.get<int64_t>() <= 0xffffffffll;
-    case Kind::Number: return value.is_number() && std::isfinite(value.get<double>());
-    case Kind::Bool: return value.is_boolean();
-    case Kind::Vec3:
-        if (!value.is_array() || value.size() != 3) return false;
-        for (const json& v : value)
-            if (!v.is_number() || !std::isfinite(v.get<double>())) return false;
-        return true;
-    }
-    return false;
+    if (kind == Kind::String) return value.is_string();
+    return value.is_number_integer() && value.get<int64_t>() >= 0 && value.get<int64_t>() <= 0xffffffffll;
 }
 
 // Every key of `object` known, of its kind, and allowed where it stands (`defaults`: the header or the
@@ -100,7 +52,14 @@ bool hasKind(const json& value, Kind kind)
 Status checkKeys(const json& object, bool defaults, const std::string& where)
 {
     for (auto it = object.begin(); it != object.end(); ++it) {
-        const KeyInfo* key = findKey(it.key());
+        // A render setting: its value is checked by the schema, under its key with underscores.
+        const Setting* setting = findSetting(it.key());
+        if (setting && setting->key() == it.key()) {
+            auto checked = checkSettingValue(*setting, it.value(), it.key());
+            if (!checked) return makeError(ExitCode::Usage, "{}: {}", where, checked.error().message);
+            continue;
+        }
+        const KeyInfo* key = findJobKey(it.key());
         if (!key) return makeError(ExitCode::Usage, "{}: unknown key '{}'", where, it.key());
         if (defaults && !key->defaultable)
             return makeError(ExitCode::Usage, "{}: '{}' belongs to one job, not to the defaults", where,
@@ -130,30 +89,6 @@ std::string joinPath(const std::string& baseDir, const std::string& path)
 
 namespace {
 
-// NAME -> value in `table`, or a one-line error listing the names.
-Result<uint32_t> lookup(const std::map<std::string, uint32_t>& table, const json& job, const char* key,
-                        const std::string& fallback, const std::string& where)
-{
-    const std::string name = job.value(key, fallback);
-    auto it = table.find(name);
-    if (it != table.end()) return it->second;
-    std::string names;
-    for (const auto& [n, v] : table) names += (names.empty() ? "" : ", ") + n;
-    return makeError(ExitCode::Usage, "{}: invalid {} '{}': expected one of {}", where, key, name, names);
-}
-
-glm::vec3 vec3Of(const json& job, const char* key, glm::vec3 fallback)
-{
-    if (!job.contains(key)) return fallback;
-    const json& v = job[key];
-    return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
-}
-
-json vec3Json(glm::vec3 v)
-{
-    return json::array({v.x, v.y, v.z});
-}
-
 // The job that `merged` (job over header over command line) describes, checked.
 Result<ManifestJob> makeJob(const json& merged, int line, const std::string& where,
                             const std::string& baseDir)
@@ -173,57 +108,20 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     const std::string scene = merged["scene"].get<std::string>();
     if (scene.empty()) return makeError(ExitCode::Usage, "{}: empty 'scene'", where);
     job.scene = scene.compare(0, 7, "builtin") == 0 ? scene : joinPath(baseDir, scene);
-    job.camera = merged.value("camera", std::string("auto"));
-    auto camera = parseCameraSpec(job.camera);
-    if (!camera) return makeError(ExitCode::Usage, "{}: {}", where, camera.error().message);
     job.orbit = merged.value("orbit", std::string());
     if (merged.contains("frames")) {
         job.frames = merged["frames"].get<uint32_t>();
         if (job.frames < 1 || job.frames > 1000000)
             return makeError(ExitCode::Usage, "{}: 'frames' must be 1 to 1000000, not {}", where, job.frames);
     }
-    job.primitiveMode = merged.value("primitive_mode", std::string("triangles"));
-    auto mode = parsePrimitiveMode(job.primitiveMode);
-    if (!mode) return makeError(ExitCode::Usage, "{}: {}", where, mode.error().message);
-    job.wireframe = merged.value("wireframe", false);
-
-    RenderSettings& s = job.settings;
-    s.width = merged.value("width", s.width);
-    s.height = merged.value("height", s.height);
-    if (s.width < 1 || s.height < 1 || s.width > MAX_FRAMEBUFFER_DIM || s.height > MAX_FRAMEBUFFER_DIM)
-        return makeError(ExitCode::Usage, "{}: width and height must be 1 to {}, not {}x{}", where,
-                         MAX_FRAMEBUFFER_DIM, s.width, s.height);
-    std::map<std::string, uint32_t> shadings;
-    for (uint32_t m = 0; m < kShadingModeCount; ++m) shadings[shadingModeName(m)] = m;
-    auto shading = lookup(shadings, merged, "shading", "blinn-phong", where);
-    if (!shading) return shading.error();
-    s.shadingMode = *shading;
-    auto cull = lookup(kCullModes, merged, "cull", "back", where);
-    if (!cull) return cull.error();
-    s.cullMode = *cull;
-    auto filter = lookup(kTextureFilters, merged, "texture_filter", "auto", where);
-    if (!filter) return filter.error();
-    s.textureFilter = *filter;
-    auto uv = lookup(kUvInterpolations, merged, "uv_interpolation", "perspective", where);
-    if (!uv) return uv.error();
-    s.uvInterpolation = *uv;
-    auto method = lookup(kRasterMethods, merged, "raster_method", "fixed8", where);
-    if (!method) return method.error();
-    s.rasterMethod = *method;
-    s.msaa = merged.value("msaa", s.msaa);
-    if (s.msaa != 1 && s.msaa != 2 && s.msaa != 4 && s.msaa != 8 && s.msaa != 16)
-        return makeError(ExitCode::Usage, "{}: 'msaa' must be 1, 2, 4, 8 or 16, not {}", where, s.msaa);
-    s.ssaa = merged.value("ssaa", s.ssaa);
-    if (s.ssaa < 1 || s.ssaa > MAX_SSAA)
-        return makeError(ExitCode::Usage, "{}: 'ssaa' must be 1 to {}, not {}", where, MAX_SSAA, s.ssaa);
-    s.ambient = merged.value("ambient", s.ambient);
-    if (s.ambient < 0.0f || s.ambient > 100.0f)
-        return makeError(ExitCode::Usage, "{}: 'ambient' must be 0 to 100, not {}", where, s.ambient);
-    s.pointSize = merged.value("point_size", s.pointSize);
-    s.lineWidth = merged.value("line_width", s.lineWidth);
-    s.lightDirView = vec3Of(merged, "light_dir", s.lightDirView);
-    s.lightColor = vec3Of(merged, "light_color", s.lightColor);
-    s.background = vec3Of(merged, "background", s.background);
+    // Every render setting the job (or its defaults) names, through the schema; the rest at their defaults.
+    for (const Setting& setting : settingsSchema()) {
+        if (!merged.contains(setting.key())) continue;
+        auto set = setSetting(job.options, setting, merged[setting.key()], setting.key());
+        if (!set) return makeError(ExitCode::Usage, "{}: {}", where, set.error().message);
+    }
+    auto combined = checkSettings(job.options.resolved());
+    if (!combined) return makeError(ExitCode::Usage, "{}: {}", where, combined.error().message);
 
     job.outputPattern = output;
     job.aovPattern = aov;
@@ -234,27 +132,10 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     job.id = merged.value("id", output);
 
     json& c = job.canonical;
+    c = settingsJson(job.options);
     c["scene"] = scene;
-    c["camera"] = job.camera;
     if (!job.orbit.empty()) c["orbit"] = job.orbit;
     if (job.frames) c["frames"] = job.frames;
-    c["width"] = s.width;
-    c["height"] = s.height;
-    c["shading"] = shadingModeName(s.shadingMode);
-    c["cull"] = merged.value("cull", std::string("back"));
-    c["msaa"] = s.msaa;
-    c["ssaa"] = s.ssaa;
-    c["texture_filter"] = merged.value("texture_filter", std::string("auto"));
-    c["uv_interpolation"] = merged.value("uv_interpolation", std::string("perspective"));
-    c["raster_method"] = merged.value("raster_method", std::string("fixed8"));
-    c["primitive_mode"] = job.primitiveMode;
-    c["wireframe"] = job.wireframe;
-    c["ambient"] = s.ambient;
-    c["point_size"] = s.pointSize;
-    c["line_width"] = s.lineWidth;
-    c["light_dir"] = vec3Json(s.lightDirView);
-    c["light_color"] = vec3Json(s.lightColor);
-    c["background"] = vec3Json(s.background);
     c["output"] = output;
     if (!aov.empty()) c["aov"] = aov;
     if (!stats.empty()) c["stats"] = stats;
@@ -280,7 +161,8 @@ const std::vector<std::string>& manifestKeys()
 {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> n;
-        for (const KeyInfo& k : kKeys) n.push_back(k.name);
+        for (const KeyInfo& k : kJobKeys) n.push_back(k.name);
+        for (const Setting& s : settingsSchema()) n.push_back(s.key());
         return n;
     }();
     return names;

@@ -1,5 +1,6 @@
 // manifest.h - the job list of `raster batch`: JSON Lines, one job per line, with the options of
-// `raster render` as keys.
+// `raster render` as keys (every setting of the schema, `raster settings`, by its key; and scene,
+// output/png, aov/exr, stats, frames, orbit, id).
 //
 //   {"defaults": {"width": 256, "height": 256, "shading": "lambert"}}      optional first line
 //   {"scene": "bunny.obj", "camera": "orbit:30,20,3", "output": "bunny.png", "aov": "bunny.exr"}
@@ -18,22 +19,19 @@
 #include <nlohmann/json.hpp>
 
 #include "base/result.h"
-#include "render/renderer.h"
+#include "settings/render_settings.h"
 
 namespace sr {
 
 struct ManifestJob {
-    int line = 0;               // 1-based line of the manifest
-    std::string id;             // "id": a label for reports; the output path when absent
-    std::string scene;          // a file (resolved against the manifest's folder) or a builtin... name
-    std::string camera;         // `--camera` spec (validated)
-    std::string orbit;          // `--orbit AZ0:AZ1` with frames > 0 (checked where frames are expanded)
-    uint32_t frames = 0;        // `--frames N`: a turntable of N frames (0: one render)
-    std::string primitiveMode;  // `--primitive-mode` (validated)
-    bool wireframe = false;
-    // width, height, shading, cull, msaa, ssaa, texture_filter, uv_interpolation, raster_method, ambient,
-    // light_dir, light_color, background, point_size, line_width; the rest at RenderSettings' defaults.
-    RenderSettings settings;
+    int line = 0;         // 1-based line of the manifest
+    std::string id;       // "id": a label for reports; the output path when absent
+    std::string scene;    // a file (resolved against the manifest's folder) or a builtin... name
+    std::string orbit;    // `--orbit AZ0:AZ1` with frames > 0 (checked where frames are expanded)
+    uint32_t frames = 0;  // `--frames N`: a turntable of N frames (0: one render)
+    // Every render setting of the schema (settings/schema.h) under its key: width, camera, shading,
+    // texture_filter, tessellate, ...; those the job does not name at their defaults.
+    RenderOptions options;
     std::string output, aov, stats;  // resolved paths (patterns when frames > 0); aov, stats may be empty
     std::string outputPattern, aovPattern, statsPattern;  // the same as written (joined after expansion)
     // Every setting that decides the images, with the defaults filled in and the paths as written:
@@ -59,7 +57,7 @@ Result<Manifest> loadManifest(const std::string& path, const nlohmann::json& com
 // `path` joined to `baseDir` when it is relative (and baseDir is not empty).
 std::string joinPath(const std::string& baseDir, const std::string& path);
 
-// The keys a job may have, in the order the README lists them.
+// The keys a job may have: the job's own, then every setting's.
 const std::vector<std::string>& manifestKeys();
 
 }  // namespace sr

@@ -24,14 +24,15 @@
 
 #include "batch/outputs.h"
 #include "batch/shard.h"
-#include "cli/backend.h"
-#include "cli/stats_json.h"
+#include "api/backend.h"
+#include "api/stats_json.h"
+#include "cli/options.h"
 #include "cli/turntable.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
-#include "viewer/orbit.h"
+#include "scene/orbit.h"
 
 namespace sr {
 
@@ -66,23 +67,10 @@ CLI::App* addBatchCommand(CLI::App& app, BatchOptions& o)
         ->add_option("--io-delay-ms", o.ioDelayMs,
                      "testing: pause between a PNG's temporary file and its rename")
         ->group("");
-    // Defaults under the manifest's header, with the manifest's key names.
-    auto set = [&o](const char* key) {
-        return [&o, key](const std::string& value) { o.defaults[key] = value; };
-    };
-    auto setNumber = [&o](const char* key) {
-        return [&o, key](const uint32_t& value) { o.defaults[key] = value; };
-    };
-    batch->add_option_function<uint32_t>("--width", setNumber("width"), "default image width");
-    batch->add_option_function<uint32_t>("--height", setNumber("height"), "default image height");
-    batch->add_option_function<uint32_t>("--msaa", setNumber("msaa"), "default MSAA samples");
-    batch->add_option_function<uint32_t>("--ssaa", setNumber("ssaa"), "default SSAA factor");
-    batch->add_option_function<std::string>("--camera", set("camera"), "default camera spec");
-    batch->add_option_function<std::string>("--shading", set("shading"), "default shading mode");
-    batch->add_option_function<std::string>("--texture-filter", set("texture_filter"),
-                                            "default texture filter");
-    batch->add_option_function<std::string>("--cull", set("cull"), "default cull mode");
-    batch->add_option_function<std::string>("--raster-method", set("raster_method"), "default raster method");
+    // Every render setting as a default under the manifest's header, stored by its manifest key.
+    addSettingOptions(*batch, [&o](const Setting& setting, const nlohmann::json& value) {
+        o.defaults[setting.key()] = value;
+    });
     return batch;
 }
 
@@ -100,7 +88,8 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
     };
     for (const ManifestJob& job : manifest.jobs) {
         const std::string where = fmt::format("{}:{}", manifest.path, job.line);
-        const std::string key = fmt::format("{}\n{}\n{}", job.scene, job.primitiveMode, job.wireframe);
+        const std::string key = fmt::format(
+            "{}\n{}\n{}", job.scene, primitiveModeName(job.options.primitiveMode), job.options.wireframe);
         if (!job.frames) {
             if (!job.orbit.empty())
                 return makeError(ExitCode::Usage, "{}: 'orbit' needs 'frames' (a turntable)", where);
@@ -112,7 +101,7 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
         if (job.orbit.empty()) return makeError(ExitCode::Usage, "{}: 'frames' needs 'orbit' AZ0:AZ1", where);
         auto range = parseAzimuthRange(job.orbit);
         if (!range) return makeError(ExitCode::Usage, "{}: {}", where, range.error().message);
-        auto spec = parseCameraSpec(job.camera);
+        auto spec = parseCameraSpec(job.options.camera);
         if (spec->kind == CameraSpec::Kind::Gltf)
             return makeError(ExitCode::Usage,
                              "{}: a turntable orbits the scene: 'camera' must be auto or orbit:...", where);
@@ -161,7 +150,7 @@ double msSince(Clock::time_point start)
 struct Finished {
     size_t frame = 0;  // index into the expanded frames
     RenderOutput out;
-    RenderSettings settings;
+    RenderOptions options;
     std::shared_ptr<const Scene> scene;
     double gpuMs = 0.0, renderMs = 0.0;
 };
@@ -231,7 +220,7 @@ LoadedScene loadFrameScene(const ManifestJob& job)
     LoadedScene loaded;
     auto scene = loadScene(job.scene);
     if (scene) {
-        *scene = displayScene(std::move(*scene), *parsePrimitiveMode(job.primitiveMode), job.wireframe);
+        *scene = displayScene(std::move(*scene), job.options.primitiveMode, job.options.wireframe);
         loaded.scene = std::shared_ptr<const Scene>(std::make_shared<Scene>(std::move(*scene)));
     } else {
         loaded.scene = scene.error();
@@ -508,13 +497,11 @@ private:
                 continue;
             }
             const ManifestJob& job = *f.job;
-            RenderSettings s = job.settings;
-            // One run per frame: warm-up runs would change nothing in the images.
-            s.warmup = 0;
-            s.repeat = 1;
+            // warmup and repeat as the job says (`raster batch` defaults warmup to 0: a warm-up run would
+            // change nothing in the images).
+            RenderSettings s = job.options.resolved();
             s.surfaceAovs = !f.aov.empty();
             s.download = f.aov.empty() ? ImageDownload::Colour : ImageDownload::All;
-            if (job.wireframe) s.lineDepthBias = kWireframeDepthBias;
             const auto renderStart = Clock::now();
             auto camera = frameCamera(f, *scene);
             if (!camera) {
@@ -531,7 +518,7 @@ private:
             finished.renderMs = msSince(renderStart);
             finished.gpuMs = out->total.medianMs;
             finished.out = std::move(*out);
-            finished.settings = s;
+            finished.options = job.options;
             finished.scene = scene;
             report.frames++;
             report.gpuMs += finished.gpuMs;
@@ -545,9 +532,9 @@ private:
     static Result<CameraMatrices> frameCamera(const BatchFrame& f, const Scene& scene)
     {
         const ManifestJob& job = *f.job;
-        auto spec = parseCameraSpec(job.camera);
+        auto spec = parseCameraSpec(job.options.camera);
         if (!spec) return spec.error();
-        const uint32_t w = job.settings.width, h = job.settings.height;
+        const uint32_t w = job.options.settings.width, h = job.options.settings.height;
         if (!job.frames) return resolveCamera(*spec, scene, w, h);
         auto orbit = OrbitCamera::fromSpec(*spec, scene, w, h);
         if (!orbit) return orbit.error();
@@ -611,7 +598,7 @@ private:
         if (!f.stats.empty()) {
             const std::string tmp = temporaryPath(f.stats);
             const std::string sceneName = f.job->scene;
-            SR_TRY(writeJson(tmp, statsJson(item.out, item.settings, sceneName)));
+            SR_TRY(writeJson(tmp, statsJson(item.out, item.options, sceneName)));
             SR_TRY(renameFile(tmp, f.stats));
         }
         times.aux = msSince(start);

@@ -35,7 +35,9 @@ struct BatchOptions {
     bool force = false;            // render every job of the shard, done or not
     bool quiet = false;            // no progress line, no summary on stdout
     uint32_t ioDelayMs = 0;        // tests: sleep between writing a PNG's temporary file and its rename
-    nlohmann::json defaults = nlohmann::json::object();  // --width etc., under the manifest's defaults
+    // Render settings given on the command line (--width etc.), under the manifest's defaults; a batch
+    // renders each frame once unless told otherwise (warmup 0).
+    nlohmann::json defaults = nlohmann::json{{"warmup", 0}};
 };
 
 // The `batch` subcommand and its options, filling `options`.

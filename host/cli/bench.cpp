@@ -13,7 +13,7 @@
 #include "scene/camera.h"
 #include "scene/texture.h"
 #include "render/compute_device.h"
-#include "cli/stats_json.h"
+#include "api/stats_json.h"
 #include "vulkan/vulkan_graphics.h"
 
 namespace sr {

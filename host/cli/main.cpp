@@ -1,16 +1,8 @@
 // main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
 //
-//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [--width W --height H]
-//                 [--camera auto|gltf:N|orbit:AZ,EL,DIST[,TX,TY,TZ]] [-o out.png] [--aov out.exr]
-//                 [--stats out.json] [--frames N --orbit AZ0:AZ1] [--repeat N] [--warmup N]
-//                 [--cull back|front|none]
-//                 [--shading lambert|phong|blinn-phong|flat|normals|depth|id|hits|texcoord|mip]
-//                 [--texture-filter auto|nearest|bilinear|trilinear] [--uv-interpolation perspective|affine]
-//                 [--msaa 1|2|4|8|16] [--ssaa N] [--aov-samples]
-//                 [--primitive-mode triangles|lines|points] [--wireframe] [--point-size PX] [--line-width PX]
-//                 [--light-dir X,Y,Z] [--light-color R,G,B] [--ambient A] [--background R,G,B]
-//                 [--raster-method fixed8|fixed4|float|scanline] [--quality psnr:N [--study FILE]]
-//                 [--tessellate off|flat|pn|centroid] [--tess-edge-px L] [--tess-max-level N]
+//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [-o out.png]
+//                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1] [-q]
+//                 [--quality psnr:N [--study FILE]] [SETTINGS: every option of `raster settings`]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
 //                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
@@ -19,7 +11,8 @@
 //                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
 //                [--repeat N] [--json F]
 //   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
-//                [--io-threads N] [--queue N] [--summary F] [--width W --height H --camera ... (defaults)]
+//                [--io-threads N] [--queue N] [--summary F] [SETTINGS as defaults under the manifest's]
+//   raster settings [--format markdown|json]
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -33,9 +26,10 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "cli/backend.h"
+#include "api/backend.h"
 #include "cli/batch.h"
 #include "cli/bench.h"
+#include "cli/options.h"
 #include "cli/outputs.h"
 #include "cli/study.h"
 #include "cli/turntable.h"
@@ -47,12 +41,12 @@
 #include "render/compute_device.h"
 #include "io/image_io.h"
 #include "render/aov.h"
-#include "render/option_names.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
-#include "cli/stats_json.h"
+#include "settings/schema.h"
+#include "api/stats_json.h"
 #include "viewer/controls.h"
-#include "viewer/orbit.h"
+#include "scene/orbit.h"
 #include "vulkan/vulkan_graphics.h"
 
 namespace sr {
@@ -62,86 +56,19 @@ struct RenderCommand {
     std::string scenePath;
     std::string backend = "auto";
     int device = -1;
-    std::string camera = "auto";
     std::string output = "render.png";
     std::string aovPath;
     std::string statsPath;
-    std::string cull = "back";
-    std::string shading = "blinn-phong";
-    std::string textureFilter = "auto";
-    std::string uvInterpolation = "perspective";
-    std::string rasterMethod = "fixed8";
-    std::string tessellate = "off";
-    uint32_t tessMaxLevel = 0;  // 0: the mode's default (16 for flat and pn, 2 for centroid)
-    std::string primitiveMode = "triangles";
-    bool wireframe = false;
     uint32_t frames = 0;     // --frames N: a turntable of N frames (0: one render)
     std::string orbitRange;  // --orbit AZ0:AZ1: the turntable's azimuths
-    std::string lightDir, lightColor, background;
     bool quiet = false;
     std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
     std::string studyPath;  // --study FILE: ... from this study JSON instead of measuring
-    RenderSettings settings;
+    RenderOptions options;  // every render setting (settings/schema.h)
 };
 
 // Most samples per pixel --aov-samples writes (two EXR channels each).
 constexpr uint32_t kMaxAovSamples = 64;
-
-const std::map<std::string, uint32_t>& kCullModes = cullModesByName();
-// --shading names in SHADING_* order, and NAME -> SHADING_*, from the renderer's names.
-std::vector<std::string> shadingModeNames()
-{
-    std::vector<std::string> names;
-    for (uint32_t mode = 0; mode < kShadingModeCount; ++mode) names.push_back(shadingModeName(mode));
-    return names;
-}
-std::map<std::string, uint32_t> shadingModesByName()
-{
-    std::map<std::string, uint32_t> modes;
-    for (uint32_t mode = 0; mode < kShadingModeCount; ++mode) modes[shadingModeName(mode)] = mode;
-    return modes;
-}
-const std::map<std::string, uint32_t>& kTextureFilters = textureFiltersByName();
-const std::map<std::string, uint32_t>& kUvInterpolations = uvInterpolationsByName();
-const std::map<std::string, uint32_t>& kRasterMethods = rasterMethodsByName();
-const std::map<std::string, uint32_t>& kTessModes = tessModesByName();
-const std::map<std::string, BackendKind> kBackends = {
-    {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
-
-// "X,Y,Z" with three finite numbers.
-Result<glm::vec3> parseVec3(const std::string& option, const std::string& text)
-{
-    glm::vec3 v;
-    char c1 = 0, c2 = 0;
-    std::istringstream in(text);
-    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof() ||
-        !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-        return makeError(ExitCode::Usage, "invalid {} '{}': expected three numbers X,Y,Z", option, text);
-    return v;
-}
-
-// vulkan-graphics: the hardware's (or lavapipe's) own rasterizer. A tessellated frame draws the mesh
-// the host's run of the tess_* stages generates (bit for bit what the compute backends draw), with the
-// ids mapped back to the scene's triangles the same way.
-Result<RenderOutput> renderGraphics(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
-                                    int device)
-{
-    if (s.tessellate == TESS_OFF) return renderVulkanGraphics(scene, camera, s, device);
-    SR_TRY(checkRenderInputs(scene, s));
-    const TessSources sources = tessSources(scene);
-    TessellatedScene t = tessellateOnHost(scene, sources, frameParams(scene, camera, s, {}, {}));
-    RenderSettings plain = s;
-    plain.tessellate = TESS_OFF;
-    auto out = renderVulkanGraphics(t.scene, camera, plain, device);
-    if (!out) return out;
-    const auto sceneTriangles = uint32_t(scene.triangleCount());
-    mapToSourceIds(out->aov.id, t.sourceIds, sceneTriangles);
-    mapToSourceIds(out->samples.id, t.sourceIds, sceneTriangles);
-    out->stats.tessVertices = t.scene.vertexCount() - scene.vertexCount();
-    out->stats.tessTriangles = t.scene.triangleCount();
-    out->stats.tessCulled = t.culled;
-    return out;
-}
 
 void printStageTable(const RenderOutput& out)
 {
@@ -166,7 +93,7 @@ Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene
     frames.sceneName = sceneName;
     auto session = RenderSession::create(device, scene);
     if (!session) return session.error();
-    auto result = renderTurntable(*session, orbit, cmd.settings, frames);
+    auto result = renderTurntable(*session, orbit, cmd.options, frames);
     if (!result) {
         // The error line must not continue the progress line.
         if (progress) fmt::print(stderr, "\n");
@@ -182,38 +109,16 @@ Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene
             "{}: {} frame{} from --camera {} to {}: {}x{} on {} ({}), {} triangles, GPU ms per frame min "
             "{:.4f} median {:.4f} max {:.4f}\n",
             cmd.output, frames.frames, frames.frames == 1 ? "" : "s", orbitSpecString(first),
-            orbitSpecString(last), cmd.settings.width, cmd.settings.height, result->device.backend,
-            result->device.name, result->triangles, *std::min_element(ms.begin(), ms.end()), median(ms),
-            *std::max_element(ms.begin(), ms.end()));
+            orbitSpecString(last), cmd.options.settings.width, cmd.options.settings.height,
+            result->device.backend, result->device.name, result->triangles,
+            *std::min_element(ms.begin(), ms.end()), median(ms), *std::max_element(ms.begin(), ms.end()));
     }
     return okStatus();
 }
 
 Status runRender(RenderCommand& cmd)
 {
-    RenderSettings& s = cmd.settings;
-    s.cullMode = kCullModes.at(cmd.cull);
-    s.shadingMode = shadingModesByName().at(cmd.shading);
-    s.textureFilter = kTextureFilters.at(cmd.textureFilter);
-    s.uvInterpolation = kUvInterpolations.at(cmd.uvInterpolation);
-    s.rasterMethod = kRasterMethods.at(cmd.rasterMethod);
-    s.tessellate = kTessModes.at(cmd.tessellate);
-    s.tessMaxLevel = cmd.tessMaxLevel ? cmd.tessMaxLevel : (s.tessellate == TESS_CENTROID ? 2u : 16u);
-    if (!cmd.lightDir.empty()) {
-        auto v = parseVec3("--light-dir", cmd.lightDir);
-        if (!v) return v.error();
-        s.lightDirView = *v;
-    }
-    if (!cmd.lightColor.empty()) {
-        auto v = parseVec3("--light-color", cmd.lightColor);
-        if (!v) return v.error();
-        s.lightColor = *v;
-    }
-    if (!cmd.background.empty()) {
-        auto v = parseVec3("--background", cmd.background);
-        if (!v) return v.error();
-        s.background = *v;
-    }
+    RenderSettings s = cmd.options.resolved();
 
     // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();
@@ -226,10 +131,8 @@ Status runRender(RenderCommand& cmd)
 
     // A malformed target, camera or frame pattern is reported before anything is loaded or rendered.
     if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
-    auto cameraSpec = parseCameraSpec(cmd.camera);
+    auto cameraSpec = parseCameraSpec(cmd.options.camera);
     if (!cameraSpec) return cameraSpec.error();
-    auto primitiveMode = parsePrimitiveMode(cmd.primitiveMode);
-    if (!primitiveMode) return primitiveMode.error();
     const bool turntable = cmd.frames > 0;
     TurntableOptions frames;
     if (turntable) {
@@ -273,8 +176,7 @@ Status runRender(RenderCommand& cmd)
         scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
     }
     if (!scene) return scene.error();
-    *scene = displayScene(std::move(*scene), *primitiveMode, cmd.wireframe);
-    if (cmd.wireframe) s.lineDepthBias = kWireframeDepthBias;
+    *scene = displayScene(std::move(*scene), cmd.options.primitiveMode, cmd.options.wireframe);
     // A turntable's camera is the orbit model; its first frame stands for the sequence where one camera
     // is needed (--quality).
     std::optional<OrbitCamera> orbit;
@@ -299,7 +201,10 @@ Status runRender(RenderCommand& cmd)
                              "or vulkan");
         out = renderGraphics(*scene, *camera, s, cmd.device);
     } else {
-        auto device = makeComputeDevice(kBackends.at(cmd.backend), cmd.device);
+        auto device = makeComputeDevice(cmd.backend == "cuda"     ? BackendKind::Cuda
+                                        : cmd.backend == "vulkan" ? BackendKind::Vulkan
+                                                                  : BackendKind::Auto,
+                                        cmd.device);
         if (!device) return device.error();
         if (!cmd.quality.empty()) {
             StudyScene study;
@@ -310,6 +215,9 @@ Status runRender(RenderCommand& cmd)
             auto choice = chooseQuality(cmd.quality, cmd.studyPath, **device, study, s);
             if (!choice) return choice.error();
             s = withSetting(s, choice->setting);
+            // What was chosen is what the frames and the statistics' echo use.
+            cmd.options.settings = withSetting(cmd.options.settings, choice->setting);
+            cmd.options.tessMaxLevel = s.tessMaxLevel;
             if (s.aovSamples && s.ssaa * s.ssaa * s.msaa > kMaxAovSamples)
                 return makeError(ExitCode::Usage,
                                  "--aov-samples writes at most {} samples per pixel; --quality chose {}",
@@ -321,7 +229,8 @@ Status runRender(RenderCommand& cmd)
     }
     if (!out) return out.error();
 
-    SR_TRY(writeOutputs(*out, *scene, s, OutputPaths{cmd.output, cmd.aovPath, cmd.statsPath}, sceneName));
+    SR_TRY(writeOutputs(*out, *scene, cmd.options, OutputPaths{cmd.output, cmd.aovPath, cmd.statsPath},
+                        sceneName));
     if (!cmd.quiet) {
         const RenderStats& st = out->stats;
         std::string lines =
@@ -389,9 +298,9 @@ Status runBenchCommand(BenchCommand& cmd)
     if (!cmd.msaa.empty()) {
         o.msaa.clear();
         for (const std::string& m : splitList(cmd.msaa)) {
-            if (m != "1" && m != "2" && m != "4" && m != "8" && m != "16")
-                return makeError(ExitCode::Usage, "invalid --msaa entry '{}': expected 1, 2, 4, 8 or 16", m);
-            o.msaa.push_back(uint32_t(std::stoul(m)));
+            auto samples = parseSettingText(setting("msaa"), m, "--msaa entry");
+            if (!samples) return samples.error();
+            o.msaa.push_back(samples->get<uint32_t>());
         }
     }
     auto bench = runBench(o);
@@ -443,13 +352,6 @@ int main(int argc, char** argv)
             "same scene through the real Vulkan graphics pipeline)")
         ->check(CLI::IsMember({"auto", "cuda", "vulkan", "vulkan-graphics"}));
     render->add_option("--device", cmd.device, "device index within the backend (default: first)");
-    render->add_option("--width", cmd.settings.width, "image width in pixels")
-        ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
-    render->add_option("--height", cmd.settings.height, "image height in pixels")
-        ->check(CLI::Range(1, MAX_FRAMEBUFFER_DIM));
-    render->add_option("--camera", cmd.camera,
-                       "auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] (degrees, scene units; TX,TY,TZ: the "
-                       "target's offset from the bounds centre)");
     render->add_option(
         "-o,--output", cmd.output,
         "colour image (PNG, sRGB); with --frames a pattern with one %d or %0Nd (frame_%04d.png)");
@@ -470,77 +372,8 @@ int main(int argc, char** argv)
                 "target from --camera orbit:... or the auto camera")
             ->needs(framesOption);
     framesOption->needs(orbitOption);
-    render->add_option("--repeat", cmd.settings.repeat, "timed runs")->check(CLI::Range(1, 100000));
-    render->add_option("--warmup", cmd.settings.warmup, "untimed runs first")->check(CLI::Range(0, 100000));
-    render->add_option("--cull", cmd.cull, "back, front or none (glTF doubleSided is never culled)")
-        ->check(CLI::IsMember({"back", "front", "none"}));
-    render
-        ->add_option(
-            "--shading", cmd.shading,
-            "lambert, phong, blinn-phong, flat, normals, depth, id, hits (debug: triangles covering "
-            "each pixel; green = 1, red = 2, white = more), texcoord (debug: the base colour texture's "
-            "(u, v) as red, green) or mip (debug: its level of detail, blue = 0 or magnified, cyan, "
-            "green, yellow, red = 4+)")
-        ->check(CLI::IsMember(shadingModeNames()));
-    CLI::Option* textureFilterOption =
-        render
-            ->add_option("--texture-filter", cmd.textureFilter,
-                         "auto (each texture's glTF sampler), nearest, bilinear (level 0) or trilinear")
-            ->check(CLI::IsMember({"auto", "nearest", "bilinear", "trilinear"}));
-    CLI::Option* uvOption =
-        render
-            ->add_option("--uv-interpolation", cmd.uvInterpolation,
-                         "perspective (correct) or affine (screen-linear, to show the difference)")
-            ->check(CLI::IsMember({"perspective", "affine"}));
-    CLI::Option* methodOption =
-        render
-            ->add_option(
-                "--raster-method", cmd.rasterMethod,
-                "fixed8 (1/256 px snapping, exact edge functions, top-left rule: conformant), fixed4 "
-                "(the same at 1/16 px), float (float barycentrics with an epsilon) or scanline (float "
-                "span ends per row); the last three are for comparison (raster study)")
-            ->check(CLI::IsMember({"fixed8", "fixed4", "float", "scanline"}));
-    render
-        ->add_option("--tessellate", cmd.tessellate,
-                     "off, flat (split triangles to the screen size --tess-edge-px asks, in their plane), pn "
-                     "(the same, new vertices on Curved PN triangles: smooth silhouettes from vertex "
-                     "normals) or centroid (the course project's 1 -> 3 split, --tess-max-level times)")
-        ->check(CLI::IsMember({"off", "flat", "pn", "centroid"}));
-    render->add_option("--tess-edge-px", cmd.settings.tessEdgePx,
-                       "flat, pn: target projected edge length in output pixels (default 8)");
-    render->add_option(
-        "--tess-max-level", cmd.tessMaxLevel,
-        "flat, pn: most pieces per edge (1..64, default 16); centroid: splits (0..8, default 2)");
-    CLI::Option* msaaOption =
-        render
-            ->add_option("--msaa", cmd.settings.msaa,
-                         "samples per pixel at Vulkan's standard locations (1, 2, 4, 8, 16), shaded once per "
-                         "pixel and triangle, resolved in linear space")
-            ->check(CLI::IsMember({1, 2, 4, 8, 16}));
-    CLI::Option* ssaaOption =
-        render
-            ->add_option("--ssaa", cmd.settings.ssaa,
-                         "supersampling: N x N pixels per output pixel, each shaded, box-filtered; combines "
-                         "with --msaa")
-            ->check(CLI::Range(1, MAX_SSAA));
-    render
-        ->add_option("--primitive-mode", cmd.primitiveMode,
-                     "triangles (as the file says), lines (a triangle mesh drawn as its edges, each once) or "
-                     "points (drawn as its vertices)")
-        ->check(CLI::IsMember({"triangles", "lines", "points"}));
-    render->add_flag("--wireframe", cmd.wireframe,
-                     "overlay the mesh's edges (black lines, each edge once) on the shaded image, drawn "
-                     "1/256 of their distance closer so edges on the surface win its depth test");
-    render->add_option("--point-size", cmd.settings.pointSize,
-                       "side of the square a point covers, in pixels (1..64, a multiple of 1/8)");
-    render->add_option("--line-width", cmd.settings.lineWidth,
-                       "width of the rectangle a line covers, in pixels (1..64, a multiple of 1/8)");
-    render->add_flag("--aov-samples", cmd.settings.aovSamples,
-                     "with --aov: also every sample's id and depth as channels id.s<k>, Z.s<k>");
-    render->add_option("--light-dir", cmd.lightDir, "X,Y,Z towards the light, view space (+z to the eye)");
-    render->add_option("--light-color", cmd.lightColor, "R,G,B linear light colour");
-    render->add_option("--ambient", cmd.settings.ambient, "ambient intensity")->check(CLI::Range(0.0, 100.0));
-    render->add_option("--background", cmd.background, "R,G,B linear background colour");
+    // Every render setting, from the schema (settings/schema.h).
+    addSettingOptions(*render, cmd.options);
     render->add_flag("-q,--quiet", cmd.quiet, "print nothing on success");
     // --quality chooses the anti-aliasing, filter, UV interpolation and raster method itself.
     CLI::Option* qualityOption =
@@ -549,11 +382,11 @@ int main(int argc, char** argv)
                          "psnr:N: render with the cheapest setting whose image reaches N dB PSNR against the "
                          "study's reference for this scene on this backend, measured now (raster study's "
                          "accuracy procedure) or read from --study; prints what it chose")
-            ->excludes(msaaOption)
-            ->excludes(ssaaOption)
-            ->excludes(textureFilterOption)
-            ->excludes(uvOption)
-            ->excludes(methodOption);
+            ->excludes(render->get_option("--msaa"))
+            ->excludes(render->get_option("--ssaa"))
+            ->excludes(render->get_option("--texture-filter"))
+            ->excludes(render->get_option("--uv-interpolation"))
+            ->excludes(render->get_option("--raster-method"));
     render
         ->add_option("--study", cmd.studyPath,
                      "with --quality: choose from this `raster study --json` file's rows for the scene "
@@ -647,6 +480,12 @@ int main(int argc, char** argv)
     BatchOptions batch;
     CLI::App* batchApp = addBatchCommand(app, batch);
 
+    std::string settingsFormat = "markdown";
+    CLI::App* settingsApp = app.add_subcommand(
+        "settings", "every render setting: option, manifest key, values, default and help (the schema)");
+    settingsApp->add_option("--format", settingsFormat, "markdown (the README's reference) or json")
+        ->check(CLI::IsMember({"markdown", "json"}));
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -660,6 +499,8 @@ int main(int argc, char** argv)
     if (benchApp->parsed()) status = runBenchCommand(bench);
     if (studyApp->parsed()) status = runStudyCommand(study);
     if (viewApp->parsed()) status = runView(view);
+    if (settingsApp->parsed())
+        fmt::print("{}", settingsFormat == "json" ? schemaJson().dump(2) + "\n" : settingsMarkdown());
     if (batchApp->parsed()) {
         auto allRendered = runBatch(batch);
         if (allRendered.ok() && !*allRendered) return int(ExitCode::JobsFailed);

@@ -1,7 +1,7 @@
 // outputs.cpp - PNG, EXR and JSON of a rendered frame.
 #include "cli/outputs.h"
 
-#include "cli/stats_json.h"
+#include "api/stats_json.h"
 #include "io/image_io.h"
 #include "render/aov.h"
 
@@ -12,9 +12,10 @@ OutputPaths savePaths(const std::string& prefix)
     return {prefix + ".png", prefix + ".exr", prefix + ".json"};
 }
 
-Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderSettings& settings,
+Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName)
 {
+    const RenderSettings settings = options.resolved();
     SR_TRY(writePng(paths.png, out.color));
     if (!paths.aov.empty()) {
         if (!out.aov.hasBary()) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
@@ -22,7 +23,7 @@ Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderSettings&
             fillSampleAovs(out.samples, settings.ssaa, out.aov);
         SR_TRY(writeAovExr(paths.aov, out.aov));
     }
-    if (!paths.stats.empty()) SR_TRY(writeJson(paths.stats, statsJson(out, settings, sceneName)));
+    if (!paths.stats.empty()) SR_TRY(writeJson(paths.stats, statsJson(out, options, sceneName)));
     return okStatus();
 }
 

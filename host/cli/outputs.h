@@ -24,7 +24,7 @@ OutputPaths savePaths(const std::string& prefix);
 // rendered without RenderSettings::surfaceAovs, and every sample with aovSamples) and the JSON where
 // `paths` names them. `out` is the frame of `scene` rendered with `settings`; its AOV image gains the
 // channels the EXR needs.
-Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderSettings& settings,
+Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName);
 
 }  // namespace sr

@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include "cli/backend.h"
+#include "api/backend.h"
 #include "study/quality.h"
 #include "study/stress.h"
 #include "vulkan/vulkan_graphics.h"

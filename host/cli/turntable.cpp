@@ -78,8 +78,11 @@ float turntableAzimuth(const AzimuthRange& range, uint32_t frame, uint32_t frame
 }
 
 Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera camera,
-                                        const RenderSettings& settings, const TurntableOptions& options)
+                                        const RenderOptions& render, const TurntableOptions& options)
 {
+    RenderSettings settings = render.resolved();
+    // The surface channels cost a host pass over the frame: only for EXRs that will hold them.
+    settings.surfaceAovs = options.hasAov;
     TurntableResult result;
     result.triangles = session.scene().triangleCount();
     for (uint32_t k = 0; k < options.frames; ++k) {
@@ -90,7 +93,7 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
         if (!out) return out.error();
         OutputPaths paths{framePath(options.png, k), options.hasAov ? framePath(options.aov, k) : "",
                           options.hasStats ? framePath(options.stats, k) : ""};
-        SR_TRY(writeOutputs(*out, session.scene(), settings, paths, options.sceneName));
+        SR_TRY(writeOutputs(*out, session.scene(), render, paths, options.sceneName));
         result.device = out->device;
         result.frameGpuMs.push_back(out->total.medianMs);
         if (options.progress) options.progress(k + 1, options.frames);

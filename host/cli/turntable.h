@@ -10,7 +10,7 @@
 
 #include "base/result.h"
 #include "render/renderer.h"
-#include "viewer/orbit.h"
+#include "scene/orbit.h"
 
 namespace sr {
 
@@ -52,11 +52,12 @@ struct TurntableResult {
     uint64_t triangles = 0;
 };
 
-// Renders and writes the frames: frame k is the camera's pose with turntableAzimuth(k) (elevation,
+// Renders and writes the frames with the settings `render` resolves to (the surface AOVs when the frames
+// write EXRs): frame k is the camera's pose with turntableAzimuth(k) (elevation,
 // distance and target offset as given), exactly what `raster render --camera orbit:...` of that pose
 // renders, written like `raster render` writes one frame (outputs.h).
 Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera camera,
-                                        const RenderSettings& settings, const TurntableOptions& options);
+                                        const RenderOptions& render, const TurntableOptions& options);
 
 }  // namespace sr
 

@@ -9,13 +9,14 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/backend.h"
+#include "api/backend.h"
 #include "cli/outputs.h"
-#include "cli/stats_json.h"
+#include "api/stats_json.h"
 #include "io/image_io.h"
 #include "render/frame_share.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
+#include "settings/schema.h"
 #include "viewer/controls.h"
 #include "viewer/present.h"
 #include "viewer/script.h"
@@ -77,15 +78,23 @@ void applyInput(ViewerState& state, const InputEvent& e)
 
 // What a saved frame needs beside its PNG, EXR and JSON to be reproduced: the `raster render`
 // arguments of the same view (PREFIX.view.json), which the viewer test runs.
+//
+// The view as the options of `raster render`: the state's settings, camera and primitive mode.
+RenderOptions viewOptions(const ViewerState& state)
+{
+    RenderOptions options;
+    options.settings = state.settings;
+    options.camera = state.camera.specString();
+    options.primitiveMode = state.primitiveMode;
+    options.wireframe = state.wireframe;
+    options.tessMaxLevel = state.settings.tessellate == TESS_OFF ? 0u : state.settings.tessMaxLevel;
+    return options;
+}
+
 nlohmann::json viewJson(const ViewerState& state, const std::string& scenePath, const DeviceInfo& device)
 {
-    const RenderSettings& s = state.settings;
-    std::string args = fmt::format("{} --width {} --height {} --camera {} --shading {} --msaa {} --ssaa {}",
-                                   scenePath.empty() ? "builtin" : scenePath, s.width, s.height,
-                                   state.camera.specString(), shadingModeName(s.shadingMode), s.msaa, s.ssaa);
-    if (state.primitiveMode != PrimitiveMode::Triangles)
-        args += fmt::format(" --primitive-mode {}", primitiveModeName(state.primitiveMode));
-    if (state.wireframe) args += " --wireframe";
+    const std::string args =
+        fmt::format("{} {}", scenePath.empty() ? "builtin" : scenePath, renderArguments(viewOptions(state)));
     return {{"camera", state.camera.specString()},
             {"backend", device.backend},
             {"device", device.name},
@@ -262,7 +271,7 @@ Status runView(const ViewOptions& o)
         if (state.saveRequested) {
             std::string prefix =
                 state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
-            SR_TRY(writeOutputs(*out, scene, s, savePaths(prefix),
+            SR_TRY(writeOutputs(*out, scene, viewOptions(state), savePaths(prefix),
                                 o.scenePath.empty() ? "builtin" : o.scenePath));
             SR_TRY(writePng(prefix + ".window.png", shown));
             SR_TRY(writeJson(prefix + ".view.json", viewJson(state, o.scenePath, out->device)));

@@ -13,6 +13,7 @@
 #include "render/aov.h"
 #include "render/materials.h"
 #include "scene/texture.h"
+#include "settings/schema.h"
 
 namespace sr {
 namespace {
@@ -116,23 +117,6 @@ StageTiming summarize(std::string name, const std::vector<double>& ms)
 
 }  // namespace
 
-const char* shadingModeName(uint32_t mode)
-{
-    switch (mode) {
-    case SHADING_LAMBERT: return "lambert";
-    case SHADING_PHONG: return "phong";
-    case SHADING_BLINN_PHONG: return "blinn-phong";
-    case SHADING_FLAT: return "flat";
-    case SHADING_NORMALS: return "normals";
-    case SHADING_DEPTH: return "depth";
-    case SHADING_PRIMITIVE_ID: return "id";
-    case SHADING_HIT_COUNT: return "hits";
-    case SHADING_TEXCOORD: return "texcoord";
-    case SHADING_MIP: return "mip";
-    default: return "unknown";
-    }
-}
-
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
                          const ListCapacities& capacities, const GroupCounts& groups)
 {
@@ -213,53 +197,9 @@ double median(std::vector<double> values)
 
 Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
 {
-    if (settings.width < 1 || settings.height < 1 || settings.width > MAX_FRAMEBUFFER_DIM ||
-        settings.height > MAX_FRAMEBUFFER_DIM)
-        return makeError(ExitCode::Usage, "resolution {}x{} is outside 1..{} per side", settings.width,
-                         settings.height, MAX_FRAMEBUFFER_DIM);
-    if (settings.msaa != 1 && settings.msaa != 2 && settings.msaa != 4 && settings.msaa != 8 &&
-        settings.msaa != 16)
-        return makeError(ExitCode::Usage, "--msaa {} is not one of 1, 2, 4, 8, 16", settings.msaa);
-    if (settings.rasterMethod >= RASTER_METHOD_COUNT)
-        return makeError(ExitCode::Usage, "unknown raster method {}", settings.rasterMethod);
-    if (settings.ssaa < 1 || settings.ssaa > MAX_SSAA)
-        return makeError(ExitCode::Usage, "--ssaa {} is outside 1..{}", settings.ssaa, MAX_SSAA);
-    if (uint64_t(settings.width) * settings.ssaa > MAX_FRAMEBUFFER_DIM ||
-        uint64_t(settings.height) * settings.ssaa > MAX_FRAMEBUFFER_DIM)
-        return makeError(ExitCode::Usage,
-                         "resolution {}x{} with --ssaa {} makes a raster grid over {} per side",
-                         settings.width, settings.height, settings.ssaa, MAX_FRAMEBUFFER_DIM);
-    // Sample indices (s * samplePlane + pixel) are 32-bit on the devices.
-    if (uint64_t(settings.width) * settings.height * settings.ssaa * settings.ssaa * settings.msaa >=
-        (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage, "{}x{} with --ssaa {} and --msaa {} is over 2^31 samples",
-                         settings.width, settings.height, settings.ssaa, settings.msaa);
-    if (settings.repeat < 1) return makeError(ExitCode::Usage, "--repeat must be at least 1");
-    // Point sides are multiples of 1/8 pixel (the granularity lavapipe offers), so half a side is a whole
-    // number of subpixels.
-    if (!(settings.pointSize >= 1.0f && settings.pointSize <= MAX_POINT_SIZE) ||
-        settings.pointSize * 8.0f != std::floor(settings.pointSize * 8.0f))
-        return makeError(ExitCode::Usage, "--point-size {} is not a multiple of 1/8 between 1 and {}",
-                         settings.pointSize, MAX_POINT_SIZE);
-    // Line widths likewise (lavapipe's lineWidthGranularity is 1/8), so half a width is whole subpixels
-    // for axis-aligned lines.
-    if (!(settings.lineWidth >= 1.0f && settings.lineWidth <= MAX_LINE_WIDTH) ||
-        settings.lineWidth * 8.0f != std::floor(settings.lineWidth * 8.0f))
-        return makeError(ExitCode::Usage, "--line-width {} is not a multiple of 1/8 between 1 and {}",
-                         settings.lineWidth, MAX_LINE_WIDTH);
-    if (settings.tessellate > TESS_CENTROID)
-        return makeError(ExitCode::Usage, "unknown tessellation mode {}", settings.tessellate);
-    if (settings.tessellate == TESS_CENTROID && settings.tessMaxLevel > TESS_MAX_CENTROID)
-        return makeError(ExitCode::Usage, "--tess-max-level {} is outside 0..{} for centroid tessellation",
-                         settings.tessMaxLevel, TESS_MAX_CENTROID);
-    if ((settings.tessellate == TESS_FLAT || settings.tessellate == TESS_PN) &&
-        (settings.tessMaxLevel < 1 || settings.tessMaxLevel > TESS_MAX_LEVEL))
-        return makeError(ExitCode::Usage, "--tess-max-level {} is outside 1..{}", settings.tessMaxLevel,
-                         TESS_MAX_LEVEL);
-    if (!(settings.tessEdgePx >= 0.25f && settings.tessEdgePx <= 65536.0f))
-        return makeError(ExitCode::Usage, "--tess-edge-px {} is outside 0.25..65536", settings.tessEdgePx);
-    if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
-        return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
+    // Each value and their combinations are checked by the settings schema, the one place that knows
+    // their ranges.
+    SR_TRY(checkSettings(settings));
     return checkSceneInputs(scene);
 }
 

@@ -20,73 +20,9 @@
 #include "raster_shared.h"
 #include "base/result.h"
 #include "scene/scene.h"
+#include "settings/render_settings.h"
 
 namespace sr {
-
-// The line depth bias of --wireframe (RenderSettings::lineDepthBias): depth z drawn as z - b (1 - z),
-// which with a perspective camera brings an edge 1/256 of its distance closer. An edge on its own
-// surface then wins the depth test wherever the surface's depth moves less than that across the line's
-// half width (surfaces up to about 80 degrees from facing the camera at 1080p); an edge hidden behind
-// another surface stays hidden unless the two lie within 0.4% of the distance.
-constexpr float kWireframeDepthBias = 1.0f / 256.0f;
-
-// What a render downloads. All: the colour image, the id and depth AOVs (from the visibility buffer),
-// the sample AOVs and hit counts where asked for. Colour: the colour image alone. None: nothing (the
-// images stay on the device; statistics and timings are still filled).
-enum class ImageDownload { All, Colour, None };
-
-struct RenderSettings {
-    uint32_t width = 512;
-    uint32_t height = 512;
-    uint32_t cullMode = CULL_BACK;                 // CULL_*
-    uint32_t shadingMode = SHADING_BLINN_PHONG;    // SHADING_*
-    glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};  // towards the light, view space (+z to the eye)
-    glm::vec3 lightColor{1.0f, 1.0f, 1.0f};
-    float ambient = 0.15f;
-    glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
-    float specularPower = 32.0f;
-    uint32_t warmup = 1;                  // untimed runs before the timed ones
-    uint32_t repeat = 1;                  // timed runs (>= 1)
-    uint32_t initialListCapacity = 0;     // 0: lists sized from the scene; tests force tiny ones
-    bool countHits = false;               // debug: count covering triangles per pixel
-    bool visibilityOnly = false;          // vulkan-graphics: depth + id only (the bench's hardware baseline)
-    bool firstFrameSkipsBinning = false;  // tests: start as if the last frame had no big triangle
-    uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_*: AUTO follows each texture's sampler
-    uint32_t uvInterpolation = UV_PERSPECTIVE;     // UV_PERSPECTIVE or UV_AFFINE
-    bool surfaceAovs = false;  // fill RenderOutput.aov's bary, uv and N channels (fillSurfaceAovs)
-    // Anti-aliasing. msaa: coverage and depth samples per pixel at Vulkan's standard sample locations
-    // (1, 2, 4, 8 or 16), shaded once per pixel and triangle. ssaa: N renders N x N pixels per output
-    // pixel (the raster grid is N times the resolution per side), box-filtered; both combine.
-    uint32_t msaa = 1;
-    uint32_t ssaa = 1;
-    // Points are squares of pointSize pixels (1..MAX_POINT_SIZE) centred on their snapped vertex.
-    float pointSize = 1.0f;
-    // Lines are rectangles lineWidth pixels wide (1..MAX_LINE_WIDTH, multiples of 1/8) centred on the
-    // snapped segment, ends cut square at the endpoints (Vulkan's rectangular lines).
-    float lineWidth = 1.0f;
-    // --wireframe: the depth bias of every line (RasterParams.lineDepthBias), so that edges drawn over
-    // their own surface win its depth test. 0 draws lines at their exact depth.
-    float lineDepthBias = 0.0f;
-    bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
-    // The rule that decides which samples a triangle covers (RASTER_*, --raster-method;
-    // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
-    uint32_t rasterMethod = RASTER_FIXED8;
-    // What of the frame comes back to the host (ImageDownload): the viewer presenting from the device
-    // needs nothing, through the host only the colour image.
-    ImageDownload download = ImageDownload::All;
-    // Tessellation (--tessellate, common/shared/tessellate.h): TESS_*. flat and pn split every edge into
-    // pieces of at most tessEdgePx output pixels on screen, at most tessMaxLevel of them; centroid splits
-    // each triangle at its centroid tessMaxLevel times. The id AOV names the scene's triangles.
-    uint32_t tessellate = TESS_OFF;
-    float tessEdgePx = 8.0f;
-    uint32_t tessMaxLevel = 16;
-};
-
-// The SHADING_* modes are 0 .. kShadingModeCount - 1.
-constexpr uint32_t kShadingModeCount = SHADING_MIP + 1;
-// `--shading` name of SHADING_* mode `mode` (lambert, phong, blinn-phong, flat, normals, depth, id, hits,
-// texcoord, mip); "unknown" for any other value.
-const char* shadingModeName(uint32_t mode);
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
 struct ListCapacities {

@@ -1,6 +1,8 @@
 // quality.cpp - see quality.h.
 #include "study/quality.h"
 
+#include "settings/schema.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +10,8 @@
 #include <set>
 
 #include <fmt/format.h>
+
+#include "settings/schema.h"
 
 namespace sr {
 namespace {
@@ -153,8 +157,9 @@ Result<StudySetting> settingFromRow(const nlohmann::json& row)
         s.tessEdgePx = float(*edge);
         s.tessMaxLevel = uint32_t(*level);
     }
-    if (double(s.msaa) != *msaa || double(s.ssaa) != *ssaa || s.ssaa < 1 || s.ssaa > MAX_SSAA ||
-        (s.msaa != 1 && s.msaa != 2 && s.msaa != 4 && s.msaa != 8 && s.msaa != 16))
+    // The schema's rule for each (settings/schema.h), on the numbers as the row holds them.
+    if (!checkSettingValue(setting("msaa"), row["msaa"], "msaa") ||
+        !checkSettingValue(setting("ssaa"), row["ssaa"], "ssaa"))
         return makeError(ExitCode::Usage, "accuracy row with an invalid msaa or ssaa: {}", row.dump());
     return s;
 }

@@ -3,77 +3,46 @@
 
 #include <utility>
 
+#include "settings/schema.h"
+
 namespace sr {
-namespace {
 
-using NameTable = std::vector<std::pair<std::string, uint32_t>>;
-
-const NameTable kMethods = {{"fixed8", RASTER_FIXED8},
-                            {"fixed4", RASTER_FIXED4},
-                            {"float", RASTER_FLOAT},
-                            {"scanline", RASTER_SCANLINE}};
-const NameTable kFilters = {{"nearest", TEXTURE_FILTER_NEAREST},
-                            {"bilinear", TEXTURE_FILTER_BILINEAR},
-                            {"trilinear", TEXTURE_FILTER_TRILINEAR}};
-const NameTable kUvs = {{"perspective", UV_PERSPECTIVE}, {"affine", UV_AFFINE}};
-
-Result<uint32_t> fromName(const NameTable& table, const char* what, const std::string& name)
-{
-    std::string known;
-    for (const auto& [n, value] : table) {
-        if (n == name) return value;
-        known += (known.empty() ? "" : ", ") + n;
-    }
-    return makeError(ExitCode::Usage, "unknown {} '{}' (expected {})", what, name, known);
-}
-
-std::string toName(const NameTable& table, uint32_t value)
-{
-    for (const auto& [n, v] : table)
-        if (v == value) return n;
-    return std::to_string(value);
-}
-
-}  // namespace
-
+// The names are the settings schema's (settings/schema.h), so the study's JSON, --quality and the
+// command line spell every setting the same way.
 const std::vector<std::string>& rasterMethodNames()
 {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> out;
-        for (const auto& entry : kMethods) out.push_back(entry.first);
-        return out;
-    }();
+    static const std::vector<std::string> names = choiceNames(setting("raster-method"));
     return names;
 }
 
 Result<uint32_t> rasterMethodFromName(const std::string& name)
 {
-    return fromName(kMethods, "raster method", name);
+    return choiceValue(setting("raster-method"), name, "raster method");
 }
 
 std::string rasterMethodName(uint32_t method)
 {
-    return toName(kMethods, method);
+    return choiceName(setting("raster-method"), method);
 }
 
 Result<uint32_t> textureFilterFromName(const std::string& name)
 {
-    return fromName(kFilters, "texture filter", name);
+    return choiceValue(setting("texture-filter"), name, "texture filter");
 }
 
 std::string textureFilterName(uint32_t filter)
 {
-    return toName(kFilters, filter);
+    return choiceName(setting("texture-filter"), filter);
 }
 
 Result<uint32_t> uvInterpolationFromName(const std::string& name)
 {
-    return fromName(kUvs, "UV interpolation", name);
+    return choiceValue(setting("uv-interpolation"), name, "UV interpolation");
 }
 
 std::string uvInterpolationName(uint32_t uv)
 {
-    return toName(kUvs, uv);
+    return choiceName(setting("uv-interpolation"), uv);
 }
 
 std::vector<StudySetting> studySettings(bool textured, const std::vector<std::string>& methods,

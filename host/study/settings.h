@@ -29,8 +29,9 @@ struct StudySetting {
 // The raster methods in the study's order: fixed8, fixed4, float, scanline.
 const std::vector<std::string>& rasterMethodNames();
 
-// Name <-> value of a raster method (RASTER_*), a texture filter (TEXTURE_FILTER_*, without auto) and a
-// UV interpolation (UV_*). An unknown name is a one-line Usage error listing the known ones.
+// Name <-> value of a raster method (RASTER_*), a texture filter (TEXTURE_FILTER_*) and a UV
+// interpolation (UV_*), as the settings schema names them. An unknown name is a one-line Usage error
+// listing the known ones.
 Result<uint32_t> rasterMethodFromName(const std::string& name);
 std::string rasterMethodName(uint32_t method);
 Result<uint32_t> textureFilterFromName(const std::string& name);

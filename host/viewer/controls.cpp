@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include "settings/schema.h"
+
 namespace sr {
 namespace {
 
@@ -133,8 +135,9 @@ std::string aaName(const ViewerState& state)
 
 std::string stateSummary(const ViewerState& state)
 {
-    return fmt::format("{}, {}, {}{}", shadingModeName(state.settings.shadingMode), aaName(state),
-                       primitiveModeName(state.primitiveMode), state.wireframe ? " + wireframe" : "");
+    return fmt::format("{}, {}, {}{}", choiceName(setting("shading"), state.settings.shadingMode),
+                       aaName(state), primitiveModeName(state.primitiveMode),
+                       state.wireframe ? " + wireframe" : "");
 }
 
 std::string controlsHelp()
@@ -146,7 +149,7 @@ std::string controlsHelp()
                                 i == 0  ? ""
                                 : i % 5 ? ", "
                                         : ",\n                     ",
-                                i + 1, shadingModeName(kShadingKeyModes[i]));
+                                i + 1, choiceName(setting("shading"), kShadingKeyModes[i]));
     for (size_t i = 0; i < kAaPresets.size(); ++i)
         presets += fmt::format("{}{}", i ? ", " : "", kAaPresets[i].name);
     return fmt::format(

@@ -15,7 +15,7 @@
 #include "render/renderer.h"
 #include "scene/primitive_mode.h"
 #include "scene/scene.h"
-#include "viewer/orbit.h"
+#include "scene/orbit.h"
 
 namespace sr {
 

@@ -1,10 +1,12 @@
 // stats_json.cpp - JSON statistics through nlohmann::json.
-#include "cli/stats_json.h"
+#include "api/stats_json.h"
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+
+#include "settings/schema.h"
 
 namespace sr {
 nlohmann::json timingJson(const StageTiming& t)
@@ -19,8 +21,9 @@ nlohmann::json stagesJson(const std::vector<StageTiming>& stages)
     return json;
 }
 
-nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings, const std::string& scene)
+nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, const std::string& scene)
 {
+    const RenderSettings settings = options.resolved();
     nlohmann::json clip = nlohmann::json::array();
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) clip.push_back(out.params.clipFromWorld[c][r]);
@@ -58,9 +61,9 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderSettings& settings
           {"pieces", s.capacities.pieces},
           {"bin_entries", s.capacities.binEntries}}},
     };
+    json["settings"] = settingsJson(options);
     if (settings.tessellate != TESS_OFF) {
-        static const char* const modes[] = {"off", "flat", "pn", "centroid"};
-        json["tessellation"] = {{"mode", modes[std::min<uint32_t>(settings.tessellate, 3)]},
+        json["tessellation"] = {{"mode", choiceName(setting("tessellate"), settings.tessellate)},
                                 {"edge_px", settings.tessEdgePx},
                                 {"max_level", settings.tessMaxLevel},
                                 {"vertices", s.tessVertices},

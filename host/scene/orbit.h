@@ -1,6 +1,6 @@
-// orbit.h - the interactive viewer's camera: the course projects' orbit camera, on exactly the model of
-// `--camera orbit:AZ,EL,DIST[,TX,TY,TZ]` (scene/camera.h), so that any view the viewer shows is one
-// `raster render --camera` spec away (specString) and renders bit-identically there.
+// orbit.h - the orbit camera of the viewer, turntables and batch: the course projects' orbit camera, on
+// exactly the model of `--camera orbit:AZ,EL,DIST[,TX,TY,TZ]` (scene/camera.h), so that any view the
+// viewer shows is one `raster render --camera` spec away (specString) and renders bit-identically there.
 #ifndef RASTER_ORBIT_H
 #define RASTER_ORBIT_H
 

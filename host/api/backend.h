@@ -1,0 +1,32 @@
+// backend.h - the one place where the backend is chosen at run time, below every front end (the public
+// API, the command line, batch, the viewer).
+//
+// Lives above both backends (cuda/ and host/vulkan/), which implement the factories that
+// render/compute_device.h declares, so no lower folder needs to know which backends exist.
+#ifndef RASTER_API_BACKEND_H
+#define RASTER_API_BACKEND_H
+
+#include <memory>
+
+#include "base/result.h"
+#include "render/compute_device.h"
+#include "render/renderer.h"
+
+namespace sr {
+
+enum class BackendKind { Auto, Cuda, Vulkan };
+
+// Auto = CUDA when a CUDA GPU is present, else Vulkan (a GPU first, else lavapipe); when neither opens,
+// the error gives both reasons.
+Result<std::unique_ptr<ComputeDevice>> makeComputeDevice(BackendKind kind, int index);
+
+// The vulkan-graphics reference on Vulkan device `device` (-1: the first): the hardware's (or
+// lavapipe's) own rasterizer. A tessellated frame draws the mesh the host's run of the tess_* stages
+// generates (bit for bit what the compute backends draw), with the ids mapped back to the scene's
+// triangles the same way.
+Result<RenderOutput> renderGraphics(const Scene& scene, const CameraMatrices& camera,
+                                    const RenderSettings& settings, int device);
+
+}  // namespace sr
+
+#endif  // RASTER_API_BACKEND_H

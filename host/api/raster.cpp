@@ -1,0 +1,496 @@
+// raster.cpp - the public API (include/raster/raster.h) over the pipeline: devices through the one
+// backend choice (api/backend.h), scenes through the loaders' checks, settings through the schema,
+// frames through RenderSession.
+#include "raster/raster.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "api/api_internal.h"
+#include "api/backend.h"
+#include "api/stats_json.h"
+#include "render/aov.h"
+#include "scene/camera.h"
+#include "scene/primitive_mode.h"
+#include "scene/texture.h"
+#include "settings/schema.h"
+
+namespace raster {
+
+Error toPublic(const sr::Error& error)
+{
+    return Error{error.code == sr::ExitCode::Runtime ? ErrorKind::Runtime : ErrorKind::Usage, error.message};
+}
+
+namespace {
+
+Error usage(std::string message)
+{
+    return Error{ErrorKind::Usage, std::move(message)};
+}
+
+}  // namespace
+
+const char* version()
+{
+    return RASTER_VERSION;
+}
+
+// ---- devices ------------------------------------------------------------------------------------
+
+const char* backendName(Backend backend)
+{
+    switch (backend) {
+    case Backend::Auto: return "auto";
+    case Backend::Cuda: return "cuda";
+    case Backend::Vulkan: return "vulkan";
+    case Backend::VulkanGraphics: return "vulkan-graphics";
+    }
+    return "unknown";
+}
+
+Result<Backend> parseBackend(const std::string& name)
+{
+    for (Backend b : {Backend::Auto, Backend::Cuda, Backend::Vulkan, Backend::VulkanGraphics})
+        if (name == backendName(b)) return b;
+    return usage(
+        fmt::format("invalid backend '{}': expected one of auto, cuda, vulkan, vulkan-graphics", name));
+}
+
+Device::Device(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Device::Device(Device&&) noexcept = default;
+Device& Device::operator=(Device&&) noexcept = default;
+Device::~Device() = default;
+
+const DeviceInfo& Device::info() const
+{
+    return impl_->info;
+}
+
+Result<Device> Device::open(Backend backend, int index)
+{
+    auto impl = std::make_unique<Impl>();
+    impl->info.index = index;
+    if (backend == Backend::VulkanGraphics) {
+        // The graphics pipeline opens its own device per frame; opening the compute device of the same
+        // index here checks that it exists and names it.
+        auto probe = sr::makeComputeDevice(sr::BackendKind::Vulkan, index);
+        if (!probe) return toPublic(probe.error());
+        impl->info.backend = Backend::VulkanGraphics;
+        impl->info.name = (*probe)->info().name;
+        impl->info.driver = (*probe)->info().driver;
+        impl->info.cpu = (*probe)->info().isCpu;
+        return Device(std::move(impl));
+    }
+    const sr::BackendKind kind = backend == Backend::Cuda     ? sr::BackendKind::Cuda
+                                 : backend == Backend::Vulkan ? sr::BackendKind::Vulkan
+                                                              : sr::BackendKind::Auto;
+    auto device = sr::makeComputeDevice(kind, index);
+    if (!device) return toPublic(device.error());
+    impl->compute = std::move(*device);
+    const sr::DeviceInfo& info = impl->compute->info();
+    impl->info.backend = info.backend == "cuda" ? Backend::Cuda : Backend::Vulkan;
+    impl->info.name = info.name;
+    impl->info.driver = info.driver;
+    impl->info.cpu = info.isCpu;
+    return Device(std::move(impl));
+}
+
+// ---- scenes -------------------------------------------------------------------------------------
+
+Scene::Scene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Scene::Scene(const Scene& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+Scene::~Scene() = default;
+
+size_t Scene::vertexCount() const
+{
+    return impl_->scene.vertexCount();
+}
+size_t Scene::triangleCount() const
+{
+    return impl_->scene.triangleCount();
+}
+size_t Scene::lineCount() const
+{
+    return impl_->scene.lineCount();
+}
+size_t Scene::pointCount() const
+{
+    return impl_->scene.pointCount();
+}
+std::array<float, 3> Scene::boundsMin() const
+{
+    const glm::vec3& b = impl_->scene.boundsMin;
+    return {b.x, b.y, b.z};
+}
+std::array<float, 3> Scene::boundsMax() const
+{
+    const glm::vec3& b = impl_->scene.boundsMax;
+    return {b.x, b.y, b.z};
+}
+
+Result<Scene> Scene::load(const std::string& path)
+{
+    auto scene = sr::loadScene(path);
+    if (!scene) return toPublic(scene.error());
+    auto impl = std::make_unique<Impl>();
+    impl->scene = std::move(*scene);
+    return Scene(std::move(impl));
+}
+
+namespace {
+
+glm::vec3 vec3At(const float* data, size_t i)
+{
+    return {data[3 * i], data[3 * i + 1], data[3 * i + 2]};
+}
+
+// A triangle's unit normal from its corners, zero for a degenerate one (as the glTF loader gives a
+// primitive without normals: the shading of such a triangle is its ambient term).
+glm::vec3 faceNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c)
+{
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float length = glm::length(n);
+    return length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f);
+}
+
+}  // namespace
+
+Result<Scene> Scene::fromArrays(const MeshArrays& m)
+{
+    if (m.vertexCount > 0 && m.positions == nullptr) return usage("fromArrays: vertices without positions");
+    if (m.triangleCount > 0 && m.triangles == nullptr)
+        return usage("fromArrays: a triangle count without indices");
+    if (m.lineCount > 0 && m.lines == nullptr) return usage("fromArrays: a line count without indices");
+    if (m.pointCount > 0 && m.points == nullptr) return usage("fromArrays: a point count without indices");
+    if (m.texture.rgba8 != nullptr && m.texcoords == nullptr)
+        return usage("fromArrays: a texture needs texture coordinates");
+    for (size_t i = 0; i < 4; ++i)
+        if (!std::isfinite(m.baseColor[i])) return usage("fromArrays: the base colour must be finite");
+
+    sr::Scene s;
+    const uint32_t flags = m.doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
+    // Vertex v of the arrays as scene vertex, with normal n (the arrays' own when given).
+    auto pushVertex = [&](size_t v, glm::vec3 n) {
+        s.positions.emplace_back(vec3At(m.positions, v), 1.0f);
+        s.normals.emplace_back(m.normals ? vec3At(m.normals, v) : n, 0.0f);
+        if (m.colors)
+            s.colors.emplace_back(m.colors[4 * v], m.colors[4 * v + 1], m.colors[4 * v + 2],
+                                  m.colors[4 * v + 3]);
+        if (m.texcoords) s.texcoords.emplace_back(m.texcoords[2 * v], m.texcoords[2 * v + 1], 0.0f, 0.0f);
+    };
+    // Out-of-range indices are left for finalizeScene, which drops those primitives with a warning.
+    auto inRange = [&](uint32_t v) { return v < m.vertexCount; };
+    if (m.normals) {
+        for (size_t v = 0; v < m.vertexCount; ++v) pushVertex(v, glm::vec3(0.0f));
+        s.indices.assign(m.triangles, m.triangles + 3 * m.triangleCount);
+    } else {
+        // Flat normals: every triangle gets three vertices of its own (lines and points keep the shared
+        // vertices, appended after them, with zero normals: they are shaded unlit).
+        for (size_t t = 0; t < m.triangleCount; ++t) {
+            const uint32_t* c = m.triangles + 3 * t;
+            const bool valid = inRange(c[0]) && inRange(c[1]) && inRange(c[2]);
+            const glm::vec3 n = valid ? faceNormal(vec3At(m.positions, c[0]), vec3At(m.positions, c[1]),
+                                                   vec3At(m.positions, c[2]))
+                                      : glm::vec3(0.0f);
+            for (int k = 0; k < 3; ++k) {
+                if (!valid) {
+                    s.indices.push_back(uint32_t(-1));
+                    continue;
+                }
+                s.indices.push_back(uint32_t(s.positions.size()));
+                pushVertex(c[k], n);
+            }
+        }
+    }
+    const auto base = uint32_t(m.normals ? 0 : s.positions.size());
+    if (!m.normals && (m.lineCount || m.pointCount))
+        for (size_t v = 0; v < m.vertexCount; ++v) pushVertex(v, glm::vec3(0.0f));
+    auto shift = [&](uint32_t v) { return inRange(v) ? base + v : uint32_t(-1); };
+    for (size_t i = 0; i < 2 * m.lineCount; ++i) s.lines.push_back(shift(m.lines[i]));
+    for (size_t i = 0; i < m.pointCount; ++i) s.points.push_back(shift(m.points[i]));
+    s.triFlags.assign(s.indices.size() / 3, flags);
+
+    sr::SceneMaterial material;
+    material.name = "arrays";
+    material.baseColorFactor = glm::vec4(m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]);
+    if (m.texture.rgba8 != nullptr) {
+        auto texture = sr::makeTexture("arrays texture", m.texture.width, m.texture.height, m.texture.rgba8,
+                                       m.texture.srgb, sr::TextureSampler{});
+        if (!texture) return toPublic(texture.error());
+        s.textures.push_back(std::move(*texture));
+        material.baseColorTexture = 0;
+    } else {
+        s.texcoords.clear();
+    }
+    s.materials.push_back(material);
+    s.triMaterials.assign(s.triangleCount(), 0u);
+    s.lineMaterials.assign(s.lineCount(), 0u);
+    s.pointMaterials.assign(s.pointCount(), 0u);
+    auto finalized = sr::finalizeScene(s, "fromArrays");
+    if (!finalized) return toPublic(finalized.error());
+    auto impl = std::make_unique<Impl>();
+    impl->scene = std::move(s);
+    return Scene(std::move(impl));
+}
+
+// ---- settings and cameras -----------------------------------------------------------------------
+
+Settings::Settings() : impl_(std::make_unique<Impl>()) {}
+Settings::Settings(const Settings& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
+Settings& Settings::operator=(const Settings& other)
+{
+    *impl_ = *other.impl_;
+    return *this;
+}
+Settings::~Settings() = default;
+
+namespace {
+
+Result<const sr::Setting*> lookUp(const std::string& name)
+{
+    const sr::Setting* s = sr::findSetting(name);
+    if (!s) return usage(fmt::format("unknown setting '{}' (raster settings lists them)", name));
+    return s;
+}
+
+Status store(sr::RenderOptions& options, const std::string& name, const nlohmann::json& value)
+{
+    auto s = lookUp(name);
+    if (!s) return s.error();
+    auto stored = sr::setSetting(options, **s, value, (*s)->key());
+    if (!stored) return toPublic(stored.error());
+    return Status();
+}
+
+}  // namespace
+
+Status Settings::set(const std::string& name, const std::string& text)
+{
+    auto s = lookUp(name);
+    if (!s) return s.error();
+    auto value = sr::parseSettingText(**s, text, (*s)->key());
+    if (!value) return toPublic(value.error());
+    (*s)->set(impl_->options, *value);
+    return Status();
+}
+
+Status Settings::set(const std::string& name, double number)
+{
+    auto s = lookUp(name);
+    if (!s) return s.error();
+    // A whole number goes to uint settings as an integer; anything else is checked as given.
+    if ((*s)->type == sr::SettingType::Uint && number == std::floor(number) && number >= 0.0 &&
+        number < 4294967296.0)
+        return store(impl_->options, name, nlohmann::json(uint64_t(number)));
+    return store(impl_->options, name, nlohmann::json(number));
+}
+
+Status Settings::set(const std::string& name, bool flag)
+{
+    return store(impl_->options, name, nlohmann::json(flag));
+}
+
+Status Settings::set(const std::string& name, const std::array<double, 3>& v)
+{
+    return store(impl_->options, name, nlohmann::json::array({v[0], v[1], v[2]}));
+}
+
+Result<std::string> Settings::get(const std::string& name) const
+{
+    auto s = lookUp(name);
+    if (!s) return s.error();
+    return sr::settingText(impl_->options, **s);
+}
+
+std::string Settings::json() const
+{
+    return sr::settingsJson(impl_->options).dump();
+}
+
+std::string Settings::commandLine() const
+{
+    return sr::renderArguments(impl_->options);
+}
+
+std::vector<std::string> Settings::names()
+{
+    std::vector<std::string> names;
+    for (const sr::Setting& s : sr::settingsSchema()) names.push_back(s.name);
+    return names;
+}
+
+std::string Settings::schemaJson()
+{
+    return sr::schemaJson().dump();
+}
+
+Camera Camera::fromSpec(std::string spec)
+{
+    Camera c;
+    c.spec = std::move(spec);
+    return c;
+}
+
+Camera Camera::fromMatrices(const std::array<float, 16>& view, const std::array<float, 16>& projection)
+{
+    Camera c;
+    c.explicitMatrices = true;
+    c.view = view;
+    c.projection = projection;
+    return c;
+}
+
+namespace {
+
+glm::mat4 toMat4(const std::array<float, 16>& m)
+{
+    glm::mat4 out;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) out[c][r] = m[size_t(4 * c + r)];
+    return out;
+}
+
+// The matrices of `camera` for this scene and image: a spec resolved as `raster render --camera` does,
+// or explicit matrices with the depth range they encode (perspective: the last column is (0, 0, -1, 0);
+// otherwise orthographic).
+Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::RenderOptions& options,
+                                          const sr::Scene& scene)
+{
+    const sr::RenderSettings& s = options.settings;
+    if (!camera.explicitMatrices) {
+        const std::string& text = camera.spec == "auto" ? options.camera : camera.spec;
+        auto spec = sr::parseCameraSpec(text);
+        if (!spec) return toPublic(spec.error());
+        auto m = sr::resolveCamera(*spec, scene, s.width, s.height);
+        if (!m) return toPublic(m.error());
+        return *m;
+    }
+    sr::CameraMatrices m;
+    m.viewFromWorld = toMat4(camera.view);
+    m.clipFromView = toMat4(camera.projection);
+    for (float v : camera.view)
+        if (!std::isfinite(v)) return usage("the camera's view matrix is not finite");
+    for (float v : camera.projection)
+        if (!std::isfinite(v)) return usage("the camera's projection matrix is not finite");
+    m.clipFromWorld = m.clipFromView * m.viewFromWorld;
+    const glm::mat4& p = m.clipFromView;
+    if (p[2][3] != 0.0f) {
+        // Vulkan perspective: z_clip = A z + B, w = -z with A = f / (n - f), B = n f / (n - f).
+        m.znear = p[3][2] / p[2][2];
+        m.zfar = p[2][2] + 1.0f == 0.0f ? INFINITY : p[3][2] / (p[2][2] + 1.0f);
+    } else {
+        // Orthographic: z_clip = A z + B with A = 1 / (n - f), B = n / (n - f).
+        m.znear = p[3][2] / p[2][2];
+        m.zfar = m.znear - 1.0f / p[2][2];
+    }
+    return m;
+}
+
+Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,
+              const std::string& sceneName, const sr::Scene& scene, const RenderRequest& request)
+{
+    Frame f;
+    f.width = out.color.width;
+    f.height = out.color.height;
+    f.color.resize(out.color.pixels.size() * 4);
+    for (size_t i = 0; i < out.color.pixels.size(); ++i)
+        for (int c = 0; c < 4; ++c) f.color[4 * i + c] = uint8_t(out.color.pixels[i] >> (8 * c));
+    if (request.surfaceAovs && !out.aov.hasBary())
+        sr::fillSurfaceAovs(scene, sr::outputParams(out.params), out.aov);
+    f.id = std::move(out.aov.id);
+    f.depth = std::move(out.aov.depth);
+    if (out.aov.hasBary()) {
+        const size_t n = size_t(f.width) * f.height;
+        f.bary.resize(2 * n);
+        f.uv.resize(2 * n);
+        f.normal.resize(3 * n);
+        for (size_t i = 0; i < n; ++i) {
+            f.bary[2 * i] = out.aov.baryU[i];
+            f.bary[2 * i + 1] = out.aov.baryV[i];
+            f.uv[2 * i] = out.aov.uvU[i];
+            f.uv[2 * i + 1] = out.aov.uvV[i];
+            f.normal[3 * i] = out.aov.normalX[i];
+            f.normal[3 * i + 1] = out.aov.normalY[i];
+            f.normal[3 * i + 2] = out.aov.normalZ[i];
+        }
+    }
+    f.rasterWidth = out.samples.rasterWidth;
+    f.rasterHeight = out.samples.rasterHeight;
+    f.samples = out.samples.samples;
+    f.sampleId = std::move(out.samples.id);
+    f.sampleDepth = std::move(out.samples.depth);
+    f.gpuMs = out.total.medianMs;
+    f.statsJson = sr::statsJson(out, options, sceneName).dump(2);
+    f.device = device;
+    return f;
+}
+
+}  // namespace
+
+// ---- sessions and frames ------------------------------------------------------------------------
+
+Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+Session::~Session() = default;
+
+Result<Session> Session::create(Device& device, const Scene& scene)
+{
+    auto impl = std::make_unique<Impl>();
+    impl->device = &device.impl();
+    impl->scene = &scene.impl();
+    if (impl->device->compute) {
+        auto session = sr::RenderSession::create(*impl->device->compute, impl->scene->scene);
+        if (!session) return toPublic(session.error());
+        impl->session.emplace(std::move(*session));
+    } else {
+        auto checked = sr::checkSceneInputs(impl->scene->scene);
+        if (!checked) return toPublic(checked.error());
+    }
+    return Session(std::move(impl));
+}
+
+Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
+{
+    Impl& self = *impl_;
+    const sr::RenderOptions& options = settings.impl().options;
+    const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
+    if (options.primitiveMode != self.drawnMode || options.wireframe != self.drawnWireframe) {
+        // Lines and points modes and the wireframe overlay draw a scene derived from the loaded one; the
+        // device's buffers get that scene (or the loaded one again) in a session of their own.
+        self.session.reset();
+        self.derived = plain ? sr::Scene()
+                             : sr::displayScene(self.scene->scene, options.primitiveMode, options.wireframe);
+        self.drawnMode = options.primitiveMode;
+        self.drawnWireframe = options.wireframe;
+    }
+    const sr::Scene& scene = plain ? self.scene->scene : self.derived;
+    if (self.device->compute && !self.session) {
+        auto session = sr::RenderSession::create(*self.device->compute, scene);
+        if (!session) return toPublic(session.error());
+        self.session.emplace(std::move(*session));
+    }
+    auto matrices = cameraMatrices(camera, options, scene);
+    if (!matrices) return matrices.error();
+    sr::RenderSettings s = options.resolved();
+    s.surfaceAovs = request.surfaceAovs;
+    auto out = self.session ? self.session->render(*matrices, s)
+                            : sr::renderGraphics(scene, *matrices, s, self.device->info.index);
+    if (!out) return toPublic(out.error());
+    return toFrame(*out, options, self.device->info, "api", scene, request);
+}
+
+Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,
+                     const RenderRequest& request)
+{
+    auto session = Session::create(device, scene);
+    if (!session) return session.error();
+    return session->render(camera, settings, request);
+}
+
+}  // namespace raster

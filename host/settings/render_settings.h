@@ -1,0 +1,105 @@
+// render_settings.h - what a render is asked to do: RenderSettings, the fields the pipeline reads, and
+// RenderOptions, those plus how the scene is framed and drawn. Every member a user chooses is one entry
+// of the settings schema (settings/schema.h), which gives it its name, range and help; the defaults are
+// the initializers below and nowhere else.
+#ifndef RASTER_RENDER_SETTINGS_H
+#define RASTER_RENDER_SETTINGS_H
+
+#include <cstdint>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "raster_shared.h"
+#include "scene/primitive_mode.h"
+
+namespace sr {
+
+// The line depth bias of --wireframe (RenderSettings::lineDepthBias): depth z drawn as z - b (1 - z),
+// which with a perspective camera brings an edge 1/256 of its distance closer. An edge on its own
+// surface then wins the depth test wherever the surface's depth moves less than that across the line's
+// half width (surfaces up to about 80 degrees from facing the camera at 1080p); an edge hidden behind
+// another surface stays hidden unless the two lie within 0.4% of the distance.
+constexpr float kWireframeDepthBias = 1.0f / 256.0f;
+
+// Tessellation levels when --tess-max-level is left at 0: flat and pn edges in at most 16 pieces,
+// centroid split twice.
+constexpr uint32_t kDefaultTessMaxLevel = 16;
+constexpr uint32_t kDefaultCentroidLevel = 2;
+
+// What a render downloads. All: the colour image, the id and depth AOVs (from the visibility buffer),
+// the sample AOVs and hit counts where asked for. Colour: the colour image alone. None: nothing (the
+// images stay on the device; statistics and timings are still filled).
+enum class ImageDownload { All, Colour, None };
+
+struct RenderSettings {
+    uint32_t width = 512;
+    uint32_t height = 512;
+    uint32_t cullMode = CULL_BACK;                 // CULL_*
+    uint32_t shadingMode = SHADING_BLINN_PHONG;    // SHADING_*
+    glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};  // towards the light, view space (+z to the eye)
+    glm::vec3 lightColor{1.0f, 1.0f, 1.0f};
+    float ambient = 0.15f;
+    glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
+    float specularPower = 32.0f;
+    uint32_t warmup = 1;                  // untimed runs before the timed ones
+    uint32_t repeat = 1;                  // timed runs (>= 1)
+    uint32_t initialListCapacity = 0;     // 0: lists sized from the scene; tests force tiny ones
+    bool countHits = false;               // debug: count covering triangles per pixel
+    bool visibilityOnly = false;          // vulkan-graphics: depth + id only (the bench's hardware baseline)
+    bool firstFrameSkipsBinning = false;  // tests: start as if the last frame had no big triangle
+    uint32_t textureFilter = TEXTURE_FILTER_AUTO;  // TEXTURE_FILTER_*: AUTO follows each texture's sampler
+    uint32_t uvInterpolation = UV_PERSPECTIVE;     // UV_PERSPECTIVE or UV_AFFINE
+    bool surfaceAovs = false;  // fill RenderOutput.aov's bary, uv and N channels (fillSurfaceAovs)
+    // Anti-aliasing. msaa: coverage and depth samples per pixel at Vulkan's standard sample locations
+    // (1, 2, 4, 8 or 16), shaded once per pixel and triangle. ssaa: N renders N x N pixels per output
+    // pixel (the raster grid is N times the resolution per side), box-filtered; both combine.
+    uint32_t msaa = 1;
+    uint32_t ssaa = 1;
+    // Points are squares of pointSize pixels (1..MAX_POINT_SIZE) centred on their snapped vertex.
+    float pointSize = 1.0f;
+    // Lines are rectangles lineWidth pixels wide (1..MAX_LINE_WIDTH, multiples of 1/8) centred on the
+    // snapped segment, ends cut square at the endpoints (Vulkan's rectangular lines).
+    float lineWidth = 1.0f;
+    // --wireframe: the depth bias of every line (RasterParams.lineDepthBias), so that edges drawn over
+    // their own surface win its depth test. 0 draws lines at their exact depth.
+    float lineDepthBias = 0.0f;
+    bool aovSamples = false;  // fill RenderOutput.samples with every sample's id and depth
+    // The rule that decides which samples a triangle covers (RASTER_*, --raster-method;
+    // common/shared/methods.h): fixed8 is the conformant one, the others are there to be compared.
+    uint32_t rasterMethod = RASTER_FIXED8;
+    // What of the frame comes back to the host (ImageDownload): the viewer presenting from the device
+    // needs nothing, through the host only the colour image.
+    ImageDownload download = ImageDownload::All;
+    // Tessellation (--tessellate, common/shared/tessellate.h): TESS_*. flat and pn split every edge into
+    // pieces of at most tessEdgePx output pixels on screen, at most tessMaxLevel of them; centroid splits
+    // each triangle at its centroid tessMaxLevel times. The id AOV names the scene's triangles.
+    uint32_t tessellate = TESS_OFF;
+    float tessEdgePx = 8.0f;
+    uint32_t tessMaxLevel = kDefaultTessMaxLevel;
+};
+
+// One render as a user describes it: the pipeline's settings, the camera spec and how the scene's
+// primitives are drawn. resolved() gives the settings the pipeline runs with.
+struct RenderOptions {
+    RenderSettings settings;
+    std::string camera = "auto";  // `--camera` spec: auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ]
+    PrimitiveMode primitiveMode = PrimitiveMode::Triangles;
+    bool wireframe = false;     // overlay the mesh's edges (displayScene), drawn with kWireframeDepthBias
+    uint32_t tessMaxLevel = 0;  // 0: the mode's default (kDefaultTessMaxLevel, kDefaultCentroidLevel)
+
+    // `settings` with the tessellation level resolved and the wireframe's line depth bias.
+    RenderSettings resolved() const
+    {
+        RenderSettings s = settings;
+        s.tessMaxLevel = tessMaxLevel
+                             ? tessMaxLevel
+                             : (s.tessellate == TESS_CENTROID ? kDefaultCentroidLevel : kDefaultTessMaxLevel);
+        if (wireframe) s.lineDepthBias = kWireframeDepthBias;
+        return s;
+    }
+};
+
+}  // namespace sr
+
+#endif  // RASTER_RENDER_SETTINGS_H

@@ -1,0 +1,281 @@
+// raster/raster.h - the public C++ API of raster: one software rasterization pipeline on CUDA and on
+// Vulkan compute (and the Vulkan graphics pipeline as a reference), as a library.
+//
+//   auto device = raster::Device::open(raster::Backend::Auto);       // CUDA if present, else Vulkan
+//   auto scene = raster::Scene::load("model.gltf");                   // or Scene::fromArrays(...)
+//   raster::Settings settings;                                        // the schema's defaults
+//   settings.set("msaa", 4);                                          // any `raster render` option
+//   auto frame = raster::render(*device, *scene, raster::Camera::spec("auto"), settings);
+//   // frame->color (RGBA8, sRGB), frame->id, frame->depth, frame->statsJson ...
+//
+// Errors are values: every call that can fail returns raster::Status or raster::Result<T> holding a
+// one-line message (the same the `raster` command prints) and its category. Nothing throws.
+//
+// Settings are named as the `raster render` options without dashes ("texture-filter") or with
+// underscores ("texture_filter"); Settings::names() lists them, Settings::schemaJson() describes each
+// (type, default, allowed values, help). `raster settings` prints the same table.
+//
+// Threads: a Device and everything made with it belong to one thread at a time. Sessions keep the
+// scene and the buffers on the device; only one session may draw on a device at a time.
+#ifndef RASTER_RASTER_H
+#define RASTER_RASTER_H
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace raster {
+
+// ---- errors -------------------------------------------------------------------------------------
+
+enum class ErrorKind : int {
+    Usage = 2,    // bad settings or input, missing backend, unreadable or malformed file
+    Runtime = 3,  // a GPU API call failed while rendering
+};
+
+struct Error {
+    ErrorKind kind = ErrorKind::Usage;
+    std::string message;  // one line, no trailing newline
+};
+
+template <typename T>
+class [[nodiscard]] Result {
+public:
+    Result(T value) : v_(std::move(value)) {}
+    Result(Error error) : v_(std::move(error)) {}
+    bool ok() const { return v_.index() == 0; }
+    explicit operator bool() const { return ok(); }
+    T& value() { return std::get<0>(v_); }
+    const T& value() const { return std::get<0>(v_); }
+    T& operator*() { return value(); }
+    const T& operator*() const { return value(); }
+    T* operator->() { return &value(); }
+    const T* operator->() const { return &value(); }
+    const Error& error() const { return std::get<1>(v_); }
+
+private:
+    std::variant<T, Error> v_;
+};
+
+class [[nodiscard]] Status {
+public:
+    Status() = default;  // success
+    Status(Error error) : error_(std::move(error)), ok_(false) {}
+    bool ok() const { return ok_; }
+    explicit operator bool() const { return ok_; }
+    const Error& error() const { return error_; }
+
+private:
+    Error error_;
+    bool ok_ = true;
+};
+
+// ---- devices ------------------------------------------------------------------------------------
+
+enum class Backend {
+    Auto,            // CUDA when a CUDA GPU is present, else Vulkan (a GPU first, else Mesa lavapipe)
+    Cuda,            // the CUDA kernels (cuda/)
+    Vulkan,          // the Vulkan compute shaders (compute_glsl/)
+    VulkanGraphics,  // the reference: the same scene through the Vulkan graphics pipeline
+};
+
+// "auto", "cuda", "vulkan", "vulkan-graphics"; parseBackend is its inverse.
+const char* backendName(Backend backend);
+Result<Backend> parseBackend(const std::string& name);
+
+struct DeviceInfo {
+    Backend backend = Backend::Vulkan;  // never Auto: the backend that opened
+    int index = -1;                     // as asked for (-1: the backend's first device)
+    std::string name;                   // as the API reports it
+    std::string driver;                 // driver or runtime version
+    bool cpu = false;                   // a CPU implementation (lavapipe)
+};
+
+class Device {
+public:
+    // Opens device `index` (-1: the first) of `backend`. Auto tries CUDA, then Vulkan; when none opens
+    // the error gives each backend's reason ("CUDA: no CUDA GPU ...; Vulkan: ...").
+    static Result<Device> open(Backend backend = Backend::Auto, int index = -1);
+
+    const DeviceInfo& info() const;
+
+    Device(Device&&) noexcept;
+    Device& operator=(Device&&) noexcept;
+    ~Device();
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    explicit Device(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- scenes -------------------------------------------------------------------------------------
+
+// A base colour texture: width x height RGBA8 texels, 4 bytes each, rows from the top.
+struct TextureView {
+    const uint8_t* rgba8 = nullptr;  // nullptr: no texture
+    uint32_t width = 0, height = 0;
+    bool srgb = true;  // colour data (glTF base colour textures are sRGB)
+};
+
+// A mesh in world space as plain arrays (borrowed: Scene::fromArrays copies them). Counts are of
+// elements (vertices, triangles, segments, points), not of floats.
+struct MeshArrays {
+    const float* positions = nullptr;  // 3 floats per vertex (x, y, z); finite
+    size_t vertexCount = 0;
+    const uint32_t* triangles = nullptr;  // 3 vertex indices per triangle, counter-clockwise in front
+    size_t triangleCount = 0;
+    const float* normals = nullptr;    // 3 per vertex; nullptr: flat normals from each triangle
+    const float* texcoords = nullptr;  // 2 per vertex (u, v; v down, as glTF); needed with a texture
+    const float* colors = nullptr;     // 4 per vertex, linear RGBA; nullptr: white
+    const uint32_t* lines = nullptr;   // 2 vertex indices per segment
+    size_t lineCount = 0;
+    const uint32_t* points = nullptr;  // 1 vertex index per point
+    size_t pointCount = 0;
+    TextureView texture;                                     // base colour texture of every primitive
+    std::array<float, 4> baseColor{1.0f, 1.0f, 1.0f, 1.0f};  // linear RGBA factor of every primitive
+    bool doubleSided = false;                                // never culled (glTF doubleSided)
+};
+
+class Scene {
+public:
+    // A .gltf/.glb or .obj file, or a procedural scene: "builtin", "builtin:dense", "builtin:huge",
+    // "builtin:checker", "builtin:cutout", "builtin:lowpoly". Broken parts are dropped with a warning on
+    // stderr, as the command line does; a scene with nothing to draw is an error.
+    static Result<Scene> load(const std::string& path);
+    // A scene from arrays, with the loaders' checks: indices in range, NaN/Inf positions dropped with a
+    // warning, a texture within the size limit.
+    static Result<Scene> fromArrays(const MeshArrays& mesh);
+
+    size_t vertexCount() const;
+    size_t triangleCount() const;
+    size_t lineCount() const;
+    size_t pointCount() const;
+    std::array<float, 3> boundsMin() const;
+    std::array<float, 3> boundsMax() const;
+
+    Scene(const Scene&);
+    Scene(Scene&&) noexcept;
+    Scene& operator=(Scene&&) noexcept;
+    ~Scene();
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    explicit Scene(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- settings and cameras -----------------------------------------------------------------------
+
+// Every render setting by name (the settings schema: `raster render`'s options, batch manifests' keys).
+// A new Settings holds the defaults; set() checks the value and names the setting in its one-line error.
+class Settings {
+public:
+    Settings();
+    Settings(const Settings&);
+    Settings& operator=(const Settings&);
+    ~Settings();
+
+    Status set(const std::string& name, const std::string& text);  // as on the command line: "4", "1,0,0"
+    Status set(const std::string& name, const char* text) { return set(name, std::string(text)); }
+    Status set(const std::string& name, double number);  // uint and float settings
+    Status set(const std::string& name, int number) { return set(name, double(number)); }
+    Status set(const std::string& name, bool flag);                       // flags (wireframe, aov-samples)
+    Status set(const std::string& name, const std::array<double, 3>& v);  // light-dir, light-color, ...
+
+    // The value as the command line writes it; an error for an unknown name.
+    Result<std::string> get(const std::string& name) const;
+    // Every setting's value as one JSON object (keys with underscores), as --stats echoes them.
+    std::string json() const;
+    // The `raster render` arguments that reproduce these settings (the ones not at their defaults).
+    std::string commandLine() const;
+
+    // Every setting's name, in the reference's order; the whole schema as JSON.
+    static std::vector<std::string> names();
+    static std::string schemaJson();
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// How the scene is seen: a `--camera` spec ("auto", "gltf:N", "orbit:AZ,EL,DIST[,TX,TY,TZ]"), or
+// explicit view and projection matrices (column-major 4x4, OpenGL-style clip space with y up and depth
+// -1..1, as glm::perspective writes it; the pipeline maps it to Vulkan's window space). A spec other
+// than "auto" overrides the settings' "camera".
+struct Camera {
+    std::string spec = "auto";
+    bool explicitMatrices = false;
+    std::array<float, 16> view{};
+    std::array<float, 16> projection{};
+
+    static Camera fromSpec(std::string spec);
+    static Camera fromMatrices(const std::array<float, 16>& view, const std::array<float, 16>& projection);
+};
+
+// ---- frames -------------------------------------------------------------------------------------
+
+// What a render returns, as plain buffers. Pixel (x, y) is at index y * width + x, rows from the top.
+struct Frame {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> color;  // RGBA8, sRGB, 4 per pixel: every sample resolved in linear space
+    std::vector<uint32_t> id;    // triangle id (scene order; lines and points after the triangles),
+                                 // 0xffffffff where nothing covers the pixel's AOV sample
+    std::vector<float> depth;    // window depth 0..1 of that sample, 1 where empty
+    // Surface AOVs at pixel centres (filled when `surfaceAovs` is asked for in render()): barycentrics
+    // (2 per pixel), texture coordinates (2), world normal (3); NaN where empty.
+    std::vector<float> bary, uv, normal;
+    // Every sample's id and depth (setting "aov-samples"): sample s of raster pixel p at index
+    // s * rasterWidth * rasterHeight + p; the raster grid is the image times "ssaa" per side.
+    uint32_t rasterWidth = 0, rasterHeight = 0, samples = 0;
+    std::vector<uint32_t> sampleId;
+    std::vector<float> sampleDepth;
+    double gpuMs = 0.0;     // median GPU time of the whole frame over the timed runs
+    std::string statsJson;  // the statistics `raster render --stats` writes (counts, stage times, settings)
+    DeviceInfo device;
+};
+
+struct RenderRequest {
+    bool surfaceAovs = false;  // fill Frame::bary, uv, normal (a host pass over the frame)
+};
+
+// A scene uploaded to a device once and rendered any number of times with any camera and settings:
+// buffers are reused and grown, never sized for the worst case. The device and the scene must outlive
+// the session.
+class Session {
+public:
+    static Result<Session> create(Device& device, const Scene& scene);
+    Result<Frame> render(const Camera& camera, const Settings& settings, const RenderRequest& request = {});
+
+    Session(Session&&) noexcept;
+    Session& operator=(Session&&) noexcept;
+    ~Session();
+
+    struct Impl;
+
+private:
+    explicit Session(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// One frame of a fresh session.
+Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,
+                     const RenderRequest& request = {});
+
+// The library's version, "MAJOR.MINOR.PATCH".
+const char* version();
+
+}  // namespace raster
+
+#endif  // RASTER_RASTER_H
