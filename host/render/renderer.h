@@ -1,8 +1,8 @@
 // renderer.h - the pipeline, written once for every backend.
 //
-// Sizes every buffer from the scene and the resolution, uploads the scene, runs the stages of
-// raster_shared.h (STAGE_*) through a ComputeDevice, grows the triangle lists and redraws when the
-// device reports an overflow, and gathers images, statistics and per-stage GPU times.
+// Sizes every buffer from the scene and the resolution, uploads the scene, runs the stages of the stage
+// table (STAGE_*, common/shared/stages.h) through a ComputeDevice, grows the triangle lists and redraws
+// when the device reports an overflow, and gathers images, statistics and per-stage GPU times.
 #ifndef RASTER_RENDERER_H
 #define RASTER_RENDERER_H
 
