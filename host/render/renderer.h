@@ -212,6 +212,19 @@ private:
     Status prepareTessellation();
     Status sizeTessellation(uint64_t vertices, uint64_t triangles);
 
+    // render()'s steps, in order (renderer.cpp), and the state they pass along.
+    struct FrameState;
+    Status sizeFrame(const RenderSettings& settings, FrameState& f);
+    Status draw(const CameraMatrices& camera, const RenderSettings& settings, FrameState& f);
+    Status runFrame(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
+    Result<Dispatch> tessellate(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
+    Result<bool> nextWork(FrameState& f) const;
+    Result<bool> growLists(const uint32_t* counters);
+    void timings(FrameState& f) const;
+    void statistics(FrameState& f) const;
+    Status download(const RenderSettings& settings, FrameState& f);
+    Status remap(const RenderSettings& settings, FrameState& f);
+
     ComputeDevice* device_;
     const Scene* scene_;
     std::vector<size_t> sizes_ = std::vector<size_t>(BUF_COUNT, SIZE_MAX);  // SIZE_MAX: not sized by us
