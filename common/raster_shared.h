@@ -1,7 +1,7 @@
 // raster_shared.h - the one header family shared by host C++, CUDA and GLSL; this is its umbrella.
 //
-// Holds everything both ports must agree on bit for bit. This file has the buffer bindings, stage ids,
-// counters, constants and the parameter and record structs; the maths of each stage is in common/shared/:
+// Holds everything both ports must agree on bit for bit. This file has the buffer bindings, counters,
+// constants and the parameter and record structs; the maths of each stage is in common/shared/:
 //   lang.h         type names, built-ins and macros that make one file valid in three languages
 //   fixed_point.h  deterministic reciprocals (no float division whose bits matter)
 //   vertex.h       stage vertex: clip and view positions with a fixed summation order
@@ -10,6 +10,7 @@
 //   raster.h       raster stages: sample patterns, sample coverage and depth, points, the visibility key
 //   texture.h      textures: level of detail, level and texel selection, wrap modes, filters
 //   shade.h        stage shade: perspective-correct barycentrics and derivatives, lighting, sRGB
+//   stages.h       the stage table: every stage's id, name, group size and launch (C++ and CUDA only)
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index
 // threads, load buffers, call these functions and do the atomics.
 //
@@ -88,26 +89,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_MAX_BIN 13       // the largest bin of a screen tile (written only when rasterChunk != 0)
 #define COUNTER_COUNT 14
 
-// Stages, in dispatch order. Each is one CUDA kernel (cuda/<name>.cuh) and one compute shader
-// (compute_glsl/<name>.comp).
-#define STAGE_CLEAR 0   // visibility := empty, counters and tile bins := 0
-#define STAGE_VERTEX 1  // per vertex: clip position
-#define STAGE_SETUP \
-    2                        // per primitive: cull, clip, snap (a line to its rectangle's two triangles);
-                             // rasterize points and small triangles, cut big triangles into pieces
-#define STAGE_BIN_COUNT 3    // per piece: count the screen tiles its triangle touches, per tile
-#define STAGE_SCAN_BLOCKS 4  // per 256 screen tiles: local exclusive scan of the bin counts, active tile list
-#define STAGE_SCAN_SUMS 5    // one group: exclusive scan of the block totals (each block's base offset)
-#define STAGE_BIN_FILL 6     // per piece: write its triangle's ref into the bin of every tile it touches
-#define STAGE_RASTER_TILES 7  // per active 8x8 screen tile: resolve its bin in registers, no atomics
-#define STAGE_SHADE 8         // per pixel: resolve the visibility key and shade
-// Tessellation, before the others (a frame of its own: tess_count and the scans run first, the host
-// sizes the generated buffers from their totals, then tess_emit runs at the head of the frame).
-#define STAGE_TESS_COUNT 9         // per scene triangle: cull, edge factors, generated vertex/triangle counts
-#define STAGE_TESS_SCAN_BLOCKS 10  // per 256 scene triangles: local exclusive scans of the counts
-#define STAGE_TESS_SCAN_SUMS 11    // one group: scan of the block totals, the grand totals
-#define STAGE_TESS_EMIT 12         // per scene triangle: write its generated vertices and triangles
-#define STAGE_COUNT 13
+// Stages: their ids (STAGE_*), names, group sizes and launch kinds are the stage table,
+// shared/stages.h (C++ and CUDA only, included at the end of this file).
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
 #define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
@@ -341,5 +324,9 @@ SR_NAMESPACE_END
 #include "shared/texture.h"
 #include "shared/shade.h"
 #include "shared/tessellate.h"
+
+#if defined(__cplusplus)
+#include "shared/stages.h"
+#endif
 
 #endif  // RASTER_SHARED_H

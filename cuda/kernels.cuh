@@ -74,7 +74,7 @@ template <uint kMethod>
 cudaError_t launchMethodStage(uint stage, uint blocks, bool alphaTest, const RasterParams& params,
                               const Buffers& buffers, cudaStream_t stream)
 {
-    uint threads = stageBlockSize(stage);
+    uint threads = stageGroupSize(stage);
     switch (stage) {
     case STAGE_SETUP:
         forBool(alphaTest, [&](auto materials) {

@@ -8,12 +8,10 @@
 
 namespace sr {
 
-// Threads per block of `stage`; equals local_size_x of compute_glsl/<stage>.comp.
-uint stageBlockSize(uint stage);
-
-// Enqueues `blocks` blocks of stage `stage` on `stream`, for setup and raster_tiles the build with the
-// alpha test when `alphaTest` (Dispatch::alphaTest), for setup, bin_count, bin_fill and raster_tiles the
-// build of raster method `rasterMethod` (Dispatch::rasterMethod); returns the launch error, if any.
+// Enqueues `blocks` blocks of stage `stage` on `stream`, of stageGroupSize(stage) threads each, for
+// setup and raster_tiles the build with the alpha test when `alphaTest` (Dispatch::alphaTest), for the
+// METHOD stages of the table (setup, bin_count, bin_fill, raster_tiles) the build of raster method
+// `rasterMethod` (Dispatch::rasterMethod); returns the launch error, if any.
 cudaError_t launchStage(uint stage, uint blocks, bool alphaTest, uint rasterMethod,
                         const RasterParams& params, const Buffers& buffers, cudaStream_t stream);
 

@@ -19,7 +19,8 @@
 
 namespace sr {
 
-// Name of stage `stage` (STAGE_*), matching cuda/<name>.cuh and compute_glsl/<name>.comp.
+// Name of stage `stage` (STAGE_*) in the stage table (common/shared/stages.h), matching cuda/<name>.cuh
+// and compute_glsl/<name>.comp; "unknown" for any other number.
 const char* stageName(uint32_t stage);
 
 struct DeviceInfo {

@@ -105,6 +105,35 @@ bool countsHits(const RenderSettings& s)
     return s.countHits || s.shadingMode == SHADING_HIT_COUNT;
 }
 
+// The id and depth AOVs of every output pixel from the downloaded visibility keys (the first sample
+// plane at least, every plane with aovSamples), and with aovSamples every sample's (SampleAovs).
+void visibilityAovs(const std::vector<uint64_t>& visibility, const RenderSettings& settings,
+                    const RasterParams& params, RenderOutput& out)
+{
+    const uint64_t pixels = uint64_t(settings.width) * settings.height;
+    out.aov.id.resize(pixels);
+    out.aov.depth.resize(pixels);
+    for (uint32_t y = 0; y < settings.height; ++y) {
+        for (uint32_t x = 0; x < settings.width; ++x) {
+            uint64_t key = visibility[aovSampleIndex(x, y, params.width, settings.ssaa)];
+            out.aov.id[uint64_t(y) * settings.width + x] = visibilityId(key);
+            out.aov.depth[uint64_t(y) * settings.width + x] = visibilityDepth(key);
+        }
+    }
+    if (settings.aovSamples) {
+        SampleAovs& all = out.samples;
+        all.rasterWidth = params.width;
+        all.rasterHeight = params.height;
+        all.samples = settings.msaa;
+        all.id.resize(visibility.size());
+        all.depth.resize(visibility.size());
+        for (uint64_t i = 0; i < visibility.size(); ++i) {
+            all.id[i] = visibilityId(visibility[i]);
+            all.depth[i] = visibilityDepth(visibility[i]);
+        }
+    }
+}
+
 StageTiming summarize(std::string name, const std::vector<double>& ms)
 {
     StageTiming t;
@@ -345,17 +374,64 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     return session->render(camera, settings);
 }
 
+// The state one render() call passes from step to step.
+struct RenderSession::FrameState {
+    uint64_t pixels = 0;        // output pixels
+    uint64_t rasterPixels = 0;  // pixels of the raster grid: output pixels x ssaa^2
+    uint64_t samples = 0;       // samples of the raster grid: raster pixels x msaa
+    uint64_t tiles = 0;         // screen tiles of the raster grid
+    bool tessellating = false;  // RenderSettings::tessellate is not TESS_OFF
+    FrameWork work;             // what the next frame runs
+    uint32_t rasterChunk = 0;   // GroupCounts::rasterChunk
+    // The last frame drawn: its parameters, its counters, and its tessellation totals (generated
+    // vertices, triangles, culled scene triangles, overflow).
+    RasterParams params{};
+    uint32_t counters[COUNTER_COUNT] = {};
+    glm::uvec4 tessTotals = glm::uvec4(0u);
+    // The timed runs' GPU times per stage and per frame, and the last timed frame's dispatches in order.
+    std::vector<std::vector<double>> stageMs = std::vector<std::vector<double>>(STAGE_COUNT);
+    std::vector<double> totalMs;
+    std::vector<Dispatch> lastDispatches;
+    RenderOutput out;
+
+    // Keeps a timed frame's GPU times: each dispatch's under its stage, and their sum.
+    void keepTimes(const std::vector<Dispatch>& dispatches, const std::vector<double>& gpuMs)
+    {
+        lastDispatches = dispatches;
+        double total = 0.0;
+        for (size_t i = 0; i < dispatches.size(); ++i) {
+            stageMs[dispatches[i].stage].push_back(gpuMs[i]);
+            total += gpuMs[i];
+        }
+        totalMs.push_back(total);
+    }
+};
+
 Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const RenderSettings& settings)
 {
-    const Scene& scene = *scene_;
-    ComputeDevice& device = *device_;
-    SR_TRY(checkRenderInputs(scene, settings));
+    SR_TRY(checkRenderInputs(*scene_, settings));
+    FrameState f;
+    f.out.device = device_->info();
+    SR_TRY(sizeFrame(settings, f));
+    SR_TRY(draw(camera, settings, f));
+    drawn_ = true;
+    timings(f);
+    statistics(f);
+    SR_TRY(download(settings, f));
+    if (settings.download == ImageDownload::All) SR_TRY(remap(settings, f));
+    return std::move(f.out);
+}
 
-    const uint64_t pixels = uint64_t(settings.width) * settings.height;  // output pixels
-    const uint64_t rasterPixels = pixels * settings.ssaa * settings.ssaa;
-    const uint64_t samples = rasterPixels * settings.msaa;
+// The frame's sizes, the list capacities it starts from, its per-frame buffers, and the triangles it
+// draws: tessellation's sources, or the scene's (again, after a tessellated frame replaced them).
+Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
+{
+    const Scene& scene = *scene_;
+    f.pixels = uint64_t(settings.width) * settings.height;
+    f.rasterPixels = f.pixels * settings.ssaa * settings.ssaa;
+    f.samples = f.rasterPixels * settings.msaa;
     const glm::uvec2 grid = tileGrid(settings.width * settings.ssaa, settings.height * settings.ssaa);
-    const uint64_t tiles = uint64_t(grid.x) * grid.y;
+    f.tiles = uint64_t(grid.x) * grid.y;
     const uint64_t tris = scene.triangleCount() + 2 * scene.lineCount();  // a segment draws as two
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
     // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
@@ -366,133 +442,169 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
         capacity.records = capacity.pieces = capacity.binEntries = settings.initialListCapacity;
     } else if (!drawn_) {
         capacity.pieces = uint32_t(tris / 8 + 1024);
-        capacity.binEntries = uint32_t(std::min<uint64_t>(4 * uint64_t(capacity.pieces) + tiles, 1u << 30));
+        capacity.binEntries = uint32_t(std::min<uint64_t>(4 * uint64_t(capacity.pieces) + f.tiles, 1u << 30));
         capacity.records = uint32_t(tris / 64 + 64);
     }
 
     // One key per sample: memory grows with the sample count asked for, and 1x has no sample buffers.
-    SR_TRY(ensureSize(BUF_VISIBILITY, samples * sizeof(uint64_t)));
-    SR_TRY(ensureSize(BUF_FRAMEBUFFER, pixels * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_VISIBILITY, f.samples * sizeof(uint64_t)));
+    SR_TRY(ensureSize(BUF_FRAMEBUFFER, f.pixels * sizeof(uint32_t)));
     // The debug counter costs memory only when it is asked for.
-    SR_TRY(ensureSize(BUF_HIT_COUNT, countsHits(settings) ? samples * sizeof(uint32_t) : 16));
-    SR_TRY(ensureSize(BUF_TILE_BINS, tiles * sizeof(uint32_t)));
-    SR_TRY(ensureSize(BUF_ACTIVE_TILES, tiles * sizeof(uint32_t)));
-    SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_HIT_COUNT, countsHits(settings) ? f.samples * sizeof(uint32_t) : 16));
+    SR_TRY(ensureSize(BUF_TILE_BINS, f.tiles * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_ACTIVE_TILES, f.tiles * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(f.tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
     SR_TRY(allocateLists());
 
-    const bool tessellating = settings.tessellate != TESS_OFF;
-    if (tessellating)
+    f.tessellating = settings.tessellate != TESS_OFF;
+    if (f.tessellating)
         SR_TRY(prepareTessellation());
     else if (trianglesReplaced_)
         SR_TRY(uploadTriangles());
+    return okStatus();
+}
 
+// Draws the frame settings.warmup + settings.repeat times, each of them again for as long as it
+// overflows a list or needs a stage it skipped, and keeps the GPU times of the timed ones.
+Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& settings, FrameState& f)
+{
     // Every call starts with every stage on every tile, as a fresh render does, even in a session: the
     // previous call's choice fits its own camera, and carried over to a turntable's next frame on
     // lavapipe it made half of the frames draw twice (too few raster groups for the new view).
-    FrameWork work;
-    const uint32_t rasterChunk =
-        device.info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
-    work.groups = GroupCounts{uint32_t(tiles), groupsFor(capacity.pieces, GROUP_SIZE), rasterChunk};
-    work.binBig = work.countSplit = !settings.firstFrameSkipsBinning;
-    work.rasterMethod = settings.rasterMethod;
-    work.alphaTest = alphaTest_;
-    RenderOutput out;
-    out.device = device.info();
-    std::vector<std::vector<double>> stageMs(STAGE_COUNT);
-    std::vector<double> totalMs;
-    uint32_t counters[COUNTER_COUNT] = {};
-    RasterParams params{};
-    glm::uvec4 tessTotals(0u);             // generated vertices, triangles, culled scene triangles, overflow
-    std::vector<Dispatch> lastDispatches;  // the last timed frame's, in dispatch order
+    f.rasterChunk = device_->info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
+    f.work.groups = GroupCounts{uint32_t(f.tiles), groupsFor(capacities_.pieces, GROUP_SIZE), f.rasterChunk};
+    f.work.binBig = f.work.countSplit = !settings.firstFrameSkipsBinning;
+    f.work.rasterMethod = settings.rasterMethod;
+    f.work.alphaTest = alphaTest_;
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
-        params = frameParams(scene, camera, settings, capacity, work.groups);
-        // Tessellation counts first and sizes the generated buffers from the totals (its own submission:
-        // the host reads them), then writes at the head of the frame.
+        f.params = frameParams(*scene_, camera, settings, capacities_, f.work.groups);
         std::vector<Dispatch> dispatches;  // every dispatch of the frame, in order, and its GPU times
         std::vector<double> gpuMs;
-        std::vector<Dispatch> frame;
-        if (tessellating) {
-            dispatches = {{STAGE_TESS_COUNT, groupsFor(params.tessSourceTriangles, GROUP_SIZE)},
-                          {STAGE_TESS_SCAN_BLOCKS, params.tessBlocks},
-                          {STAGE_TESS_SCAN_SUMS, 1u}};
-            SR_TRY(device.run(params, dispatches, gpuMs));
-            SR_TRY(device.download(BUF_TESS_SUMS, &tessTotals, sizeof tessTotals));
-            if (tessTotals.w != 0u)
-                return makeError(ExitCode::Runtime,
-                                 "tessellation would generate over 2^31 vertices or triangles: raise "
-                                 "--tess-edge-px or lower --tess-max-level");
-            SR_TRY(sizeTessellation(tessTotals.x, tessTotals.y));
-            params.vertexCount = params.tessSourceVertices + tessTotals.x;
-            params.triangleCount = tessTotals.y;
-            frame.push_back({STAGE_TESS_EMIT, groupsFor(uint64_t(params.tessSourceTriangles) +
-                                                            params.lineCount + params.pointCount,
-                                                        GROUP_SIZE)});
-        }
-        for (const Dispatch& d : frameDispatches(params, work)) frame.push_back(d);
-        std::vector<double> frameMs;
-        SR_TRY(device.run(params, frame, frameMs));
-        dispatches.insert(dispatches.end(), frame.begin(), frame.end());
-        gpuMs.insert(gpuMs.end(), frameMs.begin(), frameMs.end());
-        SR_TRY(device.download(BUF_COUNTERS, counters, sizeof counters));
-        const uint64_t items = uint64_t(counters[COUNTER_ACTIVE_TILES]) *
-                               rasterChunksPerTile(rasterChunk, counters[COUNTER_MAX_BIN]);
-        if (items >= (uint64_t(1) << 31))
-            return makeError(ExitCode::Runtime, "too much raster work: {} raster_tiles work items", items);
-        const auto rasterItems = uint32_t(items);
-        bool skippedNeeded = (!work.binBig && counters[COUNTER_BIG] > 0) ||
-                             (!work.countSplit && counters[COUNTER_SPLIT] > 0) ||
-                             (rasterChunk != 0 && work.binBig && rasterItems > work.groups.raster);
-        work.binBig = counters[COUNTER_BIG] > 0;
-        work.countSplit = counters[COUNTER_SPLIT] > 0;
-        work.groups.raster = std::max(rasterItems, 1u);
-        work.groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacity.pieces), GROUP_SIZE);
-        if (counters[COUNTER_WORK_OVERFLOW])
-            return makeError(ExitCode::Runtime,
-                             "too much raster work: more than 2^31 pieces or bin entries in one frame");
-        // A list that overflowed leaves the frame incomplete: grow every list that did and draw it again
-        // (bins counted from incomplete pieces may need a second round).
-        bool grown = false;
-        for (auto [count, cap] : {std::pair<uint32_t, uint32_t*>{counters[COUNTER_SETUP], &capacity.records},
-                                  {counters[COUNTER_PIECES], &capacity.pieces},
-                                  {counters[COUNTER_BIN_ENTRIES], &capacity.binEntries}}) {
-            if (count <= *cap) continue;
-            uint64_t wanted = grownCapacity(count);
-            if (wanted >= (uint64_t(1) << 31))
-                return makeError(ExitCode::Runtime, "triangle lists would need {} entries", wanted);
-            *cap = uint32_t(wanted);
-            grown = true;
-        }
-        if (grown) SR_TRY(allocateLists());
-        if (grown || skippedNeeded) {
-            ++out.stats.redraws;
+        SR_TRY(runFrame(f, dispatches, gpuMs));
+        Result<bool> skippedNeeded = nextWork(f);
+        if (!skippedNeeded) return skippedNeeded.error();
+        Result<bool> grown = growLists(f.counters);
+        if (!grown) return grown.error();
+        if (*grown || *skippedNeeded) {
+            ++f.out.stats.redraws;
             continue;
         }
-        if (run >= settings.warmup) {
-            lastDispatches = dispatches;
-            double total = 0.0;
-            for (size_t i = 0; i < dispatches.size(); ++i) {
-                stageMs[dispatches[i].stage].push_back(gpuMs[i]);
-                total += gpuMs[i];
-            }
-            totalMs.push_back(total);
-        }
+        if (run >= settings.warmup) f.keepTimes(dispatches, gpuMs);
         ++run;
     }
+    return okStatus();
+}
 
-    drawn_ = true;
+// Runs one frame with f.params and f.work, tessellation first when it is on, and reads its counters.
+Status RenderSession::runFrame(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs)
+{
+    // Tessellation counts first and sizes the generated buffers from the totals (its own submission:
+    // the host reads them), then writes at the head of the frame.
+    std::vector<Dispatch> frame;
+    if (f.tessellating) {
+        Result<Dispatch> emit = tessellate(f, dispatches, gpuMs);
+        if (!emit) return emit.error();
+        frame.push_back(*emit);
+    }
+    for (const Dispatch& d : frameDispatches(f.params, f.work)) frame.push_back(d);
+    std::vector<double> frameMs;
+    SR_TRY(device_->run(f.params, frame, frameMs));
+    dispatches.insert(dispatches.end(), frame.begin(), frame.end());
+    gpuMs.insert(gpuMs.end(), frameMs.begin(), frameMs.end());
+    return device_->download(BUF_COUNTERS, f.counters, sizeof f.counters);
+}
+
+// tess_count and the scans, in a submission of their own (dispatches, gpuMs); then the totals, the
+// generated buffers sized to them and the frame's counts. Returns the frame's tess_emit dispatch.
+Result<Dispatch> RenderSession::tessellate(FrameState& f, std::vector<Dispatch>& dispatches,
+                                           std::vector<double>& gpuMs)
+{
+    RasterParams& params = f.params;
+    dispatches = {{STAGE_TESS_COUNT, groupsFor(params.tessSourceTriangles, GROUP_SIZE)},
+                  {STAGE_TESS_SCAN_BLOCKS, params.tessBlocks},
+                  {STAGE_TESS_SCAN_SUMS, 1u}};
+    SR_TRY(device_->run(params, dispatches, gpuMs));
+    SR_TRY(device_->download(BUF_TESS_SUMS, &f.tessTotals, sizeof f.tessTotals));
+    if (f.tessTotals.w != 0u)
+        return makeError(ExitCode::Runtime,
+                         "tessellation would generate over 2^31 vertices or triangles: raise "
+                         "--tess-edge-px or lower --tess-max-level");
+    SR_TRY(sizeTessellation(f.tessTotals.x, f.tessTotals.y));
+    params.vertexCount = params.tessSourceVertices + f.tessTotals.x;
+    params.triangleCount = f.tessTotals.y;
+    const uint64_t scenePrimitives =
+        uint64_t(params.tessSourceTriangles) + params.lineCount + params.pointCount;
+    return Dispatch{STAGE_TESS_EMIT, groupsFor(scenePrimitives, GROUP_SIZE)};
+}
+
+// The next frame's work from this frame's counters; returns whether this frame skipped a stage it
+// needed (it must be drawn again).
+Result<bool> RenderSession::nextWork(FrameState& f) const
+{
+    const uint32_t* counters = f.counters;
+    FrameWork& work = f.work;
+    const uint64_t items = uint64_t(counters[COUNTER_ACTIVE_TILES]) *
+                           rasterChunksPerTile(f.rasterChunk, counters[COUNTER_MAX_BIN]);
+    if (items >= (uint64_t(1) << 31))
+        return makeError(ExitCode::Runtime, "too much raster work: {} raster_tiles work items", items);
+    const auto rasterItems = uint32_t(items);
+    bool skippedNeeded = (!work.binBig && counters[COUNTER_BIG] > 0) ||
+                         (!work.countSplit && counters[COUNTER_SPLIT] > 0) ||
+                         (f.rasterChunk != 0 && work.binBig && rasterItems > work.groups.raster);
+    work.binBig = counters[COUNTER_BIG] > 0;
+    work.countSplit = counters[COUNTER_SPLIT] > 0;
+    work.groups.raster = std::max(rasterItems, 1u);
+    work.groups.bin = groupsFor(std::min(counters[COUNTER_PIECES], capacities_.pieces), GROUP_SIZE);
+    if (counters[COUNTER_WORK_OVERFLOW])
+        return makeError(ExitCode::Runtime,
+                         "too much raster work: more than 2^31 pieces or bin entries in one frame");
+    return skippedNeeded;
+}
+
+// Grows every list that overflowed in the frame with these counters; returns whether any did.
+Result<bool> RenderSession::growLists(const uint32_t* counters)
+{
+    // A list that overflowed leaves the frame incomplete: grow every list that did and draw it again
+    // (bins counted from incomplete pieces may need a second round).
+    ListCapacities& capacity = capacities_;
+    bool grown = false;
+    for (auto [count, cap] : {std::pair<uint32_t, uint32_t*>{counters[COUNTER_SETUP], &capacity.records},
+                              {counters[COUNTER_PIECES], &capacity.pieces},
+                              {counters[COUNTER_BIN_ENTRIES], &capacity.binEntries}}) {
+        if (count <= *cap) continue;
+        uint64_t wanted = grownCapacity(count);
+        if (wanted >= (uint64_t(1) << 31))
+            return makeError(ExitCode::Runtime, "triangle lists would need {} entries", wanted);
+        *cap = uint32_t(wanted);
+        grown = true;
+    }
+    if (grown) SR_TRY(allocateLists());
+    return grown;
+}
+
+// The timed runs' GPU times per stage and in all, the last frame's parameters, the device's peak memory.
+void RenderSession::timings(FrameState& f) const
+{
+    RenderOutput& out = f.out;
     // Every stage of the frame in dispatch order (one with no work at 0 ms): the tess_* stages first when
     // they ran.
-    for (const Dispatch& d : lastDispatches)
-        out.stages.push_back(summarize(stageName(d.stage), stageMs[d.stage]));
-    out.total = summarize("total", totalMs);
-    out.params = params;
-    out.peakDeviceBytes = device.peakAllocatedBytes();
+    for (const Dispatch& d : f.lastDispatches)
+        out.stages.push_back(summarize(stageName(d.stage), f.stageMs[d.stage]));
+    out.total = summarize("total", f.totalMs);
+    out.params = f.params;
+    out.peakDeviceBytes = device_->peakAllocatedBytes();
+}
 
-    RenderStats& st = out.stats;
-    st.trianglesIn = tessellating ? tessTotals.y : scene.triangleCount();
-    st.tessVertices = tessTotals.x;
-    st.tessTriangles = tessTotals.y;
-    st.tessCulled = tessTotals.z;
+// RenderStats from the last frame's counters and tessellation totals.
+void RenderSession::statistics(FrameState& f) const
+{
+    const Scene& scene = *scene_;
+    const uint32_t* counters = f.counters;
+    RenderStats& st = f.out.stats;
+    st.trianglesIn = f.tessellating ? f.tessTotals.y : scene.triangleCount();
+    st.tessVertices = f.tessTotals.x;
+    st.tessTriangles = f.tessTotals.y;
+    st.tessCulled = f.tessTotals.z;
     st.culled = counters[COUNTER_CULLED];
     st.clipped = counters[COUNTER_CLIPPED];
     st.invalid = counters[COUNTER_INVALID];
@@ -506,57 +618,53 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     st.records = counters[COUNTER_SETUP];
     st.pieces = counters[COUNTER_PIECES];
     st.binEntries = counters[COUNTER_BIN_ENTRIES];
-    st.capacities = capacity;
+    st.capacities = capacities_;
+}
 
+// What RenderSettings::download asks for: the colour image; with All also the hit counts when counted
+// and the id and depth AOVs from the visibility buffer, every sample's when asked for.
+Status RenderSession::download(const RenderSettings& settings, FrameState& f)
+{
+    RenderOutput& out = f.out;
+    ComputeDevice& device = *device_;
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;
-    if (settings.download == ImageDownload::None) return out;
-    out.color.pixels.resize(pixels);
-    SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), pixels * sizeof(uint32_t)));
-    if (settings.download == ImageDownload::Colour) return out;
+    if (settings.download == ImageDownload::None) return okStatus();
+    out.color.pixels.resize(f.pixels);
+    SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), f.pixels * sizeof(uint32_t)));
+    if (settings.download == ImageDownload::Colour) return okStatus();
     if (countsHits(settings)) {
-        out.hitCount.resize(samples);
-        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), samples * sizeof(uint32_t)));
+        out.hitCount.resize(f.samples);
+        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), f.samples * sizeof(uint32_t)));
     }
     // The AOVs read sample 0 of the raster grid, the first plane; every plane only when asked for.
-    std::vector<uint64_t> visibility(settings.aovSamples ? samples : rasterPixels);
+    std::vector<uint64_t> visibility(settings.aovSamples ? f.samples : f.rasterPixels);
     SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
-    out.aov.id.resize(pixels);
-    out.aov.depth.resize(pixels);
-    for (uint32_t y = 0; y < settings.height; ++y) {
-        for (uint32_t x = 0; x < settings.width; ++x) {
-            uint64_t key = visibility[aovSampleIndex(x, y, params.width, settings.ssaa)];
-            out.aov.id[uint64_t(y) * settings.width + x] = visibilityId(key);
-            out.aov.depth[uint64_t(y) * settings.width + x] = visibilityDepth(key);
-        }
-    }
-    if (settings.aovSamples) {
-        SampleAovs& all = out.samples;
-        all.rasterWidth = params.width;
-        all.rasterHeight = params.height;
-        all.samples = settings.msaa;
-        all.id.resize(samples);
-        all.depth.resize(samples);
-        for (uint64_t i = 0; i < samples; ++i) {
-            all.id[i] = visibilityId(visibility[i]);
-            all.depth[i] = visibilityDepth(visibility[i]);
-        }
-    }
-    if (tessellating) {
+    visibilityAovs(visibility, settings, f.params, out);
+    return okStatus();
+}
+
+// The surface AOVs when asked for; with tessellation, the ids of generated triangles mapped back to the
+// scene's triangles.
+Status RenderSession::remap(const RenderSettings& settings, FrameState& f)
+{
+    const Scene& scene = *scene_;
+    RenderOutput& out = f.out;
+    if (f.tessellating) {
         // Generated triangles map back to the scene's (their surfaces come from the host's copy of the
         // generated mesh, bit for bit the device's).
-        std::vector<uint32_t> sourceIds(tessTotals.y);
-        SR_TRY(device.download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
+        std::vector<uint32_t> sourceIds(f.tessTotals.y);
+        SR_TRY(device_->download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
         if (settings.surfaceAovs)
-            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, params).scene, outputParams(out.params),
+            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, f.params).scene, outputParams(out.params),
                             out.aov);
         const auto sceneTriangles = uint32_t(scene.triangleCount());
         mapToSourceIds(out.aov.id, sourceIds, sceneTriangles);
         mapToSourceIds(out.samples.id, sourceIds, sceneTriangles);
-        return out;
+        return okStatus();
     }
     if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
-    return out;
+    return okStatus();
 }
 
 }  // namespace sr

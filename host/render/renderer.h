@@ -1,8 +1,8 @@
 // renderer.h - the pipeline, written once for every backend.
 //
-// Sizes every buffer from the scene and the resolution, uploads the scene, runs the stages of
-// raster_shared.h (STAGE_*) through a ComputeDevice, grows the triangle lists and redraws when the
-// device reports an overflow, and gathers images, statistics and per-stage GPU times.
+// Sizes every buffer from the scene and the resolution, uploads the scene, runs the stages of the stage
+// table (STAGE_*, common/shared/stages.h) through a ComputeDevice, grows the triangle lists and redraws
+// when the device reports an overflow, and gathers images, statistics and per-stage GPU times.
 #ifndef RASTER_RENDERER_H
 #define RASTER_RENDERER_H
 
@@ -147,6 +147,19 @@ private:
     // a frame's totals (grown, never shrunk; the scene's vertices uploaded again after a reallocation).
     Status prepareTessellation();
     Status sizeTessellation(uint64_t vertices, uint64_t triangles);
+
+    // render()'s steps, in order (renderer.cpp), and the state they pass along.
+    struct FrameState;
+    Status sizeFrame(const RenderSettings& settings, FrameState& f);
+    Status draw(const CameraMatrices& camera, const RenderSettings& settings, FrameState& f);
+    Status runFrame(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
+    Result<Dispatch> tessellate(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
+    Result<bool> nextWork(FrameState& f) const;
+    Result<bool> growLists(const uint32_t* counters);
+    void timings(FrameState& f) const;
+    void statistics(FrameState& f) const;
+    Status download(const RenderSettings& settings, FrameState& f);
+    Status remap(const RenderSettings& settings, FrameState& f);
 
     ComputeDevice* device_;
     const Scene* scene_;

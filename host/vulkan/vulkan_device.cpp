@@ -30,22 +30,11 @@
 namespace sr {
 namespace {
 
-// The generated headers each define `const uint32_t kSpv_<stage>[]`.
-#include "bin_count.spv.h"
-#include "bin_fill.spv.h"
-#include "clear.spv.h"
-#include "raster_tiles.spv.h"
-#include "scan_blocks.spv.h"
-#include "scan_sums.spv.h"
-#include "setup.spv.h"
+// The generated headers each define `const uint32_t kSpv_<module>[]`: stage_spirv.h includes the
+// module of every stage of the table (common/shared/stages.h), the others are the raster methods'.
+#include "stage_spirv.h"
 #include "setup_lines_points.spv.h"
 #include "raster_tiles_chunked.spv.h"
-#include "shade.spv.h"
-#include "tess_count.spv.h"
-#include "tess_emit.spv.h"
-#include "tess_scan_blocks.spv.h"
-#include "tess_scan_sums.spv.h"
-#include "vertex.spv.h"
 #include "bin_count_fixed4.spv.h"
 #include "bin_fill_fixed4.spv.h"
 #include "raster_tiles_fixed4.spv.h"
@@ -77,13 +66,9 @@ struct StageSpirv {
 
 // Indexed by STAGE_*: the modules of the stages no raster method changes (the others are in
 // kMethodSpirv).
-const StageSpirv kStageSpirv[] = {
-    SR_SPIRV(kSpv_clear),      SR_SPIRV(kSpv_vertex),           SR_SPIRV(kSpv_setup),
-    SR_SPIRV(kSpv_bin_count),  SR_SPIRV(kSpv_scan_blocks),      SR_SPIRV(kSpv_scan_sums),
-    SR_SPIRV(kSpv_bin_fill),   SR_SPIRV(kSpv_raster_tiles),     SR_SPIRV(kSpv_shade),
-    SR_SPIRV(kSpv_tess_count), SR_SPIRV(kSpv_tess_scan_blocks), SR_SPIRV(kSpv_tess_scan_sums),
-    SR_SPIRV(kSpv_tess_emit),
-};
+#define SR_STAGE_SPIRV(ID, name, function, threads, kind) SR_SPIRV(kSpv_##name),
+const StageSpirv kStageSpirv[] = {SR_STAGE_TABLE(SR_STAGE_SPIRV)};
+#undef SR_STAGE_SPIRV
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
 
 // The modules of one raster method (RASTER_METHOD): setup without and with the line and point paths
@@ -108,13 +93,6 @@ const MethodSpirv kMethodSpirv[] = {
 };
 static_assert(sizeof kMethodSpirv / sizeof kMethodSpirv[0] == RASTER_METHOD_COUNT, "modules per method");
 #undef SR_SPIRV
-
-// Whether the raster method selects stage's module (Dispatch::rasterMethod).
-bool methodStage(uint32_t stage)
-{
-    return stage == STAGE_SETUP || stage == STAGE_BIN_COUNT || stage == STAGE_BIN_FILL ||
-           stage == STAGE_RASTER_TILES;
-}
 
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
