@@ -41,8 +41,9 @@ struct raster::Session::Impl {
 
 namespace raster {
 
-// The public error of an internal one.
+// The public error of an internal one, and back.
 Error toPublic(const sr::Error& error);
+sr::Error fromPublic(const Error& error);
 
 }  // namespace raster
 

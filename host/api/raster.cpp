@@ -24,6 +24,12 @@ Error toPublic(const sr::Error& error)
     return Error{error.code == sr::ExitCode::Runtime ? ErrorKind::Runtime : ErrorKind::Usage, error.message};
 }
 
+sr::Error fromPublic(const Error& error)
+{
+    return sr::Error{error.message,
+                     error.kind == ErrorKind::Runtime ? sr::ExitCode::Runtime : sr::ExitCode::Usage};
+}
+
 namespace {
 
 Error usage(std::string message)

@@ -26,6 +26,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "api/api_internal.h"
 #include "api/backend.h"
 #include "cli/batch.h"
 #include "cli/bench.h"
@@ -201,18 +202,18 @@ Status runRender(RenderCommand& cmd)
                              "or vulkan");
         out = renderGraphics(*scene, *camera, s, cmd.device);
     } else {
-        auto device = makeComputeDevice(cmd.backend == "cuda"     ? BackendKind::Cuda
-                                        : cmd.backend == "vulkan" ? BackendKind::Vulkan
-                                                                  : BackendKind::Auto,
-                                        cmd.device);
-        if (!device) return device.error();
+        // The device through the public API, as any application opens it; the turntable and --quality
+        // work on the pipeline below it.
+        auto opened = raster::Device::open(*raster::parseBackend(cmd.backend), cmd.device);
+        if (!opened) return raster::fromPublic(opened.error());
+        ComputeDevice* device = opened->impl().compute.get();
         if (!cmd.quality.empty()) {
             StudyScene study;
             study.name = studySceneNameFor(cmd.scenePath);
             study.scene = *scene;
             study.camera = *camera;
             study.textured = !scene->textures.empty();
-            auto choice = chooseQuality(cmd.quality, cmd.studyPath, **device, study, s);
+            auto choice = chooseQuality(cmd.quality, cmd.studyPath, *device, study, s);
             if (!choice) return choice.error();
             s = withSetting(s, choice->setting);
             // What was chosen is what the frames and the statistics' echo use.
@@ -224,8 +225,8 @@ Status runRender(RenderCommand& cmd)
                                  kMaxAovSamples, s.ssaa * s.ssaa * s.msaa);
             if (!cmd.quiet) fmt::print("{}\n", choice->line);
         }
-        if (turntable) return runTurntable(cmd, **device, *scene, *orbit, frames, sceneName);
-        out = renderScene(**device, *scene, *camera, s);
+        if (turntable) return runTurntable(cmd, *device, *scene, *orbit, frames, sceneName);
+        out = renderScene(*device, *scene, *camera, s);
     }
     if (!out) return out.error();
 

@@ -4,7 +4,7 @@
 // host/render/renderer.cpp. A backend only allocates the buffers named in raster_shared.h (BUF_*), copies
 // data, and runs a list of stage dispatches with a full barrier between consecutive dispatches,
 // timing each one on the GPU. CUDA (cuda/cuda_device.cu) and Vulkan (host/vulkan/vulkan_device.cpp)
-// implement it; the backend is chosen at run time in one place, makeComputeDevice() (host/cli/backend.h).
+// implement it; the backend is chosen at run time in one place, makeComputeDevice() (host/api/backend.h).
 #ifndef RASTER_COMPUTE_DEVICE_H
 #define RASTER_COMPUTE_DEVICE_H
 

@@ -211,9 +211,11 @@ private:
 };
 
 // How the scene is seen: a `--camera` spec ("auto", "gltf:N", "orbit:AZ,EL,DIST[,TX,TY,TZ]"), or
-// explicit view and projection matrices (column-major 4x4, OpenGL-style clip space with y up and depth
-// -1..1, as glm::perspective writes it; the pipeline maps it to Vulkan's window space). A spec other
-// than "auto" overrides the settings' "camera".
+// explicit view and projection matrices (column-major 4x4: element (row r, column c) at index 4 c + r)
+// in Vulkan's clip conventions, as the pipeline's own cameras: depth 0..1 with the near plane at 0, and
+// NDC y = -1 the top row of the image (glm::perspective's matrix needs its y row negated and its depth
+// mapped from -1..1). A perspective projection has (0, 0, -1, 0) as its last row; any other is taken
+// as orthographic. A spec other than "auto" overrides the settings' "camera".
 struct Camera {
     std::string spec = "auto";
     bool explicitMatrices = false;
@@ -233,8 +235,9 @@ struct Frame {
     std::vector<uint32_t> id;    // triangle id (scene order; lines and points after the triangles),
                                  // 0xffffffff where nothing covers the pixel's AOV sample
     std::vector<float> depth;    // window depth 0..1 of that sample, 1 where empty
-    // Surface AOVs at pixel centres (filled when `surfaceAovs` is asked for in render()): barycentrics
-    // (2 per pixel), texture coordinates (2), world normal (3); NaN where empty.
+    // Surface AOVs at pixel centres (filled when RenderRequest::surfaceAovs asks for them), interleaved:
+    // perspective-correct barycentrics of the triangle's vertices 1 and 2 (2 per pixel), base colour
+    // texture coordinates (2), unit view-space shading normal facing the viewer (3); 0 where empty.
     std::vector<float> bary, uv, normal;
     // Every sample's id and depth (setting "aov-samples"): sample s of raster pixel p at index
     // s * rasterWidth * rasterHeight + p; the raster grid is the image times "ssaa" per side.
