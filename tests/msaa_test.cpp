@@ -388,7 +388,7 @@ TEST(MsaaCommandLine, RejectsBadRequestsWithOneLine)
 {
     for (const char* args : {"--msaa 3", "--msaa 32", "--ssaa 0", "--ssaa 9", "--aov-samples",
                              "--width 4096 --ssaa 8", "--ssaa 8 --msaa 4 --aov x.exr --aov-samples"}) {
-        ToolRun run = runTool(std::string("render --backend vulkan -q -o /dev/null ") + args);
+        ToolRun run = runTool(std::string("render --backend vulkan -q -o never-written.png ") + args);
         EXPECT_EQ(run.exitCode, 2) << args;
         EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1)
             << args << run.stderrText;

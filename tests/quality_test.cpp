@@ -169,7 +169,7 @@ TEST(QualityCommand, BadTargetsAndConflictingOptionsAreUsageErrors)
           "--quality psnr:40 --ssaa 2", "--quality psnr:40 --texture-filter nearest",
           "--quality psnr:40 --raster-method float", "--quality psnr:40 --uv-interpolation affine",
           "--study missing.json", "--quality psnr:40 --backend vulkan-graphics --width 8 --height 8"}) {
-        ToolRun run = runTool(std::string("render -o /dev/null ") + args);
+        ToolRun run = runTool(std::string("render -o never-written.png ") + args);
         EXPECT_EQ(run.exitCode, 2) << args;
         EXPECT_TRUE(isOneLine(run.stderrText.substr(0, run.stderrText.size() - 1))) << args << run.stderrText;
         EXPECT_EQ(run.stdoutText, "") << args;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "io/file_write.h"
 #include "settings/schema.h"
 
 namespace sr {
@@ -75,11 +76,8 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, 
 
 Status writeJson(const std::string& path, const nlohmann::json& json)
 {
-    std::ofstream file(path);
-    if (!file) return makeError(ExitCode::Usage, "cannot write '{}': {}", path, std::strerror(errno));
-    file << json.dump(2) << '\n';
-    if (!file) return makeError(ExitCode::Usage, "cannot write '{}': write failed", path);
-    return okStatus();
+    const std::string text = json.dump(2) + "\n";
+    return writeFileAtomically(path, text.data(), text.size());
 }
 
 }  // namespace sr

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/file_write.h"
 #include "settings/schema.h"
 
 namespace sr {
@@ -104,6 +105,10 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     const std::string aov = merged.value("aov", merged.value("exr", std::string()));
     const std::string stats = merged.value("stats", std::string());
     if (output.empty()) return makeError(ExitCode::Usage, "{}: no 'output' (the PNG to write)", where);
+    auto named = checkOutputNames({{merged.contains("png") ? "png" : "output", output, ".png"},
+                                   {merged.contains("exr") ? "exr" : "aov", aov, ".exr"},
+                                   {"stats", stats, ""}});
+    if (!named) return makeError(ExitCode::Usage, "{}: {}", where, named.error().message);
 
     const std::string scene = merged["scene"].get<std::string>();
     if (scene.empty()) return makeError(ExitCode::Usage, "{}: empty 'scene'", where);

@@ -1,4 +1,4 @@
-// outputs.cpp - temporary names, renames and sidecars of batch jobs.
+// outputs.cpp - sidecars of batch jobs and the leftovers of killed runs.
 #include "batch/outputs.h"
 
 #include <cerrno>
@@ -16,49 +16,6 @@
 namespace sr {
 
 namespace fs = std::filesystem;
-
-std::string temporaryPath(const std::string& path)
-{
-    return fmt::format("{}.tmp.{}", path, getpid());
-}
-
-Status renameFile(const std::string& from, const std::string& to)
-{
-    if (std::rename(from.c_str(), to.c_str()) != 0)
-        return makeError(ExitCode::Usage, "cannot rename '{}' to '{}': {}", from, to, std::strerror(errno));
-    return okStatus();
-}
-
-Status writeFile(const std::string& tmp, const void* data, size_t bytes)
-{
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) return makeError(ExitCode::Usage, "cannot write '{}': {}", tmp, std::strerror(errno));
-    const bool written = std::fwrite(data, 1, bytes, f) == bytes;
-    const int savedErrno = errno;
-    if (std::fclose(f) != 0 || !written) {
-        std::remove(tmp.c_str());
-        return makeError(ExitCode::Usage, "cannot write '{}': {}", tmp,
-                         std::strerror(written ? errno : savedErrno));
-    }
-    return okStatus();
-}
-
-Status writeFileAtomically(const std::string& path, const void* data, size_t bytes)
-{
-    const std::string tmp = temporaryPath(path);
-    SR_TRY(writeFile(tmp, data, bytes));
-    return renameFile(tmp, path);
-}
-
-Status createParentFolder(const std::string& path)
-{
-    const fs::path parent = fs::path(path).parent_path();
-    if (parent.empty()) return okStatus();
-    std::error_code ec;
-    fs::create_directories(parent, ec);
-    if (ec) return makeError(ExitCode::Usage, "cannot create folder '{}': {}", parent.string(), ec.message());
-    return okStatus();
-}
 
 std::string sidecarPath(const std::string& png)
 {

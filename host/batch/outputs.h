@@ -1,6 +1,6 @@
 // outputs.h - the files of a batch job, written so that a killed batch never leaves a final name that a
-// rerun would trust: each file is written under a temporary name and renamed into place, and the job's
-// sidecar (NAME.job.json: the settings that produced the files) is written last. A job counts as done
+// rerun would trust: each file is written under a temporary name and renamed into place
+// (io/file_write.h), and the job's sidecar (NAME.job.json: the settings that produced the files) is written last. A job counts as done
 // exactly when its sidecar records the settings asked for now and every output exists.
 //
 // The renames protect against a killed process, not against a power cut (nothing is fsynced).
@@ -14,24 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include "base/result.h"
+#include "io/file_write.h"
 
 namespace sr {
-
-// PATH.tmp.<pid>: where `path` is written before the rename. The process id keeps two processes that
-// were given the same job (two shards run by hand with overlapping jobs) from writing into one file.
-std::string temporaryPath(const std::string& path);
-
-// Renames `from` onto `to` (atomic within a file system).
-Status renameFile(const std::string& from, const std::string& to);
-
-// `bytes` written to `path` (no rename).
-Status writeFile(const std::string& path, const void* data, size_t bytes);
-
-// `bytes` written to temporaryPath(path), then renamed onto `path`.
-Status writeFileAtomically(const std::string& path, const void* data, size_t bytes);
-
-// The folder holding `path`, created with its parents when missing.
-Status createParentFolder(const std::string& path);
 
 // `png` + ".job.json".
 std::string sidecarPath(const std::string& png);

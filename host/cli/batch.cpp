@@ -78,9 +78,10 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
 {
     std::vector<BatchFrame> frames;
     std::map<std::string, int> writers;  // every output path -> the line writing it
+    // Keyed by the resolved path: "a.png" and "./a.png" are one file.
     auto claim = [&](const std::string& path, int line) -> Status {
         if (path.empty()) return okStatus();
-        auto [it, fresh] = writers.emplace(path, line);
+        auto [it, fresh] = writers.emplace(resolvedPath(path), line);
         if (!fresh)
             return makeError(ExitCode::Usage, "{}:{}: '{}' is also written by line {}", manifest.path, line,
                              path, it->second);
@@ -588,19 +589,10 @@ private:
         start = Clock::now();
         SR_TRY(renameFile(pngTmp, f.png));
         times.write += msSince(start);
-        // The EXR and the statistics are encoded straight into their files.
+        // The EXR and the statistics go through the same temporary name and rename (io/file_write.h).
         start = Clock::now();
-        if (!f.aov.empty()) {
-            const std::string tmp = temporaryPath(f.aov);
-            SR_TRY(writeAovExr(tmp, item.out.aov));
-            SR_TRY(renameFile(tmp, f.aov));
-        }
-        if (!f.stats.empty()) {
-            const std::string tmp = temporaryPath(f.stats);
-            const std::string sceneName = f.job->scene;
-            SR_TRY(writeJson(tmp, statsJson(item.out, item.options, sceneName)));
-            SR_TRY(renameFile(tmp, f.stats));
-        }
+        if (!f.aov.empty()) SR_TRY(writeAovExr(f.aov, item.out.aov));
+        if (!f.stats.empty()) SR_TRY(writeJson(f.stats, statsJson(item.out, item.options, f.job->scene)));
         times.aux = msSince(start);
         start = Clock::now();
         const std::string text = sidecarJson(f.settings, f.job->scene).dump(2) + "\n";

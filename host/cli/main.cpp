@@ -39,6 +39,7 @@
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
 #include "io/compare.h"
+#include "io/file_write.h"
 #include "render/compute_device.h"
 #include "io/image_io.h"
 #include "render/aov.h"
@@ -120,6 +121,9 @@ Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene
 Status runRender(RenderCommand& cmd)
 {
     RenderSettings s = cmd.options.resolved();
+    // Each output in its format and a file of its own, before anything is loaded or rendered.
+    SR_TRY(checkOutputNames(
+        {{"-o", cmd.output, ".png"}, {"--aov", cmd.aovPath, ".exr"}, {"--stats", cmd.statsPath, ""}}));
 
     // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();
@@ -254,6 +258,7 @@ struct CompareCommand {
 // Exit code 0 within tolerance, 1 outside it (ExitCode::CompareFailed), 2 for unreadable inputs.
 Result<bool> runCompare(const CompareCommand& cmd)
 {
+    SR_TRY(checkOutputNames({{"-o", cmd.diffPath, ".png"}}));
     auto report = compareFiles(cmd.a, cmd.b, cmd.tolerance);
     if (!report) return report.error();
     fmt::print("Comparing \"{}\" and \"{}\" ({}x{})\n{}", cmd.a, cmd.b, report->width, report->height,

@@ -1,6 +1,8 @@
 // image_io.cpp - PNG through stb, the AOV EXR (id, depth and the surface channels) through tinyexr.
 #include "io/image_io.h"
 
+#include "io/file_write.h"
+
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <tinyexr.h>
@@ -90,15 +92,10 @@ std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
 Status writePng(const std::string& path, const RgbaImage& image)
 {
     SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
-    const std::vector<unsigned char> bytes = rgbaBytes(image);
-    errno = 0;
-    int ok = stbi_write_png(path.c_str(), int(image.width), int(image.height), 4, bytes.data(),
-                            int(image.width * 4));
-    if (!ok) {
-        return makeError(ExitCode::Usage, "cannot write '{}': {}", path,
-                         errno ? std::strerror(errno) : "stb_image_write failed");
-    }
-    return okStatus();
+    SR_TRY(checkOutputTarget(path));
+    auto file = encodePng(image);
+    if (!file) return file.error();
+    return writeFileAtomically(path, file->data(), file->size());
 }
 
 Result<std::vector<unsigned char>> encodePng(const RgbaImage& image)
@@ -200,16 +197,13 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
     image.width = int(aov.width);
     image.height = int(aov.height);
 
+    // Encoded in memory and written through the checked, atomic path (io/file_write.h).
     const char* err = nullptr;
-    errno = 0;
-    int rc = SaveEXRImageToFile(&image, &header, path.c_str(), &err);
-    if (rc != TINYEXR_SUCCESS) {
-        int savedErrno = errno;
-        std::string reason = takeExrError(err, rc);
-        if (savedErrno) reason += fmt::format(" ({})", std::strerror(savedErrno));
-        return makeError(ExitCode::Usage, "cannot write '{}': {}", path, reason);
-    }
-    return okStatus();
+    unsigned char* memory = nullptr;
+    const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
+    std::unique_ptr<unsigned char, void (*)(void*)> owned(memory, std::free);
+    if (size == 0) return makeError(ExitCode::Usage, "cannot write '{}': {}", path, takeExrError(err, 0));
+    return writeFileAtomically(path, memory, size);
 }
 
 Result<AovImage> readAovExr(const std::string& path)

@@ -1,0 +1,148 @@
+// file_write.cpp - see file_write.h.
+#include "io/file_write.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace sr {
+
+namespace fs = std::filesystem;
+
+std::string temporaryPath(const std::string& path)
+{
+    return fmt::format("{}.tmp.{}", path, getpid());
+}
+
+Status checkOutputTarget(const std::string& path)
+{
+    struct stat st {};
+    if (lstat(path.c_str(), &st) != 0) {
+        if (errno == ENOENT) return okStatus();
+        return makeError(ExitCode::Usage, "cannot write '{}': {}", path, std::strerror(errno));
+    }
+    if (S_ISREG(st.st_mode)) return okStatus();
+    const char* what = S_ISDIR(st.st_mode)    ? "a folder"
+                       : S_ISLNK(st.st_mode)  ? "a symbolic link"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a regular file";
+    return makeError(ExitCode::Usage, "cannot write '{}': it exists and is {}, not a regular file", path,
+                     what);
+}
+
+Status renameFile(const std::string& from, const std::string& to)
+{
+    auto target = checkOutputTarget(to);
+    if (!target) {
+        std::remove(from.c_str());
+        return target.error();
+    }
+    if (std::rename(from.c_str(), to.c_str()) != 0) {
+        const int saved = errno;
+        std::remove(from.c_str());
+        return makeError(ExitCode::Usage, "cannot rename '{}' to '{}': {}", from, to, std::strerror(saved));
+    }
+    return okStatus();
+}
+
+namespace {
+
+// Writes `path`, naming `shown` in the error (the final name when `path` is its temporary one).
+Status writeWhole(const std::string& path, const std::string& shown, const void* data, size_t bytes)
+{
+    const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) return makeError(ExitCode::Usage, "cannot write '{}': {}", shown, std::strerror(errno));
+    const auto* p = static_cast<const unsigned char*>(data);
+    size_t left = bytes;
+    int error = 0;
+    while (left > 0) {
+        const ssize_t n = write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            error = n < 0 ? errno : EIO;
+            break;
+        }
+        p += n;
+        left -= size_t(n);
+    }
+    // close() reports what a delayed write found (NFS, quotas): it is an error like any other.
+    if (close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) {
+        std::remove(path.c_str());
+        return makeError(ExitCode::Usage, "cannot write '{}': {}", shown, std::strerror(error));
+    }
+    return okStatus();
+}
+
+}  // namespace
+
+Status writeFile(const std::string& path, const void* data, size_t bytes)
+{
+    return writeWhole(path, path, data, bytes);
+}
+
+Status writeFileAtomically(const std::string& path, const void* data, size_t bytes)
+{
+    SR_TRY(checkOutputTarget(path));
+    const std::string tmp = temporaryPath(path);
+    SR_TRY(writeWhole(tmp, path, data, bytes));
+    return renameFile(tmp, path);
+}
+
+Status createParentFolder(const std::string& path)
+{
+    const fs::path parent = fs::path(path).parent_path();
+    if (parent.empty()) return okStatus();
+    std::error_code ec;
+    fs::create_directories(parent, ec);
+    if (ec) return makeError(ExitCode::Usage, "cannot create folder '{}': {}", parent.string(), ec.message());
+    return okStatus();
+}
+
+std::string resolvedPath(const std::string& path)
+{
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) p = fs::absolute(path, ec).lexically_normal();
+    return p.string();
+}
+
+bool hasExtension(const std::string& path, const std::string& extension)
+{
+    if (path.size() < extension.size()) return false;
+    return std::equal(extension.begin(), extension.end(), path.end() - std::ptrdiff_t(extension.size()),
+                      [](char a, char b) {
+                          return std::tolower(static_cast<unsigned char>(a)) ==
+                                 std::tolower(static_cast<unsigned char>(b));
+                      });
+}
+
+Status checkOutputNames(const std::vector<OutputName>& outputs)
+{
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        const OutputName& a = outputs[i];
+        if (a.path.empty()) continue;
+        if (!a.extension.empty() && !hasExtension(a.path, a.extension))
+            return makeError(ExitCode::Usage, "{} '{}' must end in {}", a.label, a.path, a.extension);
+        for (size_t j = 0; j < i; ++j) {
+            const OutputName& b = outputs[j];
+            if (!b.path.empty() && resolvedPath(a.path) == resolvedPath(b.path))
+                return makeError(ExitCode::Usage, "{} '{}' and {} '{}' name the same file", b.label, b.path,
+                                 a.label, a.path);
+        }
+    }
+    return okStatus();
+}
+
+}  // namespace sr
