@@ -128,6 +128,33 @@ TEST(SettingsSchema, OneCheckForEveryFrontEnd)
     EXPECT_EQ(manifest.error().message, "m:1: --tess-max-level 9 is outside 0..8 for centroid tessellation");
 }
 
+// Values the reference rules out are refused (issue 24, point 7): not-a-number and infinite numbers, and
+// a tessellation level of 0 for flat and pn, where 0 pieces per edge means nothing (auto is the default).
+TEST(SettingsSchema, ValuesOutsideTheReferenceAreRefused)
+{
+    for (const char* text : {"nan", "inf", "-inf", "1e999", "0x10", " 1", "1 ", ""}) {
+        SCOPED_TRACE(text);
+        EXPECT_FALSE(parseSettingText(setting("ambient"), text, "--ambient").ok());
+    }
+    for (const char* args : {"--ambient nan", "--tessellate flat --tess-max-level 0",
+                             "--tessellate pn --tess-max-level 0", "--tessellate centroid --tess-max-level 9",
+                             "--tess-max-level 65", "--tess-max-level -1", "--point-size 0.9"}) {
+        SCOPED_TRACE(args);
+        test::ToolRun run = test::runTool(std::string("render -q -o never-written.png ") + args);
+        EXPECT_EQ(run.exitCode, 2);
+        EXPECT_EQ(run.stderrText.rfind("raster: error: ", 0), 0u) << run.stderrText;
+    }
+    RenderOptions o;
+    EXPECT_EQ(settingText(o, setting("tess-max-level")), "auto");
+    ASSERT_TRUE(setSetting(o, setting("tessellate"), "centroid", "tessellate").ok());
+    EXPECT_EQ(o.resolved().tessMaxLevel, kDefaultCentroidLevel);
+    ASSERT_TRUE(setSetting(o, setting("tess-max-level"), 0, "tess_max_level").ok());
+    EXPECT_EQ(o.resolved().tessMaxLevel, 0u) << "centroid: 0 splits is a level, not the default";
+    EXPECT_TRUE(checkSettings(o.resolved()).ok());
+    ASSERT_TRUE(setSetting(o, setting("tessellate"), "flat", "tessellate").ok());
+    EXPECT_FALSE(checkSettings(o.resolved()).ok());
+}
+
 // Every setting is a manifest key (the keys `raster batch` lacked before the schema among them), and a
 // job's canonical form holds every setting.
 TEST(SettingsSchema, EverySettingIsAManifestKey)

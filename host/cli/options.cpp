@@ -14,7 +14,7 @@ std::string optionHelp(const Setting& s)
     } else if (s.type == SettingType::Uint && !s.numbers.empty()) {
         for (uint32_t n : s.numbers) values += fmt::format("{}{}", values.empty() ? "" : ", ", n);
     } else if (s.type == SettingType::Uint || s.type == SettingType::Float) {
-        values = fmt::format("{}..{}", s.min, s.max);
+        values = fmt::format("{}{}..{}", s.allowAuto ? "auto, " : "", s.min, s.max);
     }
     std::string help = s.help;
     if (!values.empty()) help += " [" + values + "]";

@@ -87,7 +87,8 @@ RenderOptions viewOptions(const ViewerState& state)
     options.camera = state.camera.specString();
     options.primitiveMode = state.primitiveMode;
     options.wireframe = state.wireframe;
-    options.tessMaxLevel = state.settings.tessellate == TESS_OFF ? 0u : state.settings.tessMaxLevel;
+    options.tessMaxLevel =
+        state.settings.tessellate == TESS_OFF ? kAutoTessLevel : state.settings.tessMaxLevel;
     return options;
 }
 

@@ -22,10 +22,11 @@ namespace sr {
 // another surface stays hidden unless the two lie within 0.4% of the distance.
 constexpr float kWireframeDepthBias = 1.0f / 256.0f;
 
-// Tessellation levels when --tess-max-level is left at 0: flat and pn edges in at most 16 pieces,
-// centroid split twice.
+// Tessellation levels when --tess-max-level is auto (the default): flat and pn edges in at most 16
+// pieces, centroid split twice. kAutoTessLevel is auto in RenderOptions::tessMaxLevel.
 constexpr uint32_t kDefaultTessMaxLevel = 16;
 constexpr uint32_t kDefaultCentroidLevel = 2;
+constexpr uint32_t kAutoTessLevel = 0xffffffffu;
 
 // What a render downloads. All: the colour image, the id and depth AOVs (from the visibility buffer),
 // the sample AOVs and hit counts where asked for. Colour: the colour image alone. None: nothing (the
@@ -85,14 +86,14 @@ struct RenderOptions {
     RenderSettings settings;
     std::string camera = "auto";  // `--camera` spec: auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ]
     PrimitiveMode primitiveMode = PrimitiveMode::Triangles;
-    bool wireframe = false;     // overlay the mesh's edges (displayScene), drawn with kWireframeDepthBias
-    uint32_t tessMaxLevel = 0;  // 0: the mode's default (kDefaultTessMaxLevel, kDefaultCentroidLevel)
+    bool wireframe = false;  // overlay the mesh's edges (displayScene), drawn with kWireframeDepthBias
+    uint32_t tessMaxLevel = kAutoTessLevel;  // kAutoTessLevel: the mode's default
 
     // `settings` with the tessellation level resolved and the wireframe's line depth bias.
     RenderSettings resolved() const
     {
         RenderSettings s = settings;
-        s.tessMaxLevel = tessMaxLevel
+        s.tessMaxLevel = tessMaxLevel != kAutoTessLevel
                              ? tessMaxLevel
                              : (s.tessellate == TESS_CENTROID ? kDefaultCentroidLevel : kDefaultTessMaxLevel);
         if (wireframe) s.lineDepthBias = kWireframeDepthBias;

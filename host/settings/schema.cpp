@@ -208,10 +208,15 @@ std::vector<Setting> makeSchema()
     Setting level = make(
         "tessellation", "tess-max-level", SettingType::Uint,
         "flat, pn: most pieces per edge (1..64); centroid: splits (0..8)",
-        [](const RenderOptions& o) { return json(o.tessMaxLevel); },
-        [](RenderOptions& o, const json& v) { o.tessMaxLevel = v.get<uint32_t>(); });
+        [](const RenderOptions& o) {
+            return o.tessMaxLevel == kAutoTessLevel ? json("auto") : json(o.tessMaxLevel);
+        },
+        [](RenderOptions& o, const json& v) {
+            o.tessMaxLevel = v.is_string() ? kAutoTessLevel : v.get<uint32_t>();
+        });
     level.min = 0;
     level.max = TESS_MAX_LEVEL;
+    level.allowAuto = true;
     level.defaultNote =
         fmt::format("{} for flat and pn, {} for centroid", kDefaultTessMaxLevel, kDefaultCentroidLevel);
     t.push_back(level);
@@ -245,10 +250,11 @@ std::string numbersText(const std::vector<uint32_t>& numbers)
     return joinNames(names);
 }
 
-// Whole text as one number (strtod/strtoull accept leading space and stop early; neither is wanted).
+// Whole text as one decimal number (strtod accepts leading space and stops early; neither is wanted).
 bool parseDouble(const std::string& text, double& out)
 {
-    if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return false;
+    // Decimal notation only: strtod would also read hexadecimal floats, "inf" and "nan".
+    if (text.empty() || text.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
     char* end = nullptr;
     errno = 0;
     out = std::strtod(text.c_str(), &end);
@@ -290,6 +296,7 @@ Result<json> checkSettingValue(const Setting& s, const json& value, const std::s
 {
     switch (s.type) {
     case SettingType::Uint: {
+        if (s.allowAuto && value == json("auto")) return value;
         if (!value.is_number_integer() || value.get<int64_t>() < 0 || value.get<int64_t>() > 0xffffffffll)
             return makeError(ExitCode::Usage, "{} must be a non-negative integer, not {}", label,
                              value.dump());
@@ -353,6 +360,7 @@ Result<json> parseSettingText(const Setting& s, const std::string& text, const s
     double number = 0.0;
     switch (s.type) {
     case SettingType::Uint: {
+        if (s.allowAuto && text == "auto") return checkSettingValue(s, json(text), label);
         const bool digits =
             !text.empty() && text.size() <= 10 &&
             std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
@@ -412,9 +420,7 @@ std::string settingText(const RenderOptions& options, const Setting& s)
     case SettingType::Float: return fmt::format("{}", v.get<float>());
     case SettingType::Vec3:
         return fmt::format("{},{},{}", v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
-    case SettingType::Choice:
-    case SettingType::Camera: return v.is_string() ? v.get<std::string>() : v.dump();
-    default: return v.dump();
+    default: return v.is_string() ? v.get<std::string>() : v.dump();
     }
 }
 
@@ -449,7 +455,7 @@ Status checkSettings(const RenderSettings& settings)
 {
     RenderOptions options;
     options.settings = settings;
-    options.tessMaxLevel = settings.tessMaxLevel;
+    options.tessMaxLevel = settings.tessMaxLevel;  // resolved: a number
     for (const Setting& s : settingsSchema()) {
         if (s.type == SettingType::Camera) continue;
         auto checked = checkSettingValue(s, s.get(options), "--" + s.name);
@@ -506,7 +512,7 @@ std::string valuesText(const Setting& s)
     switch (s.type) {
     case SettingType::Uint:
         if (!s.numbers.empty()) return numbersText(s.numbers);
-        return fmt::format("{}..{}", numberText(s.min), numberText(s.max));
+        return fmt::format("{}{}..{}", s.allowAuto ? "auto, " : "", numberText(s.min), numberText(s.max));
     case SettingType::Float:
         if (s.step > 0.0)
             return fmt::format("{}..{}, multiples of {}", numberText(s.min), numberText(s.max),

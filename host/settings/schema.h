@@ -27,7 +27,8 @@
 namespace sr {
 
 enum class SettingType {
-    Uint,    // a whole number within [min, max], or one of `numbers` when that is not empty
+    Uint,    // a whole number within [min, max], or one of `numbers` when that is not empty; "auto" too
+             // where allowAuto
     Float,   // a finite number within [min, max], a multiple of `step` when step > 0
     Bool,    // true or false (a flag on the command line)
     Choice,  // one of the names of `choices`
@@ -49,6 +50,7 @@ struct Setting {
     std::vector<uint32_t> numbers;       // Uint: the allowed values when only some are (msaa)
     double min = 0.0, max = 0.0;         // Uint, Float: inclusive range
     double step = 0.0;                   // Float: values are multiples of this (0: any)
+    bool allowAuto = false;              // Uint: also "auto" (the default that depends on other settings)
     std::string defaultNote;             // what the default means, when the value alone does not say
     // The member it reads and writes; set receives only values checkSettingValue accepted.
     std::function<nlohmann::json(const RenderOptions&)> get;
