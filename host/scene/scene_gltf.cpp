@@ -7,22 +7,27 @@
 //
 // tinygltf parses the JSON and resolves buffers (external files, data URIs, the GLB chunk); every
 // index, offset and count it hands over is validated here before any byte is read, so a malformed
-// file becomes a one-line error instead of an out-of-bounds read.
+// file becomes a one-line error instead of an out-of-bounds read. The files themselves, the .gltf or
+// .glb and every buffer and image it names, are read through readRegularFile (safe_file.h), never by
+// tinygltf's own file functions, and the JSON's nesting depth is bounded before tinygltf parses it.
 //
 // Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode
 // and double-sidedness. Images are decoded only when a used material needs them; an image that cannot
 // be read or decoded is a warning (the material keeps its factor), one over the size limit an error.
 #include <tiny_gltf.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <map>
 
 #include "raster_shared.h"
+#include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -40,39 +45,169 @@ Error fail(const std::string& reason)
     return Error{reason, ExitCode::Usage};
 }
 
+// Why each external image that could not be used failed, by image index: tinygltf only warns about
+// such an image, in a wording of its own, and the loader's one warning per texture says why.
+using ImageFailures = std::map<int, std::string>;
+
 // Keeps the still encoded bytes of images given by URI (external files, data URIs) instead of decoding
 // them: only the images that used materials need are decoded, later, so that a broken or exotic image
 // costs a warning about its texture rather than the whole file. Images in buffer views are read later
 // from the validated buffers, since tinygltf passes them on without checking that the view lies inside
-// its buffer. Always succeeds, so tinygltf never fails a load over an image.
-bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                      const unsigned char* bytes, int size, void*)
+// its buffer. Always succeeds, so tinygltf never fails a load over an image. `failures` is the
+// ImageFailures the reasons go to.
+bool keepEncodedImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void* failures)
 {
-    if (image->bufferView < 0 && bytes && size > 0) {
+    if (image->bufferView >= 0 || !bytes) return true;
+    if (size > 0) {
         image->image.assign(bytes, bytes + size);
         image->as_is = true;
+    } else if (size < 0) {
+        // tinygltf narrows the length to an int: a file of 2 GiB or more arrives negative.
+        (*static_cast<ImageFailures*>(failures))[index] =
+            fmt::format("the file is over the limit of {} bytes for an image", kMaxImageFileBytes);
     }
     return true;
 }
 
-// tinygltf's messages about external images it could not read: the loader reports each unreadable
-// image once itself, naming the image and what happens instead, so these lines are dropped.
-std::string withoutImageFileWarnings(const std::string& warn)
+// tinygltf reports a file its callback could not read as "File read error : <path> : <reason>"; the
+// reason (readWholeFile's message) names the path already.
+std::string withoutReadErrorPrefix(const std::string& line)
 {
-    static const char* kPrefixes[] = {"File not found : ", "File read error : ", "File is empty : ",
-                                      "Failed to load external 'uri' for image[",
-                                      "Image data is empty for image["};
+    static const std::string kPrefix = "File read error : ";
+    if (line.rfind(kPrefix, 0) != 0) return line;
+    size_t reason = line.find(" : cannot read '", kPrefix.size());
+    return reason == std::string::npos ? line : line.substr(reason + 3);
+}
+
+// Every line of a tinygltf message through withoutReadErrorPrefix.
+std::string withoutReadErrorPrefixes(const std::string& text)
+{
     std::string out;
+    size_t start = 0;
+    while (start < text.size()) {
+        size_t end = std::min(text.find('\n', start), text.size());
+        out += withoutReadErrorPrefix(text.substr(start, end - start)) + "\n";
+        start = end + 1;
+    }
+    return out;
+}
+
+// tinygltf's messages about external images it could not read, without those lines: the loader reports
+// each unreadable image once itself, naming the image and what happens instead. Each failed image's
+// reason (the file line that precedes "Failed to load external 'uri' for image[N]") goes to `failures`.
+std::string withoutImageFileWarnings(const std::string& warn, ImageFailures& failures)
+{
+    static const std::string kImageFailed = "Failed to load external 'uri' for image[";
+    struct FileLine {
+        const char* prefix;
+        const char* reason;  // nullptr: the rest of the line, without withoutReadErrorPrefix's prefix
+    };
+    static const FileLine kFileLines[] = {
+        {"File not found : ", "file not found"},
+        {"File read error : ", nullptr},
+        {"File is empty : ", "the file is empty"},
+    };
+    std::string out, pending;
     size_t start = 0;
     while (start < warn.size()) {
         size_t end = std::min(warn.find('\n', start), warn.size());
         std::string line = warn.substr(start, end - start);
-        bool drop = false;
-        for (const char* prefix : kPrefixes) drop = drop || line.rfind(prefix, 0) == 0;
-        if (!drop) out += line + "\n";
         start = end + 1;
+        bool drop = line.rfind("Image data is empty for image[", 0) == 0;
+        for (const FileLine& file : kFileLines) {
+            if (line.rfind(file.prefix, 0) != 0) continue;
+            pending = file.reason ? std::string(file.reason) : withoutReadErrorPrefix(line);
+            drop = true;
+        }
+        if (line.rfind(kImageFailed, 0) == 0) {
+            int index = std::atoi(line.c_str() + kImageFailed.size());
+            if (!pending.empty()) failures.emplace(index, pending);
+            pending.clear();
+            drop = true;
+        }
+        if (!drop) out += line + "\n";
     }
     return out;
+}
+
+// tinygltf's file access, replaced: its own opens with a blocking fopen (a FIFO without a writer
+// stalls the load forever) and takes the size of a directory as 2^63 - 1 bytes (std::bad_alloc).
+// Every file a glTF names is read through readRegularFile instead.
+bool fileExists(const std::string& path, void*)
+{
+    // Whatever exists counts, so that readWholeFile says what is wrong with a directory or a FIFO
+    // instead of tinygltf calling it "not found".
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string expandFilePath(const std::string& path, void*)
+{
+    return path;
+}
+
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*)
+{
+    Result<std::vector<unsigned char>> bytes = readRegularFile(path, kMaxSceneFileBytes, "read");
+    if (!bytes) {
+        if (err) *err += bytes.error().message;
+        return false;
+    }
+    *out = std::move(*bytes);
+    return true;
+}
+
+bool writeNothing(std::string* err, const std::string& path, const std::vector<unsigned char>&, void*)
+{
+    if (err) *err += fmt::format("the scene loader does not write files ('{}')", path);
+    return false;
+}
+
+// glTF JSON nested deeper than this is refused before tinygltf parses it: tinygltf recurses per level
+// (its conversion of `extras` and extensions into tinygltf::Value), and 20,000 levels, a 40 KB file,
+// overflow an 8 MiB stack. glTF's own structure needs fewer than 10 levels; 512 leave `extras` room and
+// load within a 384 KiB stack (measured on the Release build), far inside a thread's default 8 MiB.
+constexpr size_t kMaxJsonDepth = 512;
+
+// Fails when `text` nests arrays and objects more than kMaxJsonDepth deep. Brackets inside strings do
+// not count (a string ends at a quote that no backslash escapes). The text need not be valid JSON:
+// tinygltf reports whatever else is wrong with it.
+Status checkJsonDepth(const unsigned char* text, size_t size)
+{
+    size_t depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < size; ++i) {
+        unsigned char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                return fail(
+                    fmt::format("its JSON nests arrays and objects more than {} levels deep (at byte {})",
+                                kMaxJsonDepth, i));
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return okStatus();
+}
+
+// checkJsonDepth of a .gltf file, or of the JSON chunk of a .glb (as far as the file holds it; a
+// malformed header is left to tinygltf).
+Status checkJsonDepth(const std::vector<unsigned char>& file, bool binary)
+{
+    if (!binary) return checkJsonDepth(file.data(), file.size());
+    constexpr size_t kJsonChunk = 20;  // 12-byte header, then the chunk's length and type
+    if (file.size() < kJsonChunk) return okStatus();
+    uint32_t length = 0;
+    for (int k = 3; k >= 0; --k) length = length << 8 | file[12 + size_t(k)];
+    return checkJsonDepth(file.data() + kJsonChunk, std::min(size_t(length), file.size() - kJsonChunk));
 }
 
 uint32_t wrapMode(int gltf)
@@ -343,7 +478,10 @@ std::vector<uint32_t> lineSegments(int mode, const std::vector<uint32_t>& sequen
 
 class GltfFlattener {
 public:
-    GltfFlattener(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
+    GltfFlattener(const tinygltf::Model& model, const ImageFailures& imageFailures, const std::string& path)
+        : model_(model), imageFailures_(imageFailures), path_(path)
+    {
+    }
 
     Status run();
     Scene& scene() { return scene_; }
@@ -357,11 +495,11 @@ private:
     void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c, const glm::vec4& uv);
     Result<uint32_t> useMaterial(int gltfMaterial);
     Result<int32_t> useTexture(int gltfTexture, const std::string& material);
-    bool imageBytes(const tinygltf::Image& image, const uint8_t*& bytes, size_t& size,
-                    std::string& why) const;
+    bool imageBytes(int index, const uint8_t*& bytes, size_t& size, std::string& why) const;
     void warnOnce(bool& done, const std::string& message);
 
     const tinygltf::Model& model_;
+    const ImageFailures& imageFailures_;
     const std::string& path_;
     Scene scene_;
     std::vector<bool> visited_;
@@ -385,14 +523,17 @@ void GltfFlattener::warnOnce(bool& done, const std::string& message)
     fmt::print(stderr, "warning: {}: {}\n", path_, message);
 }
 
-// The encoded bytes of an image: kept by keepEncodedImage for URIs, read from its buffer view
+// The encoded bytes of image `index`: kept by keepEncodedImage for URIs, read from its buffer view
 // (bounds-checked) otherwise. False with a reason when there are none.
-bool GltfFlattener::imageBytes(const tinygltf::Image& image, const uint8_t*& bytes, size_t& size,
-                               std::string& why) const
+bool GltfFlattener::imageBytes(int index, const uint8_t*& bytes, size_t& size, std::string& why) const
 {
+    const tinygltf::Image& image = model_.images[size_t(index)];
     if (image.bufferView < 0) {
         if (image.image.empty() || !image.as_is) {
-            why = image.uri.empty() ? "no image data" : "file not found or unreadable";
+            auto failure = imageFailures_.find(index);
+            why = failure != imageFailures_.end() ? failure->second
+                  : image.uri.empty()             ? "no image data"
+                                                  : "file not found or unreadable";
             return false;
         }
         bytes = image.image.data();
@@ -452,7 +593,7 @@ Result<int32_t> GltfFlattener::useTexture(int gltfTexture, const std::string& ma
             name = image.uri;
         else if (!image.name.empty())
             name = image.name;
-        haveBytes = imageBytes(image, bytes, size, why);
+        haveBytes = imageBytes(texture.source, bytes, size, why);
     }
     if (haveBytes) {
         Result<SceneTexture> loaded = loadTextureMemory(name, bytes, size, true, sampler);
@@ -917,30 +1058,47 @@ Status GltfFlattener::addCamera(int cameraIndex, int nodeIndex, const glm::dmat4
 
 Result<Scene> loadGltf(const std::string& path)
 {
-    // Open the file once here: a clear "No such file" beats tinygltf's wording, and the magic
-    // number decides between .glb and .gltf whatever the extension says.
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
-    char magic[4] = {};
-    size_t got = std::fread(magic, 1, sizeof magic, file);
-    std::fclose(file);
-    bool binary = got == sizeof magic && std::memcmp(magic, "glTF", 4) == 0;
-
-    tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
-    std::string err, warn;
-    bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                     : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) {
-        std::string reason = flattenMessage(err.empty() ? warn : err + "\n" + warn);
-        if (reason.empty()) reason = "tinygltf could not parse the file";
-        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
-    }
-    warn = withoutImageFileWarnings(warn);
-    if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+    ImageFailures imageFailures;
+    {
+        // Read here rather than by tinygltf, like every file the glTF names (readWholeFile): a clear
+        // "No such file" beats tinygltf's wording, and the JSON's depth is checked before it is parsed.
+        Result<std::vector<unsigned char>> file = readRegularFile(path, kMaxSceneFileBytes, "load");
+        if (!file) return file.error();
+        const std::vector<unsigned char>& bytes = *file;
+        if (bytes.empty()) return makeError(ExitCode::Usage, "cannot load '{}': the file is empty", path);
+        // The magic number decides between .glb and .gltf whatever the extension says.
+        bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+        Status shallow = checkJsonDepth(bytes, binary);
+        if (!shallow)
+            return makeError(ExitCode::Usage, "cannot load '{}': {}", path, shallow.error().message);
 
-    GltfFlattener flattener(model, path);
+        tinygltf::TinyGLTF loader;
+        loader.SetImageLoader(&keepEncodedImage, &imageFailures);
+        loader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeNothing, nullptr});
+        // Buffers and images are found relative to the file's folder, as tinygltf's own LoadFromFile
+        // functions do (but "/" for a file in the root, where they would take the current folder).
+        size_t slash = path.find_last_of('/');
+        std::string baseDir =
+            slash == std::string::npos ? std::string() : path.substr(0, std::max<size_t>(slash, 1));
+        std::string err, warn;
+        // kMaxSceneFileBytes keeps the length within tinygltf's unsigned int.
+        auto length = static_cast<unsigned int>(bytes.size());
+        bool ok =
+            binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, baseDir)
+                   : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                reinterpret_cast<const char*>(bytes.data()), length, baseDir);
+        if (!ok) {
+            std::string reason =
+                flattenMessage(withoutReadErrorPrefixes(err.empty() ? warn : err + "\n" + warn));
+            if (reason.empty()) reason = "tinygltf could not parse the file";
+            return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
+        }
+        warn = withoutImageFileWarnings(warn, imageFailures);
+        if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+    }
+
+    GltfFlattener flattener(model, imageFailures, path);
     Status flattened = flattener.run();
     if (!flattened)
         return makeError(ExitCode::Usage, "cannot load '{}': {}", path, flattened.error().message);

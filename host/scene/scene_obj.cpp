@@ -14,19 +14,22 @@
 // Materials come from the .mtl files: Kd is the base colour factor, map_Kd the base colour texture
 // (sRGB, repeat, trilinear), resolved relative to the folder of the .mtl that names it. A missing .mtl
 // or texture image is a warning; the faces keep their geometry.
+//
+// tinyobjloader is handed streams, never paths: the .obj, each .mtl and each image are read through
+// readRegularFile (safe_file.h), so a directory, a FIFO or a device named there is one message.
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <istream>
 #include <map>
+#include <streambuf>
+#include <string_view>
 
+#include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -44,6 +47,16 @@ glm::vec3 unitOrZ(glm::dvec3 v)
     if (!(len > 0.0) || !std::isfinite(len)) return {0.0f, 0.0f, 1.0f};
     return glm::vec3(v / len);
 }
+
+// A read-only stream over bytes in memory, without copying them (an .obj may be gigabytes).
+class MemoryStreamBuf : public std::streambuf {
+public:
+    explicit MemoryStreamBuf(std::vector<unsigned char>& bytes)
+    {
+        char* begin = reinterpret_cast<char*>(bytes.data());
+        setg(begin, begin, begin + bytes.size());
+    }
+};
 
 std::string folderOf(const std::string& path)
 {
@@ -63,11 +76,14 @@ public:
                     std::map<std::string, int>* matMap, std::string* warn, std::string* err) override
     {
         std::string path = !matId.empty() && matId[0] == '/' ? matId : objFolder_ + matId;
-        std::ifstream in(path);
-        if (!in) {
-            if (warn) *warn += "material file '" + path + "' not found\n";
+        Result<std::vector<unsigned char>> bytes =
+            readRegularFile(path, kMaxSceneFileBytes, "read material file");
+        if (!bytes) {
+            if (warn) *warn += bytes.error().message + "\n";
             return false;
         }
+        MemoryStreamBuf buffer(*bytes);
+        std::istream in(&buffer);
         size_t before = materials->size();
         tinyobj::LoadMtl(matMap, materials, &in, warn, err);
         folders.resize(before);
@@ -154,7 +170,7 @@ std::vector<ObjPointRef> readObjRefs(const char* token, int vertices, int texcoo
 // line ends, leading blanks, a keyword followed by a blank, "v/vt/vn" triples read with atoi, negative
 // indices relative to the lines read so far), and `usemtl` is resolved with tinyobjloader's material
 // map, as it does for faces.
-ObjElements readObjElements(const std::string& text, const std::map<std::string, int>& materialIds)
+ObjElements readObjElements(std::string_view text, const std::map<std::string, int>& materialIds)
 {
     ObjElements out;
     int vertices = 0, normals = 0, texcoords = 0;
@@ -163,7 +179,7 @@ ObjElements readObjElements(const std::string& text, const std::map<std::string,
     while (start < text.size()) {
         // Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader's safeGetline reads them.
         size_t end = std::min(text.find_first_of("\r\n", start), text.size());
-        std::string line = text.substr(start, end - start);
+        std::string line(text.substr(start, end - start));
         start = end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
         const char* token = line.c_str() + std::strspn(line.c_str(), " \t");
         auto isSpace = [](char c) { return c == ' ' || c == '\t'; };
@@ -195,30 +211,27 @@ ObjElements readObjElements(const std::string& text, const std::map<std::string,
 
 Result<Scene> loadObj(const std::string& path)
 {
-    // tinyobjloader reports a missing file without the reason; ask the OS first.
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
-    std::fclose(file);
-
     // No triangulation (the fan order is defined below); vertex colours on "v x y z r g b" lines.
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
-    std::string warn, err;
-    std::ifstream in(path);
     MtlReader mtlReader(folderOf(path));
-    if (!in || !tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtlReader, false, true)) {
-        std::string reason = flattenMessage(in ? err : std::string("cannot open the file"));
-        if (reason.empty()) reason = "tinyobjloader could not parse the file";
-        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
-    }
-    if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
     ObjElements elements;
     {
-        std::ifstream again(path, std::ios::binary);
-        if (!again) return makeError(ExitCode::Usage, "cannot load '{}': cannot open the file", path);
-        std::string text((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
-        elements = readObjElements(text, mtlReader.materialIds);
+        Result<std::vector<unsigned char>> bytes = readRegularFile(path, kMaxSceneFileBytes, "load");
+        if (!bytes) return bytes.error();
+        MemoryStreamBuf buffer(*bytes);
+        std::istream in(&buffer);
+        std::string warn, err;
+        if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtlReader, false, true)) {
+            std::string reason = flattenMessage(err);
+            if (reason.empty()) reason = "tinyobjloader could not parse the file";
+            return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
+        }
+        if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+        elements =
+            readObjElements(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()),
+                            mtlReader.materialIds);
     }
 
     size_t positionCount = attrib.vertices.size() / 3;

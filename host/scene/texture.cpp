@@ -8,14 +8,13 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <climits>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <memory>
 
 #include "raster_shared.h"
+#include "scene/safe_file.h"
 
 namespace sr {
 namespace {
@@ -238,20 +237,9 @@ Result<SceneTexture> loadTextureMemory(const std::string& name, const uint8_t* b
 
 Result<SceneTexture> loadTextureFile(const std::string& path, bool srgb, TextureSampler sampler)
 {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
-    if (!file) return makeError(ExitCode::Usage, "cannot read image '{}': {}", path, std::strerror(errno));
-    std::vector<uint8_t> bytes;
-    uint8_t chunk[65536];
-    size_t got = 0;
-    while ((got = std::fread(chunk, 1, sizeof chunk, file.get())) > 0) {
-        bytes.insert(bytes.end(), chunk, chunk + got);
-        if (bytes.size() > size_t(INT_MAX))
-            return makeError(ExitCode::Usage, "image '{}' is too large a file (over {} bytes)", path,
-                             INT_MAX);
-    }
-    if (std::ferror(file.get()))
-        return makeError(ExitCode::Usage, "cannot read image '{}': read error", path);
-    return loadTextureMemory(path, bytes.data(), bytes.size(), srgb, sampler);
+    Result<std::vector<unsigned char>> bytes = readRegularFile(path, kMaxImageFileBytes, "read image");
+    if (!bytes) return bytes.error();
+    return loadTextureMemory(path, bytes->data(), bytes->size(), srgb, sampler);
 }
 
 bool isTextureSizeError(const Error& error)

@@ -26,8 +26,9 @@ Result<SceneTexture> makeTexture(std::string name, uint32_t width, uint32_t heig
                                  bool srgb, TextureSampler sampler);
 
 // An image file or an encoded image in memory, decoded by stb_image and passed to makeTexture. The
-// header is read first: an image over MAX_TEXTURE_DIM per side or 2^28 texels is refused before it is
-// decoded. Errors are one line naming `path` / `name`.
+// file must be a regular file of at most kMaxImageFileBytes (safe_file.h), checked before it is read.
+// The header is read first: an image over MAX_TEXTURE_DIM per side or 2^28 texels is refused before it
+// is decoded. Errors are one line naming `path` / `name`.
 Result<SceneTexture> loadTextureFile(const std::string& path, bool srgb, TextureSampler sampler);
 Result<SceneTexture> loadTextureMemory(const std::string& name, const uint8_t* bytes, size_t size, bool srgb,
                                        TextureSampler sampler);
