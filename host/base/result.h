@@ -28,6 +28,16 @@ struct Error {
     ExitCode code = ExitCode::Usage;
 };
 
+// `text` as part of a one-line message: control and non-ASCII bytes (a library's message may quote bytes
+// of the file it failed on, newlines included) become '?'.
+inline std::string printableText(const char* text)
+{
+    std::string out = text ? text : "";
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    return out;
+}
+
 template <typename... Args>
 Error makeError(ExitCode code, fmt::format_string<Args...> f, Args&&... args)
 {

@@ -121,7 +121,8 @@ Result<RgbaImage> readPng(const std::string& path)
     int w = 0, h = 0, channels = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &channels, 4),
                                                    stbi_image_free);
-    if (!data) return makeError(ExitCode::Usage, "cannot read '{}': {}", path, stbi_failure_reason());
+    if (!data)
+        return makeError(ExitCode::Usage, "cannot read '{}': {}", path, printableText(stbi_failure_reason()));
     RgbaImage image;
     image.width = uint32_t(w);
     image.height = uint32_t(h);

@@ -214,7 +214,7 @@ Result<SceneTexture> loadTextureMemory(const std::string& name, const uint8_t* b
     if (!stbi_info_from_memory(bytes, len, &w, &h, &channels)) {
         const char* reason = stbi_failure_reason();
         return makeError(ExitCode::Usage, "cannot decode image '{}': {}", name,
-                         reason ? reason : "unknown format");
+                         reason ? printableText(reason) : "unknown format");
     }
     if (w <= 0 || h <= 0)
         return makeError(ExitCode::Usage, "cannot decode image '{}': empty size {}x{}", name, w, h);
@@ -226,7 +226,7 @@ Result<SceneTexture> loadTextureMemory(const std::string& name, const uint8_t* b
     if (!data) {
         const char* reason = stbi_failure_reason();
         return makeError(ExitCode::Usage, "cannot decode image '{}': {}", name,
-                         reason ? reason : "unknown error");
+                         reason ? printableText(reason) : "unknown error");
     }
     // The header and the decoded image agree for every format stb reads; checked anyway, since the
     // sizes below index the decoded buffer.
