@@ -1,11 +1,6 @@
 // stats_json.cpp - JSON statistics through nlohmann::json.
 #include "api/stats_json.h"
 
-#include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-
 #include "io/file_write.h"
 #include "settings/schema.h"
 

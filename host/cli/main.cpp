@@ -15,7 +15,6 @@
 //   raster settings [--format markdown|json]
 #include <algorithm>
 #include <cstdio>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -49,7 +48,6 @@
 #include "api/stats_json.h"
 #include "viewer/controls.h"
 #include "scene/orbit.h"
-#include "vulkan/vulkan_graphics.h"
 
 namespace sr {
 namespace {

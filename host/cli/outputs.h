@@ -22,7 +22,7 @@ OutputPaths savePaths(const std::string& prefix);
 
 // Writes the PNG, and the EXR (with the surface channels, computed here from the ids if the frame was
 // rendered without RenderSettings::surfaceAovs, and every sample with aovSamples) and the JSON where
-// `paths` names them. `out` is the frame of `scene` rendered with `settings`; its AOV image gains the
+// `paths` names them. `out` is the frame of `scene` rendered with `options`; its AOV image gains the
 // channels the EXR needs.
 Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName);

@@ -92,7 +92,6 @@ std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
 Status writePng(const std::string& path, const RgbaImage& image)
 {
     SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
-    SR_TRY(checkOutputTarget(path));
     auto file = encodePng(image);
     if (!file) return file.error();
     return writeFileAtomically(path, file->data(), file->size());

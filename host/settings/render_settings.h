@@ -87,7 +87,9 @@ struct RenderOptions {
     std::string camera = "auto";  // `--camera` spec: auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ]
     PrimitiveMode primitiveMode = PrimitiveMode::Triangles;
     bool wireframe = false;  // overlay the mesh's edges (displayScene), drawn with kWireframeDepthBias
-    uint32_t tessMaxLevel = kAutoTessLevel;  // kAutoTessLevel: the mode's default
+    // The tessellation level as asked for; kAutoTessLevel: the mode's default. settings.tessMaxLevel is
+    // not read here: resolved() sets it from this.
+    uint32_t tessMaxLevel = kAutoTessLevel;
 
     // `settings` with the tessellation level resolved and the wireframe's line depth bias.
     RenderSettings resolved() const
