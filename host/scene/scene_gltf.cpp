@@ -10,6 +10,7 @@
 // file becomes a one-line error instead of an out-of-bounds read. The files themselves, the .gltf or
 // .glb and every buffer and image it names, are read through readRegularFile (safe_file.h), never by
 // tinygltf's own file functions, and the JSON's nesting depth is bounded before tinygltf parses it.
+// The rules of the specification that tinygltf does not enforce are checked first (gltf_spec.h).
 //
 // Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode
 // and double-sidedness. Images are decoded only when a used material needs them; an image that cannot
@@ -27,6 +28,7 @@
 #include <map>
 
 #include "raster_shared.h"
+#include "scene/gltf_spec.h"
 #include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
@@ -198,16 +200,16 @@ Status checkJsonDepth(const unsigned char* text, size_t size)
     return okStatus();
 }
 
-// checkJsonDepth of a .gltf file, or of the JSON chunk of a .glb (as far as the file holds it; a
-// malformed header is left to tinygltf).
-Status checkJsonDepth(const std::vector<unsigned char>& file, bool binary)
+// The JSON of a .gltf file (all of it) or of a .glb (its JSON chunk, as far as the file holds it; a
+// malformed header is left to tinygltf), as a pointer and a length.
+std::pair<const unsigned char*, size_t> jsonText(const std::vector<unsigned char>& file, bool binary)
 {
-    if (!binary) return checkJsonDepth(file.data(), file.size());
+    if (!binary) return {file.data(), file.size()};
     constexpr size_t kJsonChunk = 20;  // 12-byte header, then the chunk's length and type
-    if (file.size() < kJsonChunk) return okStatus();
+    if (file.size() < kJsonChunk) return {file.data(), 0};
     uint32_t length = 0;
     for (int k = 3; k >= 0; --k) length = length << 8 | file[12 + size_t(k)];
-    return checkJsonDepth(file.data() + kJsonChunk, std::min(size_t(length), file.size() - kJsonChunk));
+    return {file.data() + kJsonChunk, std::min(size_t(length), file.size() - kJsonChunk)};
 }
 
 uint32_t wrapMode(int gltf)
@@ -684,8 +686,8 @@ Status GltfFlattener::run()
 
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
-        int sceneIndex = model_.defaultScene;
-        if (sceneIndex < 0 || size_t(sceneIndex) >= model_.scenes.size()) sceneIndex = 0;
+        // checkGltfSpec has refused a `scene` that names no scene; without one, the first is drawn.
+        int sceneIndex = model_.defaultScene < 0 ? 0 : model_.defaultScene;
         roots = model_.scenes[size_t(sceneIndex)].nodes;
     } else {
         // No scenes: every node that is nobody's child is a root, in document order.
@@ -1069,9 +1071,19 @@ Result<Scene> loadGltf(const std::string& path)
         if (bytes.empty()) return makeError(ExitCode::Usage, "cannot load '{}': the file is empty", path);
         // The magic number decides between .glb and .gltf whatever the extension says.
         bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-        Status shallow = checkJsonDepth(bytes, binary);
+        auto [json, jsonSize] = jsonText(bytes, binary);
+        Status shallow = checkJsonDepth(json, jsonSize);
         if (!shallow)
             return makeError(ExitCode::Usage, "cannot load '{}': {}", path, shallow.error().message);
+        // The spec's rules first, so that what breaks them is named by its path in the document; JSON
+        // that does not parse is left to tinygltf, which says where.
+        nlohmann::json doc = nlohmann::json::parse(json, json + jsonSize, nullptr, false);
+        std::vector<std::string> unsupported;
+        if (!doc.is_discarded()) {
+            Status valid = checkGltfSpec(doc, unsupported);
+            if (!valid)
+                return makeError(ExitCode::Usage, "cannot load '{}': {}", path, valid.error().message);
+        }
 
         tinygltf::TinyGLTF loader;
         loader.SetImageLoader(&keepEncodedImage, &imageFailures);
@@ -1096,6 +1108,8 @@ Result<Scene> loadGltf(const std::string& path)
         }
         warn = withoutImageFileWarnings(warn, imageFailures);
         if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+
+        for (const std::string& line : unsupported) fmt::print(stderr, "warning: {}: {}\n", path, line);
     }
 
     GltfFlattener flattener(model, imageFailures, path);
