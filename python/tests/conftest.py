@@ -10,12 +10,15 @@ import zlib
 import numpy as np
 import pytest
 
-import raster
-import raster.testing
+# The Khronos validation layer on every Vulkan device the tests open (any validation error fails the
+# render that caused it), as ctest sets it and tests/test_util.cpp does for the C++ tests.
+os.environ.setdefault("SR_VULKAN_VALIDATION", "1")
+
+import raster  # noqa: E402
+import raster.testing  # noqa: E402
 
 SOURCE_DIR = pathlib.Path(os.environ.get("SR_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 RASTER_EXE = os.environ.get("SR_RASTER_EXE", str(SOURCE_DIR / "build" / "raster"))
-BUNNY = "/usr/share/glmark2/models/bunny.obj"
 
 _renderers = {}
 

@@ -2,7 +2,6 @@
 analytic coverage and barycentrics, an OBJ file of the same mesh, the settings schema."""
 
 import os
-import pathlib
 import subprocess
 import sys
 import threading
@@ -12,7 +11,7 @@ import pytest
 
 import raster
 import raster.testing
-from conftest import BUNNY, SOURCE_DIR, read_png, renderer, run_cli
+from conftest import SOURCE_DIR, read_png, renderer, run_cli
 
 W, H = 48, 32
 
