@@ -11,6 +11,7 @@
 #include "api/api_internal.h"
 #include "api/backend.h"
 #include "api/stats_json.h"
+#include "io/compare.h"
 #include "render/aov.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
@@ -63,6 +64,22 @@ Result<Backend> parseBackend(const std::string& name)
         if (name == backendName(b)) return b;
     return usage(
         fmt::format("invalid backend '{}': expected one of auto, cuda, vulkan, vulkan-graphics", name));
+}
+
+std::vector<DeviceInfo> devices()
+{
+    // Each backend's devices are opened in index order until one does not open: a backend has no
+    // count query that also says whether the pipeline can use the device (Vulkan's list is filtered).
+    constexpr int kMaxDevicesPerBackend = 64;
+    std::vector<DeviceInfo> list;
+    for (Backend backend : {Backend::Cuda, Backend::Vulkan}) {
+        for (int index = 0; index < kMaxDevicesPerBackend; ++index) {
+            auto device = Device::open(backend, index);
+            if (!device) break;
+            list.push_back(device->info());
+        }
+    }
+    return list;
 }
 
 Device::Device(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -155,6 +172,19 @@ glm::vec3 vec3At(const float* data, size_t i)
     return {data[3 * i], data[3 * i + 1], data[3 * i + 2]};
 }
 
+// Vertex i of positions with `components` (3 or 4) floats each, as a homogeneous point.
+glm::vec4 positionAt(const float* data, uint32_t components, size_t i)
+{
+    const float* p = data + size_t(components) * i;
+    return {p[0], p[1], p[2], components == 4 ? p[3] : 1.0f};
+}
+
+// The point a homogeneous position stands for (x/w, y/w, z/w), for face normals.
+glm::vec3 euclidean(glm::vec4 p)
+{
+    return glm::vec3(p) / p.w;
+}
+
 // A triangle's unit normal from its corners, zero for a degenerate one (as the glTF loader gives a
 // primitive without normals: the shading of such a triangle is its ambient term).
 glm::vec3 faceNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c)
@@ -175,6 +205,8 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     if (m.pointCount > 0 && m.points == nullptr) return usage("fromArrays: a point count without indices");
     if (m.texture.rgba8 != nullptr && m.texcoords == nullptr)
         return usage("fromArrays: a texture needs texture coordinates");
+    if (m.positionComponents != 3 && m.positionComponents != 4)
+        return usage(fmt::format("fromArrays: positions have {} components (3 or 4)", m.positionComponents));
     for (size_t i = 0; i < 4; ++i)
         if (!std::isfinite(m.baseColor[i])) return usage("fromArrays: the base colour must be finite");
 
@@ -182,7 +214,7 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     const uint32_t flags = m.doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
     // Vertex v of the arrays as scene vertex, with normal n (the arrays' own when given).
     auto pushVertex = [&](size_t v, glm::vec3 n) {
-        s.positions.emplace_back(vec3At(m.positions, v), 1.0f);
+        s.positions.push_back(positionAt(m.positions, m.positionComponents, v));
         s.normals.emplace_back(m.normals ? vec3At(m.normals, v) : n, 0.0f);
         if (m.colors)
             s.colors.emplace_back(m.colors[4 * v], m.colors[4 * v + 1], m.colors[4 * v + 2],
@@ -200,9 +232,10 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
         for (size_t t = 0; t < m.triangleCount; ++t) {
             const uint32_t* c = m.triangles + 3 * t;
             const bool valid = inRange(c[0]) && inRange(c[1]) && inRange(c[2]);
-            const glm::vec3 n = valid ? faceNormal(vec3At(m.positions, c[0]), vec3At(m.positions, c[1]),
-                                                   vec3At(m.positions, c[2]))
-                                      : glm::vec3(0.0f);
+            auto corner = [&](int k) {
+                return euclidean(positionAt(m.positions, m.positionComponents, c[k]));
+            };
+            const glm::vec3 n = valid ? faceNormal(corner(0), corner(1), corner(2)) : glm::vec3(0.0f);
             for (int k = 0; k < 3; ++k) {
                 if (!valid) {
                     s.indices.push_back(uint32_t(-1));
@@ -489,6 +522,114 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
                             : sr::renderGraphics(scene, *matrices, s, self.device->info.index);
     if (!out) return toPublic(out.error());
     return toFrame(*out, options, self.device->info, "api", scene, request);
+}
+
+// ---- comparisons ------------------------------------------------------------------------------
+
+namespace {
+
+sr::CompareTolerance tolerance(const CompareOptions& o)
+{
+    sr::CompareTolerance t;
+    t.colorLsb = o.colorTolerance;
+    t.maxIdMismatches = o.maxIdMismatches;
+    t.depthTolerance = o.depthTolerance;
+    t.surfaceTolerance = o.surfaceTolerance;
+    return t;
+}
+
+CompareReport toPublic(const sr::CompareReport& r, const sr::CompareTolerance& t)
+{
+    CompareReport p;
+    p.aov = r.isAov;
+    p.pass = r.pass;
+    p.width = r.width;
+    p.height = r.height;
+    p.meanError = r.meanError;
+    p.rmsError = r.rmsError;
+    p.psnr = r.psnr;
+    p.maxError = r.maxError;
+    p.maxX = r.maxX;
+    p.maxY = r.maxY;
+    p.pixelsOverTolerance = r.pixelsOverTolerance;
+    p.idMismatches = r.idMismatches;
+    p.coverageMismatches = r.coverageMismatches;
+    p.maxDepthDiff = r.maxDepthDiff;
+    p.meanDepthDiff = r.meanDepthDiff;
+    p.maxBaryDiff = r.maxBaryDiff;
+    p.maxUvDiff = r.maxUvDiff;
+    p.maxNormalDiff = r.maxNormalDiff;
+    p.surfaceOverTolerance = r.surfaceOverTolerance;
+    p.samplesPerPixel = r.samplesPerPixel;
+    p.sampleIdMismatches = r.sampleIdMismatches;
+    p.sampleDepthOverTolerance = r.sampleDepthOverTolerance;
+    p.text = sr::formatReport(r, t);
+    return p;
+}
+
+sr::RgbaImage colorImage(const Frame& f)
+{
+    sr::RgbaImage image;
+    image.width = f.width;
+    image.height = f.height;
+    image.pixels.assign(f.color.size() / 4, 0u);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (size_t c = 0; c < 4; ++c) image.pixels[i] |= uint32_t(f.color[4 * i + c]) << (8 * c);
+    return image;
+}
+
+// A frame's AOVs in the layout of the EXR `raster render --aov` writes (planes, samples per pixel).
+sr::AovImage aovImage(const Frame& f)
+{
+    sr::AovImage aov;
+    aov.width = f.width;
+    aov.height = f.height;
+    aov.id = f.id;
+    aov.depth = f.depth;
+    const size_t n = size_t(f.width) * f.height;
+    if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
+        for (auto* plane :
+             {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
+            plane->resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            aov.baryU[i] = f.bary[2 * i];
+            aov.baryV[i] = f.bary[2 * i + 1];
+            aov.uvU[i] = f.uv[2 * i];
+            aov.uvV[i] = f.uv[2 * i + 1];
+            aov.normalX[i] = f.normal[3 * i];
+            aov.normalY[i] = f.normal[3 * i + 1];
+            aov.normalZ[i] = f.normal[3 * i + 2];
+        }
+    }
+    if (!f.sampleId.empty() && f.width > 0) {
+        sr::SampleAovs samples;
+        samples.rasterWidth = f.rasterWidth;
+        samples.rasterHeight = f.rasterHeight;
+        samples.samples = f.samples;
+        samples.id = f.sampleId;
+        samples.depth = f.sampleDepth;
+        sr::fillSampleAovs(samples, f.rasterWidth / f.width, aov);
+    }
+    return aov;
+}
+
+}  // namespace
+
+Result<CompareReport> compare(const Frame& a, const Frame& b, bool aov, const CompareOptions& options)
+{
+    const sr::CompareTolerance t = tolerance(options);
+    auto report =
+        aov ? sr::compareAov(aovImage(a), aovImage(b), t) : sr::compareColor(colorImage(a), colorImage(b), t);
+    if (!report) return toPublic(report.error());
+    return toPublic(*report, t);
+}
+
+Result<CompareReport> compareFiles(const std::string& a, const std::string& b, const CompareOptions& options)
+{
+    const sr::CompareTolerance t = tolerance(options);
+    auto report = sr::compareFiles(a, b, t);
+    if (!report) return toPublic(report.error());
+    return toPublic(*report, t);
 }
 
 Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,

@@ -96,6 +96,11 @@ struct DeviceInfo {
     bool cpu = false;                   // a CPU implementation (lavapipe)
 };
 
+// Every device this machine offers: each CUDA GPU, then each Vulkan device the pipeline can use (GPUs
+// first, CPU implementations such as lavapipe last), as Device::open(backend, index) would open it
+// (info.index is that index). A backend that is absent or unusable contributes nothing.
+std::vector<DeviceInfo> devices();
+
 class Device {
 public:
     // Opens device `index` (-1: the first) of `backend`. Auto tries CUDA, then Vulkan; when none opens
@@ -128,8 +133,11 @@ struct TextureView {
 // A mesh in world space as plain arrays (borrowed: Scene::fromArrays copies them). Counts are of
 // elements (vertices, triangles, segments, points), not of floats.
 struct MeshArrays {
-    const float* positions = nullptr;  // 3 floats per vertex (x, y, z); finite
+    const float* positions = nullptr;  // positionComponents floats per vertex; finite
     size_t vertexCount = 0;
+    // 3: (x, y, z) in world space; 4: homogeneous (x, y, z, w), such as clip-space positions drawn with
+    // identity view and projection matrices (flat normals then come from x/w, y/w, z/w).
+    uint32_t positionComponents = 3;
     const uint32_t* triangles = nullptr;  // 3 vertex indices per triangle, counter-clockwise in front
     size_t triangleCount = 0;
     const float* normals = nullptr;    // 3 per vertex; nullptr: flat normals from each triangle
@@ -271,6 +279,42 @@ private:
     explicit Session(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
+
+// ---- comparisons ------------------------------------------------------------------------------
+
+// What `raster compare` allows (its --tolerance, --max-id-mismatches, --depth-tolerance).
+struct CompareOptions {
+    int colorTolerance = 0;        // largest allowed per-channel difference of 8-bit colour
+    uint64_t maxIdMismatches = 0;  // AOVs: pixels (or samples) whose triangle id or coverage may differ
+    float depthTolerance = 0.0f;   // AOVs: largest allowed depth difference where both are covered
+    double surfaceTolerance = -1;  // AOVs: largest allowed bary/uv/normal difference; < 0: not checked
+};
+
+// `raster compare`'s metrics. Colour: per-channel differences of R, G, B in 8-bit units. AOVs: ids and
+// depth of the pixels (and of every sample when both frames have them), and the surface AOVs where both
+// have them and show the same triangle (-1: not compared).
+struct CompareReport {
+    bool aov = false;  // an AOV comparison (ids, depth, ...), else colour
+    bool pass = false;
+    uint32_t width = 0, height = 0;
+    double meanError = 0, rmsError = 0, psnr = 0;
+    int maxError = 0;
+    uint32_t maxX = 0, maxY = 0;
+    uint64_t pixelsOverTolerance = 0;
+    uint64_t idMismatches = 0, coverageMismatches = 0;
+    double maxDepthDiff = 0, meanDepthDiff = 0;
+    double maxBaryDiff = -1, maxUvDiff = -1, maxNormalDiff = -1;
+    uint64_t surfaceOverTolerance = 0;
+    uint32_t samplesPerPixel = 0;
+    uint64_t sampleIdMismatches = 0, sampleDepthOverTolerance = 0;
+    std::string text;  // the report `raster compare` prints, ending in PASS or FAILURE
+};
+
+// Two frames of the same size: their colour, or their ids, depth, surface AOVs and samples (aov = true).
+Result<CompareReport> compare(const Frame& a, const Frame& b, bool aov, const CompareOptions& options = {});
+// Two files of one kind (.png colour, .exr AOVs), as `raster compare A B` reads them.
+Result<CompareReport> compareFiles(const std::string& a, const std::string& b,
+                                   const CompareOptions& options = {});
 
 // One frame of a fresh session.
 Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,

@@ -1,0 +1,501 @@
+"""raster: one exact software rasterizer on CUDA and Vulkan compute, from Python.
+
+numpy in, numpy out::
+
+    import raster
+    r = raster.Renderer()                          # CUDA if present, else Vulkan (a GPU, else lavapipe)
+    scene = raster.Scene.load("model.gltf")        # or Scene.from_arrays(positions, indices, ...)
+    frame = r.render(scene, 640, 480, camera="orbit:30,20,3", msaa=4)
+    frame.color    # (480, 640, 4) uint8 sRGB, row 0 the top row (as in the PNG)
+    frame.ids      # (480, 640) uint32 triangle ids, raster.EMPTY_ID where empty
+    frame.depth    # (480, 640) float32 window depth 0..1, 1 where empty
+
+nvdiffrast's forward pass: ``raster.rasterize(pos, tri, (h, w))`` and ``raster.interpolate``.
+Comparisons: ``raster.compare`` and ``raster.testing.assert_backends_agree``.
+
+Every function that fails on bad input or a failing device raises :class:`raster.Error`, whose text
+is the one line the ``raster`` command prints for the same problem. The conventions (y direction, ids,
+depth, pixel centres) and how they differ from nvdiffrast's and PyTorch3D's are in docs/python.md.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import threading
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _raster
+
+__all__ = [
+    "EMPTY_ID",
+    "SETTINGS",
+    "DeviceInfo",
+    "Error",
+    "Frame",
+    "Renderer",
+    "Scene",
+    "compare",
+    "devices",
+    "interpolate",
+    "rasterize",
+    "version",
+]
+
+Error = _raster.Error
+Error.__doc__ = (
+    "A raster failure: bad input (a file, an array, a setting) or a device that failed. str(error) "
+    "is the one-line message the raster command prints for the same problem."
+)
+Error.__module__ = "raster"
+
+EMPTY_ID = 0xFFFFFFFF
+"""The id of a pixel (or sample) no primitive covers (Frame.ids, Frame.sample_ids)."""
+
+SETTINGS: List[Dict[str, Any]] = json.loads(_raster.settings_schema())
+"""The settings schema: one dict per render setting (name, key, type, default, choices or range,
+help), as ``raster settings --format json`` prints it. Renderer.render takes each ``key`` as a
+keyword argument (width, height and camera are its positional parameters)."""
+
+# Renderer.render's own defaults where they differ from the schema's: a session renders many frames, so
+# the untimed warm-up frame the command line renders first is left to the caller.
+_SESSION_DEFAULTS = {"warmup": 0}
+# Settings that are Renderer.render's parameters rather than keywords.
+_PARAMETERS = ("width", "height", "camera")
+
+
+def version() -> str:
+    """The library's version, "MAJOR.MINOR.PATCH"."""
+    return _raster.version()
+
+
+@dataclass(frozen=True)
+class DeviceInfo:
+    """One device: ``Renderer(backend, index)`` opens it.
+
+    backend: "cuda" or "vulkan"; index: the device's index within its backend; name: as the API
+    reports it; driver: driver or runtime version; cpu: a CPU implementation (Mesa lavapipe).
+    """
+
+    backend: str
+    index: int
+    name: str
+    driver: str
+    cpu: bool
+
+    @property
+    def kind(self) -> str:
+        """"cpu" or "gpu"."""
+        return "cpu" if self.cpu else "gpu"
+
+
+def _device(info: Dict[str, Any]) -> DeviceInfo:
+    return DeviceInfo(info["backend"], info["index"], info["name"], info["driver"], info["cpu"])
+
+
+def devices() -> List[DeviceInfo]:
+    """Every device this machine offers: each CUDA GPU, then each Vulkan device the pipeline can use
+    (GPUs first, CPU implementations such as lavapipe last). A backend that is absent contributes
+    nothing, so the list may be empty."""
+    return [_device(d) for d in _raster.devices()]
+
+
+class Scene:
+    """A scene in memory (not yet on a device): meshes, materials, textures, cameras.
+
+    Make one with :meth:`Scene.load` or :meth:`Scene.from_arrays`; a Renderer uploads it once and keeps
+    it on its device for every later render of the same Scene object.
+    """
+
+    __slots__ = ("_native",)
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+
+    @staticmethod
+    def load(path: Union[str, os.PathLike]) -> "Scene":
+        """A .gltf/.glb or .obj file, or a built-in scene ("builtin", "builtin:dense", "builtin:huge",
+        "builtin:checker", "builtin:cutout", "builtin:lowpoly"), with the command line's checks:
+        broken parts are dropped with a warning on stderr, a scene with nothing to draw raises
+        raster.Error."""
+        return Scene(_raster.Scene.load(os.fspath(path)))
+
+    @staticmethod
+    def from_arrays(
+        positions: np.ndarray,
+        indices: Optional[np.ndarray] = None,
+        normals: Optional[np.ndarray] = None,
+        uv: Optional[np.ndarray] = None,
+        colors: Optional[np.ndarray] = None,
+        texture: Optional[np.ndarray] = None,
+        *,
+        lines: Optional[np.ndarray] = None,
+        points: Optional[np.ndarray] = None,
+        base_color: Sequence[float] = (1.0, 1.0, 1.0, 1.0),
+        double_sided: bool = False,
+        texture_srgb: bool = True,
+    ) -> "Scene":
+        """A scene of one mesh from numpy arrays, with the loaders' checks and errors.
+
+        positions: (N, 3) float32 world-space points (other float types are converted), or (N, 4)
+            homogeneous points (x, y, z, w). Non-finite vertices drop their primitives with a warning.
+        indices: (T, 3) int32 or uint32 vertex indices, counter-clockwise in front; a triangle with an
+            index out of range is dropped with a warning (as the loaders do). May be None with lines
+            or points.
+        normals: (N, 3) per-vertex normals; None gives each triangle its flat normal.
+        uv: (N, 2) texture coordinates (u right, v down, as glTF); needed with a texture.
+        colors: (N, 3) or (N, 4) linear RGB(A) vertex colours; None: white.
+        texture: (H, W, 4) or (H, W, 3) uint8 base colour texture, row 0 the top row.
+        lines: (S, 2) vertex indices of line segments; points: (P,) vertex indices of points.
+        base_color: linear RGBA factor; double_sided: never culled; texture_srgb: the texture holds
+            sRGB colour (glTF base colour textures do).
+        """
+
+        def ints(a: Optional[np.ndarray], what: str) -> Optional[np.ndarray]:
+            if a is None:
+                return None
+            a = np.asarray(a)
+            if a.size and not np.issubdtype(a.dtype, np.integer):
+                raise Error(f"from_arrays: {what} must be integers, not {a.dtype}")
+            if a.dtype != np.uint32:
+                # Negative indices are out of range, as in the loaders (dropped with a warning).
+                a = np.where(a < 0, EMPTY_ID, a).astype(np.uint32)
+            return a
+
+        tri = ints(indices, "indices")
+        if tri is None:
+            tri = np.zeros((0, 3), np.uint32)
+        if colors is not None:
+            colors = np.asarray(colors, np.float32)
+            if colors.ndim == 2 and colors.shape[1] == 3:
+                colors = np.concatenate([colors, np.ones((colors.shape[0], 1), np.float32)], axis=1)
+        if texture is not None:
+            texture = np.asarray(texture)
+            if texture.dtype != np.uint8:
+                raise Error(f"from_arrays: texture must be uint8, not {texture.dtype}")
+            if texture.ndim == 3 and texture.shape[2] == 3:
+                alpha = np.full(texture.shape[:2] + (1,), 255, np.uint8)
+                texture = np.concatenate([texture, alpha], axis=2)
+        native = _raster.Scene.from_arrays(
+            positions, tri, normals, uv, colors, texture, texture_srgb, ints(lines, "lines"),
+            ints(points, "points"), tuple(float(c) for c in base_color), bool(double_sided))
+        return Scene(native)
+
+    @property
+    def vertex_count(self) -> int:
+        """Vertices after loading (flat-shaded meshes have three per triangle)."""
+        return self._native.vertex_count
+
+    @property
+    def triangle_count(self) -> int:
+        """Triangles; their ids are 0..triangle_count-1 in scene order."""
+        return self._native.triangle_count
+
+    @property
+    def line_count(self) -> int:
+        """Line segments; their ids follow the triangles'."""
+        return self._native.line_count
+
+    @property
+    def point_count(self) -> int:
+        """Points; their ids follow the segments'."""
+        return self._native.point_count
+
+    @property
+    def bounds(self) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
+        """(min, max) corners of the world-space bounding box of everything drawn."""
+        return tuple(self._native.bounds_min), tuple(self._native.bounds_max)
+
+    def __repr__(self) -> str:
+        return (f"raster.Scene({self.triangle_count} triangles, {self.line_count} lines, "
+                f"{self.point_count} points)")
+
+
+class Frame:
+    """One rendered frame. Every array is a numpy view of the buffers the library downloaded (no
+    copy: its ``.base`` is the native frame); row 0 is the image's top row, pixel (x, y) is at
+    ``[y, x]``.
+
+    color: (H, W, 4) uint8 sRGB RGBA, every sample resolved in linear space.
+    ids: (H, W) uint32 id of the primitive at the pixel's AOV sample: triangles in scene order, then
+        lines, then points; EMPTY_ID (0xFFFFFFFF) where empty.
+    depth: (H, W) float32 window depth 0..1 of that sample (Vulkan: 0 at the near plane), 1 where empty.
+    bary, uv, normal: (H, W, 2), (H, W, 2), (H, W, 3) float32 at pixel centres, or None unless
+        rendered with surface_aovs=True: perspective-correct barycentric weights of the triangle's
+        second and third vertex (the first's is 1 - sum), base colour texture coordinates, unit
+        view-space shading normal; 0 where empty.
+    sample_ids, sample_depth: (S, H*ssaa, W*ssaa) every sample's id and depth with aov_samples=True
+        (S = msaa), else None.
+    stats: the statistics ``raster render --stats`` writes (counts, stage times, settings) as a dict.
+    gpu_ms: GPU time of the frame (median over ``repeat`` timed runs).
+    device: the DeviceInfo that rendered it.
+    """
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+        self.width: int = native.width
+        self.height: int = native.height
+        self.gpu_ms: float = native.gpu_ms
+
+    @functools.cached_property
+    def color(self) -> np.ndarray:
+        return self._native.color
+
+    @functools.cached_property
+    def ids(self) -> np.ndarray:
+        return self._native.ids
+
+    @functools.cached_property
+    def depth(self) -> np.ndarray:
+        return self._native.depth
+
+    @functools.cached_property
+    def bary(self) -> Optional[np.ndarray]:
+        return self._native.bary
+
+    @functools.cached_property
+    def uv(self) -> Optional[np.ndarray]:
+        return self._native.uv
+
+    @functools.cached_property
+    def normal(self) -> Optional[np.ndarray]:
+        return self._native.normal
+
+    @functools.cached_property
+    def sample_ids(self) -> Optional[np.ndarray]:
+        return self._native.sample_ids
+
+    @functools.cached_property
+    def sample_depth(self) -> Optional[np.ndarray]:
+        return self._native.sample_depth
+
+    @functools.cached_property
+    def stats(self) -> Dict[str, Any]:
+        return json.loads(self._native.stats_json)
+
+    @functools.cached_property
+    def device(self) -> DeviceInfo:
+        return _device(self._native.device)
+
+    def __repr__(self) -> str:
+        return f"raster.Frame({self.width}x{self.height}, {self.device.backend}, {self.gpu_ms:.3f} ms)"
+
+
+Camera = Union[str, Tuple[np.ndarray, np.ndarray]]
+
+
+class Renderer:
+    """A session on one device: it keeps the device, each scene's upload and the frame buffers between
+    calls (the last few scenes rendered), so rendering the same Scene again uploads nothing.
+
+    backend: "auto" (CUDA when a CUDA GPU is present, else Vulkan), "cuda", "vulkan" or
+    "vulkan-graphics" (the reference: the same scene through the Vulkan graphics pipeline).
+    device: the device's index within its backend (see raster.devices()).
+
+    render() releases the GIL while the device works; one Renderer renders one frame at a time
+    (calls from several threads wait for each other), separate Renderers run side by side.
+    """
+
+    def __init__(self, backend: str = "auto", device: int = 0) -> None:
+        self._native = _raster.Renderer(backend, int(device))
+        self.device: DeviceInfo = _device(self._native.device)
+
+    def render(self, scene: Scene, width: int, height: int, camera: Camera = "auto", *,
+               surface_aovs: bool = False, **settings: Any) -> Frame:
+        """Renders `scene` at width x height and returns the Frame.
+
+        camera: a spec string as ``raster render --camera`` takes ("auto": framed from the bounds, or
+        the file's first camera; "gltf:N"; "orbit:AZ,EL,DIST[,TX,TY,TZ]" in degrees and scene units),
+        or a (view, projection) pair of 4x4 numpy matrices in Vulkan's clip conventions (row-major as
+        numpy prints them; depth 0..1 with the near plane at 0; NDC y = -1 the top row; a projection
+        whose last row is (0, 0, -1, 0) is perspective, any other orthographic).
+        surface_aovs: also compute Frame.bary, uv and normal (a host pass over the frame).
+        settings: any render setting of the schema by its key (raster.SETTINGS; the list below), with
+        the schema's checks and one-line errors (raster.Error). Defaults are the schema's, except
+        warmup = 0 (a session's earlier frames warm it up).
+        """
+        args = dict(_SESSION_DEFAULTS)
+        args.update(settings)
+        native = self._native.render(scene._native, width, height, camera, args, surface_aovs, True)
+        return Frame(native)
+
+    def release(self) -> None:
+        """Frees every scene upload and buffer this renderer keeps (the device stays open)."""
+        self._native.release()
+
+    def __repr__(self) -> str:
+        return f"raster.Renderer({self.device.backend!r}, {self.device.index}: {self.device.name})"
+
+
+def _default(setting: Dict[str, Any]) -> Any:
+    """Renderer.render's default of a setting, floats as the float32 the schema stores, printed short."""
+    value = _SESSION_DEFAULTS.get(setting["key"], setting["default"])
+    if isinstance(value, float):
+        return float(f"{value:.7g}")
+    if isinstance(value, list):
+        return tuple(float(f"{v:.7g}") for v in value)
+    return value
+
+
+def _settings_doc() -> str:
+    lines = ["", "        Settings (keyword, type, default: meaning):", ""]
+    for s in SETTINGS:
+        if s["key"] in _PARAMETERS:
+            continue
+        kind = s["type"]
+        if "choices" in s:
+            kind = " | ".join(s["choices"])
+        default = _default(s)
+        lines.append(f"        {s['key']} ({kind}, {default!r}): {s['help']}")
+    return "\n".join(lines) + "\n"
+
+
+Renderer.render.__doc__ += _settings_doc()
+
+_shared: Dict[str, Renderer] = {}
+_shared_lock = threading.Lock()
+
+
+def _shared_renderer(backend: str) -> Renderer:
+    """One Renderer per backend for the module-level functions (rasterize), opened on first use."""
+    with _shared_lock:
+        if backend not in _shared:
+            _shared[backend] = Renderer(backend)
+        return _shared[backend]
+
+
+# rasterize's camera: positions are already in clip space (identity view), and OpenGL's clip depth
+# -w..w (nvdiffrast's) becomes Vulkan's 0..w, z' = (z + w) / 2, so the pipeline clips where OpenGL does.
+_IDENTITY = np.eye(4, dtype=np.float32)
+_GL_TO_VULKAN_DEPTH = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0.5, 0.5], [0, 0, 0, 1]], np.float32)
+
+
+def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
+              msaa: int = 1) -> np.ndarray:
+    """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
+    (1/256-pixel vertices, top-left rule: Vulkan's coverage rules on every backend).
+
+    pos: clip-space positions, float32 (V, 4) or (B, V, 4) (x, y, z, w) with OpenGL's depth range
+        (-w <= z <= w is inside), as nvdiffrast takes them.
+    tri: int32 (T, 3) vertex indices (shared by every batch element); no face is culled.
+    resolution: (height, width).
+    backend: "auto", "cuda" or "vulkan"; msaa: 1, 2, 4, 8 or 16 samples per pixel (the output then
+        describes each pixel's first sample).
+
+    Returns float32 (B, H, W, 4) = (u, v, z/w, triangle_id + 1), all 0 where no triangle covers the
+    pixel centre: u and v are the perspective-correct weights of the triangle's first and second
+    vertex (the third's is 1 - u - v), z/w the clip-space depth in OpenGL's -1..1. Row 0 is at NDC
+    y = -1, pixel (x, y) centred at NDC ((x + 0.5) / W * 2 - 1, (y + 0.5) / H * 2 - 1): nvdiffrast's
+    layout; this project's own frames use the same rows (Vulkan's y = -1 is the top row), so
+    rasterize's output and a Frame line up without a flip. Unlike nvdiffrast it returns the array
+    alone (no derivatives, no gradients).
+    """
+    pos = np.asarray(pos)
+    if pos.ndim == 2:
+        pos = pos[None]
+    if pos.ndim != 3 or pos.shape[2] != 4:
+        raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {tuple(pos.shape)}")
+    pos = np.ascontiguousarray(pos, dtype=np.float32)
+    tri = np.asarray(tri)
+    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and not np.issubdtype(tri.dtype, np.integer)):
+        raise Error(f"rasterize: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
+    if tri.size and (tri.min() < 0 or tri.max() >= pos.shape[1]):
+        raise Error(f"rasterize: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())} "
+                    f"of {pos.shape[1]}")
+    height, width = (int(v) for v in resolution)
+    batch = pos.shape[0]
+    out = np.zeros((batch, height, width, 4), np.float32)
+    if tri.shape[0] == 0:
+        return out
+    indices = tri.astype(np.uint32)
+    normals = np.zeros((pos.shape[1], 3), np.float32)
+    renderer = _shared_renderer(backend)
+    settings = {"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id"}
+    for b in range(batch):
+        if not np.isfinite(pos[b]).all():
+            raise Error(f"rasterize: pos[{b}] has non-finite values")
+        scene = _raster.Scene.from_arrays(pos[b], indices, normals, None, None, None, True, None, None,
+                                          (1.0, 1.0, 1.0, 1.0), False)
+        frame = renderer._native.render(scene, width, height, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings,
+                                        True, False)
+        ids = frame.ids
+        covered = ids != EMPTY_ID
+        bary = frame.bary
+        o = out[b]
+        o[..., 0] = np.where(covered, np.float32(1) - bary[..., 0] - bary[..., 1], 0)
+        o[..., 1] = bary[..., 0]
+        o[..., 2] = np.where(covered, np.float32(2) * frame.depth - np.float32(1), 0)
+        o[..., 3] = np.where(covered, ids.astype(np.float32) + np.float32(1), 0)
+    return out
+
+
+def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """nvdiffrast's ``interpolate`` (forward): per-vertex attributes at every pixel of ``rast``.
+
+    attr: float32 (V, C) or (B, V, C); rast: (B, H, W, 4) from rasterize; tri: int32 (T, 3).
+    Returns float32 (B, H, W, C) = u * a0 + v * a1 + (1 - u - v) * a2 of the pixel's triangle, 0 where
+    empty. Unlike nvdiffrast it returns the array alone (no derivatives).
+    """
+    attr = np.asarray(attr, np.float32)
+    rast = np.asarray(rast, np.float32)
+    tri = np.asarray(tri)
+    if rast.ndim != 4 or rast.shape[3] != 4:
+        raise Error(f"interpolate: rast must have shape (B, H, W, 4), not {tuple(rast.shape)}")
+    if attr.ndim not in (2, 3) or (attr.ndim == 3 and attr.shape[0] != rast.shape[0]):
+        raise Error(f"interpolate: attr must have shape (V, C) or (B, V, C) with B = {rast.shape[0]}, "
+                    f"not {tuple(attr.shape)}")
+    ids = rast[..., 3].astype(np.int64) - 1
+    covered = ids >= 0
+    corners = tri[np.where(covered, ids, 0)]  # (B, H, W, 3)
+    if attr.ndim == 2:
+        a = attr[corners]  # (B, H, W, 3, C)
+    else:
+        a = attr[np.arange(attr.shape[0])[:, None, None, None], corners]
+    u = rast[..., 0:1]
+    v = rast[..., 1:2]
+    out = u * a[..., 0, :] + v * a[..., 1, :] + (np.float32(1) - u - v) * a[..., 2, :]
+    out[~covered] = 0
+    return out.astype(np.float32, copy=False)
+
+
+def compare(a: Union[Frame, str, os.PathLike], b: Union[Frame, str, os.PathLike], *, what: str = "both",
+            tolerance: int = 0, max_id_mismatches: int = 0, depth_tolerance: float = 0.0,
+            surface_tolerance: Optional[float] = None) -> Dict[str, Any]:
+    """``raster compare``'s metrics as a dict.
+
+    a, b: two Frames of one size, or two files of one kind (.png colour, .exr AOVs) as
+    ``raster compare A B`` takes them. what (frames only): "color", "aov" (ids, depth, the surface
+    AOVs and every sample when both frames have them) or "both".
+    tolerance: largest allowed 8-bit colour difference; max_id_mismatches: pixels (samples) whose id or
+    coverage may differ; depth_tolerance: largest allowed depth difference; surface_tolerance: largest
+    allowed bary/uv/normal difference (None: reported, not checked).
+
+    Returns "passed", "text" (the report the command prints, ending in PASS or FAILURE), "kind",
+    "width", "height" and the metrics: colour "mean_error", "rms_error", "psnr", "max_error",
+    "max_error_at" (x, y), "pixels_over_tolerance"; AOV "id_mismatches", "coverage_mismatches",
+    "max_depth_diff", "mean_depth_diff", "max_bary_diff", "max_uv_diff", "max_normal_diff",
+    "surface_over_tolerance", "samples_per_pixel", "sample_id_mismatches",
+    "sample_depth_over_tolerance". With what="both" the keys of both, "kind" = "both", "passed" when
+    both pass and "text" both reports.
+    """
+    options = (int(tolerance), int(max_id_mismatches), float(depth_tolerance), surface_tolerance)
+    if isinstance(a, Frame) and isinstance(b, Frame):
+        if what not in ("color", "aov", "both"):
+            raise Error(f"compare: what must be color, aov or both, not {what!r}")
+        kinds = ["color", "aov"] if what == "both" else [what]
+        reports = [_raster.compare(a._native, b._native, kind == "aov", *options) for kind in kinds]
+        if len(reports) == 1:
+            return reports[0]
+        merged = dict(reports[0])
+        merged.update(reports[1])
+        merged["kind"] = "both"
+        merged["passed"] = all(r["passed"] for r in reports)
+        merged["text"] = "".join(r["text"] for r in reports)
+        return merged
+    if isinstance(a, Frame) or isinstance(b, Frame):
+        raise Error("compare: give two Frames or two file names")
+    return _raster.compare_files(os.fspath(a), os.fspath(b), *options)

@@ -1,0 +1,481 @@
+// raster_module.cpp - the Python extension `raster._raster`: pybind11 bindings over the public C++ API
+// alone (include/raster/raster.h), so that it builds from that header, this file and a prebuilt
+// libraster.so (ci/gpu-python). The Python package `raster` (python/raster/__init__.py) wraps these
+// classes with the documented interface; names here starting with an underscore are not part of it.
+//
+// Frames: a render's raster::Frame is moved into a FrameHolder that Python owns; every array handed
+// out is a numpy view of the holder's buffers with the holder as its base, so no pixel is copied after
+// the library's download. Rendering releases the GIL; a Renderer's mutex keeps one render at a time on
+// its device (the API allows one session drawing on a device at a time).
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "raster/raster.h"
+
+namespace py = pybind11;
+
+namespace {
+
+// raster.Error: the library's one-line message as the exception's text.
+struct RasterError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+[[noreturn]] void raise(const raster::Error& error)
+{
+    throw RasterError(error.message);
+}
+
+template <typename T>
+T take(raster::Result<T>&& result)
+{
+    if (!result) raise(result.error());
+    return std::move(*result);
+}
+
+void check(const raster::Status& status)
+{
+    if (!status) raise(status.error());
+}
+
+// ---- scenes ---------------------------------------------------------------------------------------
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using IndexArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
+using ByteArray = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>;
+
+std::string shapeText(const py::array& a)
+{
+    std::string text = "(";
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) text += (d ? ", " : "") + std::to_string(a.shape(d));
+    return text + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// Checks that `a` is (rows, one of `columns`) and returns its rows; `what` names it in the error.
+size_t rowsOf(const py::array& a, std::initializer_list<py::ssize_t> columns, const char* what)
+{
+    const bool ok = a.ndim() == 2 && std::find(columns.begin(), columns.end(), a.shape(1)) != columns.end();
+    if (!ok) {
+        std::string expected;
+        for (py::ssize_t c : columns) expected += (expected.empty() ? "" : " or ") + std::to_string(c);
+        throw RasterError(std::string("from_arrays: ") + what + " must have shape (N, " + expected +
+                          "), not " + shapeText(a));
+    }
+    return size_t(a.shape(0));
+}
+
+std::shared_ptr<raster::Scene> sceneFromArrays(
+    const FloatArray& positions, const IndexArray& triangles, const std::optional<FloatArray>& normals,
+    const std::optional<FloatArray>& uv, const std::optional<FloatArray>& colors,
+    const std::optional<ByteArray>& texture, bool textureSrgb, const std::optional<IndexArray>& lines,
+    const std::optional<IndexArray>& points, const std::array<float, 4>& baseColor, bool doubleSided)
+{
+    raster::MeshArrays m;
+    m.vertexCount = rowsOf(positions, {3, 4}, "positions");
+    m.positionComponents = uint32_t(positions.shape(1));
+    m.positions = positions.data();
+    // Index arrays of any shape whose size fits are accepted as flat lists (T x 3, S x 2, P).
+    m.triangleCount = rowsOf(triangles, {3}, "indices");
+    m.triangles = triangles.data();
+    auto perVertex = [&](const std::optional<FloatArray>& a, std::initializer_list<py::ssize_t> columns,
+                         const char* what) -> const float* {
+        if (!a) return nullptr;
+        if (rowsOf(*a, columns, what) != m.vertexCount)
+            throw RasterError(std::string("from_arrays: ") + what + " has " + std::to_string(a->shape(0)) +
+                              " rows for " + std::to_string(m.vertexCount) + " vertices");
+        return a->data();
+    };
+    m.normals = perVertex(normals, {3}, "normals");
+    m.texcoords = perVertex(uv, {2}, "uv");
+    m.colors = perVertex(colors, {4}, "colors");
+    if (lines) {
+        m.lineCount = rowsOf(*lines, {2}, "lines");
+        m.lines = lines->data();
+    }
+    if (points) {
+        if (points->ndim() != 1)
+            throw RasterError("from_arrays: points must have shape (P,), not " + shapeText(*points));
+        m.pointCount = size_t(points->shape(0));
+        m.points = points->data();
+    }
+    if (texture) {
+        if (texture->ndim() != 3 || texture->shape(2) != 4)
+            throw RasterError("from_arrays: texture must have shape (H, W, 4), not " + shapeText(*texture));
+        m.texture.rgba8 = texture->data();
+        m.texture.height = uint32_t(texture->shape(0));
+        m.texture.width = uint32_t(texture->shape(1));
+        m.texture.srgb = textureSrgb;
+    }
+    m.baseColor = baseColor;
+    m.doubleSided = doubleSided;
+    py::gil_scoped_release release;
+    return std::make_shared<raster::Scene>(take(raster::Scene::fromArrays(m)));
+}
+
+// ---- frames ---------------------------------------------------------------------------------------
+
+struct FrameHolder {
+    raster::Frame frame;
+};
+
+// A view of `data` as a numpy array of `shape` (C order) whose base is `owner`; None when empty.
+template <typename T>
+py::object view(const py::object& owner, std::vector<T>& data, std::vector<py::ssize_t> shape)
+{
+    if (data.empty()) return py::none();
+    std::vector<py::ssize_t> strides(shape.size());
+    py::ssize_t stride = sizeof(T);
+    for (size_t d = shape.size(); d-- > 0;) {
+        strides[d] = stride;
+        stride *= shape[d];
+    }
+    return py::array(py::dtype::of<T>(), std::move(shape), std::move(strides), data.data(), owner);
+}
+
+py::dict deviceDict(const raster::DeviceInfo& d)
+{
+    py::dict out;
+    out["backend"] = raster::backendName(d.backend);
+    out["index"] = d.index;
+    out["name"] = d.name;
+    out["driver"] = d.driver;
+    out["cpu"] = d.cpu;
+    return out;
+}
+
+py::dict reportDict(const raster::CompareReport& r)
+{
+    py::dict out;
+    out["kind"] = r.aov ? "aov" : "color";
+    out["passed"] = r.pass;
+    out["width"] = r.width;
+    out["height"] = r.height;
+    if (!r.aov) {
+        out["mean_error"] = r.meanError;
+        out["rms_error"] = r.rmsError;
+        out["psnr"] = r.psnr;
+        out["max_error"] = r.maxError;
+        out["max_error_at"] = py::make_tuple(r.maxX, r.maxY);
+        out["pixels_over_tolerance"] = r.pixelsOverTolerance;
+    } else {
+        out["id_mismatches"] = r.idMismatches;
+        out["coverage_mismatches"] = r.coverageMismatches;
+        out["max_depth_diff"] = r.maxDepthDiff;
+        out["mean_depth_diff"] = r.meanDepthDiff;
+        auto surface = [](double v) { return v < 0.0 ? py::object(py::none()) : py::object(py::float_(v)); };
+        out["max_bary_diff"] = surface(r.maxBaryDiff);
+        out["max_uv_diff"] = surface(r.maxUvDiff);
+        out["max_normal_diff"] = surface(r.maxNormalDiff);
+        out["surface_over_tolerance"] = r.surfaceOverTolerance;
+        out["samples_per_pixel"] = r.samplesPerPixel;
+        out["sample_id_mismatches"] = r.sampleIdMismatches;
+        out["sample_depth_over_tolerance"] = r.sampleDepthOverTolerance;
+    }
+    out["text"] = r.text;
+    return out;
+}
+
+raster::CompareOptions compareOptions(int tolerance, uint64_t maxIdMismatches, float depthTolerance,
+                                      const std::optional<double>& surfaceTolerance)
+{
+    raster::CompareOptions o;
+    o.colorTolerance = tolerance;
+    o.maxIdMismatches = maxIdMismatches;
+    o.depthTolerance = depthTolerance;
+    o.surfaceTolerance = surfaceTolerance.value_or(-1.0);
+    return o;
+}
+
+// ---- settings and cameras -------------------------------------------------------------------------
+
+// One keyword argument into `settings`: bool as a flag, a number as a number, a string as on the
+// command line, a sequence of three numbers as X,Y,Z.
+void setOne(raster::Settings& settings, const std::string& name, const py::handle& value)
+{
+    if (py::isinstance<py::bool_>(value)) return check(settings.set(name, value.cast<bool>()));
+    if (py::isinstance<py::str>(value)) return check(settings.set(name, value.cast<std::string>()));
+    if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
+        (py::isinstance<py::array>(value) &&
+         py::array(py::reinterpret_borrow<py::object>(value)).ndim() == 0))
+        return check(settings.set(name, value.cast<double>()));
+    if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value)) {
+        std::vector<double> v;
+        try {
+            v = value.cast<std::vector<double>>();
+        } catch (const py::cast_error&) {
+        }
+        if (v.size() == 3) return check(settings.set(name, std::array<double, 3>{v[0], v[1], v[2]}));
+    }
+    throw RasterError(name + ": " + std::string(py::str(py::repr(value))) +
+                      " is not a number, a string, a bool or three numbers");
+}
+
+raster::Settings makeSettings(uint32_t width, uint32_t height, const py::object& camera,
+                              const py::dict& kwargs)
+{
+    raster::Settings settings;
+    check(settings.set("width", int(width)));
+    check(settings.set("height", int(height)));
+    // A camera spec is also the setting, so that the frame's statistics echo it as the command line's do.
+    if (py::isinstance<py::str>(camera)) check(settings.set("camera", camera.cast<std::string>()));
+    for (auto item : kwargs) setOne(settings, item.first.cast<std::string>(), item.second);
+    return settings;
+}
+
+// A numpy 4x4 (row r, column c at [r, c]) as the API's column-major array.
+std::array<float, 16> matrix(const py::handle& value, const char* what)
+{
+    auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+        throw RasterError(std::string("camera: the ") + what + " matrix must be a 4x4 array");
+    std::array<float, 16> m{};
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[size_t(4 * c + r)] = a.at(r, c);
+    return m;
+}
+
+raster::Camera makeCamera(const py::object& camera)
+{
+    if (py::isinstance<py::str>(camera)) return raster::Camera::fromSpec(camera.cast<std::string>());
+    if (py::isinstance<py::sequence>(camera) && py::len(camera) == 2) {
+        py::sequence pair = camera;
+        return raster::Camera::fromMatrices(matrix(pair[0], "view"), matrix(pair[1], "projection"));
+    }
+    throw RasterError(
+        "camera: expected a spec string (auto, gltf:N, orbit:AZ,EL,DIST) or a (view, "
+        "projection) pair of 4x4 arrays");
+}
+
+// ---- renderers ------------------------------------------------------------------------------------
+
+class Renderer {
+public:
+    Renderer(const std::string& backend, int index)
+    {
+        const raster::Backend b = take(raster::parseBackend(backend));
+        py::gil_scoped_release release;
+        device_ = std::make_unique<raster::Device>(take(raster::Device::open(b, index)));
+    }
+
+    py::dict info() const { return deviceDict(device_->info()); }
+
+    // Renders `scene`; with keep, the scene's session (its upload and buffers) stays for the next call.
+    std::shared_ptr<FrameHolder> render(const std::shared_ptr<raster::Scene>& scene, uint32_t width,
+                                        uint32_t height, const py::object& camera, const py::dict& kwargs,
+                                        bool surfaceAovs, bool keep)
+    {
+        const raster::Settings settings = makeSettings(width, height, camera, kwargs);
+        const raster::Camera cam = makeCamera(camera);
+        raster::RenderRequest request;
+        request.surfaceAovs = surfaceAovs;
+        auto holder = std::make_shared<FrameHolder>();
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::unique_ptr<raster::Session> once;
+        raster::Session* session = cached(scene);
+        if (session == nullptr && !keep) {
+            once = std::make_unique<raster::Session>(take(raster::Session::create(*device_, *scene)));
+            session = once.get();
+        }
+        if (session == nullptr) session = &add(scene);
+        holder->frame = take(session->render(cam, settings, request));
+        return holder;
+    }
+
+    // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the
+    // benchmark's comparison with the same call made from Python.
+    std::vector<double> sessionFrameTimes(const std::shared_ptr<raster::Scene>& scene, uint32_t width,
+                                          uint32_t height, const py::object& camera, const py::dict& kwargs,
+                                          int count)
+    {
+        const raster::Settings settings = makeSettings(width, height, camera, kwargs);
+        const raster::Camera cam = makeCamera(camera);
+        std::vector<double> ms;
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(mutex_);
+        raster::Session* session = cached(scene);
+        if (session == nullptr) session = &add(scene);
+        for (int i = 0; i < count; ++i) {
+            const auto start = std::chrono::steady_clock::now();
+            // The frame is freed after the timing, as the benchmark frees the Python one.
+            const raster::Frame frame = take(session->render(cam, settings));
+            ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        }
+        return ms;
+    }
+
+    void release()
+    {
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(mutex_);
+        sessions_.clear();
+    }
+
+    size_t sessionCount() const { return sessions_.size(); }
+
+private:
+    struct Entry {
+        std::shared_ptr<raster::Scene> scene;  // outlives its session, as the API requires
+        std::unique_ptr<raster::Session> session;
+    };
+    // Sessions kept per renderer: the scenes last drawn, the oldest dropped first.
+    static constexpr size_t kMaxSessions = 4;
+
+    // The session kept for `scene`, made the most recently used; nullptr when there is none.
+    raster::Session* cached(const std::shared_ptr<raster::Scene>& scene)
+    {
+        for (size_t i = 0; i < sessions_.size(); ++i) {
+            if (sessions_[i].scene != scene) continue;
+            std::rotate(sessions_.begin() + long(i), sessions_.begin() + long(i) + 1, sessions_.end());
+            return sessions_.back().session.get();
+        }
+        return nullptr;
+    }
+
+    // A new session for `scene`, kept; the least recently used one goes when there are too many.
+    raster::Session& add(const std::shared_ptr<raster::Scene>& scene)
+    {
+        auto session = std::make_unique<raster::Session>(take(raster::Session::create(*device_, *scene)));
+        if (sessions_.size() >= kMaxSessions) sessions_.erase(sessions_.begin());
+        sessions_.push_back({scene, std::move(session)});
+        return *sessions_.back().session;
+    }
+
+    std::unique_ptr<raster::Device> device_;
+    std::vector<Entry> sessions_;
+    std::mutex mutex_;
+};
+
+py::list devices()
+{
+    std::vector<raster::DeviceInfo> list;
+    {
+        py::gil_scoped_release release;
+        list = raster::devices();
+    }
+    py::list out;
+    for (const raster::DeviceInfo& d : list) out.append(deviceDict(d));
+    return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_raster, m)
+{
+    m.doc() = "raster's C++ API (include/raster/raster.h) for the Python package raster; use raster itself.";
+    py::register_exception<RasterError>(m, "Error");
+
+    m.def("version", &raster::version);
+    m.def("devices", &devices);
+    m.def("settings_schema", &raster::Settings::schemaJson);
+    m.def("settings_names", &raster::Settings::names);
+
+    py::class_<raster::Scene, std::shared_ptr<raster::Scene>>(m, "Scene")
+        .def_static("load",
+                    [](const std::string& path) {
+                        py::gil_scoped_release release;
+                        return std::make_shared<raster::Scene>(take(raster::Scene::load(path)));
+                    })
+        .def_static("from_arrays", &sceneFromArrays, py::arg("positions"), py::arg("indices"),
+                    py::arg("normals"), py::arg("uv"), py::arg("colors"), py::arg("texture"),
+                    py::arg("texture_srgb"), py::arg("lines"), py::arg("points"), py::arg("base_color"),
+                    py::arg("double_sided"))
+        .def_property_readonly("vertex_count", &raster::Scene::vertexCount)
+        .def_property_readonly("triangle_count", &raster::Scene::triangleCount)
+        .def_property_readonly("line_count", &raster::Scene::lineCount)
+        .def_property_readonly("point_count", &raster::Scene::pointCount)
+        .def_property_readonly("bounds_min", &raster::Scene::boundsMin)
+        .def_property_readonly("bounds_max", &raster::Scene::boundsMax);
+
+    py::class_<FrameHolder, std::shared_ptr<FrameHolder>>(m, "Frame")
+        .def_property_readonly("width", [](const FrameHolder& h) { return h.frame.width; })
+        .def_property_readonly("height", [](const FrameHolder& h) { return h.frame.height; })
+        .def_property_readonly("color",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.color, {f.height, f.width, 4});
+                               })
+        .def_property_readonly("ids",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.id, {f.height, f.width});
+                               })
+        .def_property_readonly("depth",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.depth, {f.height, f.width});
+                               })
+        .def_property_readonly("bary",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.bary, {f.height, f.width, 2});
+                               })
+        .def_property_readonly("uv",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.uv, {f.height, f.width, 2});
+                               })
+        .def_property_readonly("normal",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.normal, {f.height, f.width, 3});
+                               })
+        .def_property_readonly("sample_ids",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.sampleId, {f.samples, f.rasterHeight, f.rasterWidth});
+                               })
+        .def_property_readonly(
+            "sample_depth",
+            [](py::object self) {
+                raster::Frame& f = self.cast<FrameHolder&>().frame;
+                return view(self, f.sampleDepth, {f.samples, f.rasterHeight, f.rasterWidth});
+            })
+        .def_property_readonly("gpu_ms", [](const FrameHolder& h) { return h.frame.gpuMs; })
+        .def_property_readonly("stats_json", [](const FrameHolder& h) { return h.frame.statsJson; })
+        .def_property_readonly("device", [](const FrameHolder& h) { return deviceDict(h.frame.device); });
+
+    py::class_<Renderer>(m, "Renderer")
+        .def(py::init<const std::string&, int>(), py::arg("backend"), py::arg("device"))
+        .def_property_readonly("device", &Renderer::info)
+        .def("render", &Renderer::render, py::arg("scene"), py::arg("width"), py::arg("height"),
+             py::arg("camera"), py::arg("settings"), py::arg("surface_aovs"), py::arg("keep"))
+        .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("width"),
+             py::arg("height"), py::arg("camera"), py::arg("settings"), py::arg("count"))
+        .def("release", &Renderer::release)
+        .def_property_readonly("session_count", &Renderer::sessionCount);
+
+    m.def(
+        "compare",
+        [](const FrameHolder& a, const FrameHolder& b, bool aov, int tolerance, uint64_t maxIdMismatches,
+           float depthTolerance, std::optional<double> surfaceTolerance) {
+            return reportDict(take(raster::compare(
+                a.frame, b.frame, aov,
+                compareOptions(tolerance, maxIdMismatches, depthTolerance, surfaceTolerance))));
+        },
+        py::arg("a"), py::arg("b"), py::arg("aov"), py::arg("tolerance"), py::arg("max_id_mismatches"),
+        py::arg("depth_tolerance"), py::arg("surface_tolerance"));
+    m.def(
+        "compare_files",
+        [](const std::string& a, const std::string& b, int tolerance, uint64_t maxIdMismatches,
+           float depthTolerance, std::optional<double> surfaceTolerance) {
+            return reportDict(take(raster::compareFiles(
+                a, b, compareOptions(tolerance, maxIdMismatches, depthTolerance, surfaceTolerance))));
+        },
+        py::arg("a"), py::arg("b"), py::arg("tolerance"), py::arg("max_id_mismatches"),
+        py::arg("depth_tolerance"), py::arg("surface_tolerance"));
+}
