@@ -162,8 +162,11 @@ class Scene:
             if a.size and not np.issubdtype(a.dtype, np.integer):
                 raise Error(f"from_arrays: {what} must be integers, not {a.dtype}")
             if a.dtype != np.uint32:
-                # Negative indices are out of range, as in the loaders (dropped with a warning).
-                a = np.where(a < 0, EMPTY_ID, a).astype(np.uint32)
+                # Negative indices and those past 32 bits are out of range, as in the loaders (dropped
+                # with a warning), never wrapped onto a valid vertex. In int64, so that numpy 2's
+                # promotion rules keep EMPTY_ID representable whatever the input's integer type.
+                wide = a.astype(np.int64)
+                a = np.where((wide < 0) | (wide > EMPTY_ID), np.int64(EMPTY_ID), wide).astype(np.uint32)
             return a
 
         tri = ints(indices, "indices")

@@ -178,6 +178,11 @@ def test_bad_input_raises_one_line_errors(vulkan):
         (lambda: raster.Scene.from_arrays(np.zeros((3, 3)), [[0.0, 1, 2]]), "indices must be integers"),
         (lambda: raster.Scene.from_arrays(np.zeros((3, 3)), [[0, 1, 2]], normals=np.zeros((2, 3))), "normals has 2 rows for 3 vertices"),
         (lambda: raster.Scene.from_arrays(np.eye(3), [[0, 1, 5]]), "no triangles, lines or points to draw"),
+        # 2**32 + 1 must not wrap onto vertex 1, nor -1 onto the last vertex.
+        (lambda: raster.Scene.from_arrays(np.eye(3), np.array([[0, 2, 2**32 + 1]], np.int64)),
+         "no triangles, lines or points to draw"),
+        (lambda: raster.Scene.from_arrays(np.eye(3), np.array([[0, 1, -1]], np.int32)),
+         "no triangles, lines or points to draw"),
         (lambda: raster.rasterize(np.zeros((3, 3)), [[0, 1, 2]], (4, 4)), "pos must have shape"),
         (lambda: raster.rasterize(np.zeros((3, 4)), [[0, 1, 3]], (4, 4)), "tri indexes vertex 3 of 3"),
     ]
