@@ -24,6 +24,7 @@
 
 #include "render/compute_device.h"
 #include "vulkan/vulkan_context.h"
+#include "vulkan/pipeline_cache.h"
 #include "vulkan/vulkan_device_internal.h"
 #include "vulkan/vulkan_present_source.h"
 
@@ -154,7 +155,6 @@ private:
         return result;
     }
 
-    Status createPipelines();
     // One build of a stage: its specialization constants SPEC_MATERIALS, SPEC_SAMPLES, SPEC_RESOLVE, and
     // its module (kMethodSpirv: the raster method's, for setup with or without the line and point paths).
     struct Build {
@@ -170,9 +170,12 @@ private:
         }
     };
     Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
-    // The pipeline dispatch `d` runs in a frame with `params`; a build for MSAA or SSAA is created the
-    // first time a frame asks for it.
+    // The pipeline dispatch `d` runs in a frame with `params`, created (through pipelineCache_) the first
+    // time a frame asks for it: a run compiles only the stages and builds its frames use.
     Result<VkPipeline> pipeline(const Dispatch& d, const RasterParams& params);
+    // Writes the pipeline cache after a frame that created pipelines. A failure is one warning, and the
+    // cache is not saved again by this device: it only costs the next run's start-up time.
+    void savePipelineCache();
     Status ensureBindings();
     Status checkTransfer(const char* what, uint32_t buffer, size_t bytes) const;
     Status resizeBuffer(uint32_t buffer, size_t bytes);
@@ -184,10 +187,13 @@ private:
     // Declared first, so destroyed last: everything below is created through it.
     VulkanContext context_;
     DeviceInfo info_;
+    PipelineCache pipelineCache_;     // destroyed before the context's device
+    bool pipelinesAdded_ = false;     // pipelines were created since the cache was last saved
+    bool pipelineCacheSaves_ = true;  // false after a failed save
     VkPipeline pipelines_[STAGE_COUNT] = {};
     // setup and raster_tiles built with the alpha test of MASK materials (SPEC_MATERIALS), bound for
     // dispatches that ask for it (Dispatch::alphaTest); pipelines_ has them without it. Null for the
-    // other stages.
+    // other stages, and for these until a frame asks for them.
     VkPipeline materialPipelines_[STAGE_COUNT] = {};
     // setup, raster_tiles and shade for MSAA or SSAA, the line and point build of setup, and the builds of
     // the other raster methods, by stage and build; made when a frame first asks for them.
@@ -212,7 +218,7 @@ Status VulkanDevice::init(int index, const PresentTarget* present)
 {
     SR_TRY(context_.init(index, QueueKind::Compute, present));
     info_ = context_.deviceInfo("vulkan");
-    SR_TRY(createPipelines());
+    SR_TRY(pipelineCache_.open(context_.device(), pipelineCacheFile(context_.properties())));
     // Host-visible so that run() writes the parameters directly; device-local where the device
     // offers such memory (resizable BAR), which makes the reads from every stage cheaper.
     SR_TRY(context_.allocateBuffer(
@@ -222,21 +228,6 @@ Status VulkanDevice::init(int index, const PresentTarget* present)
              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
     return context_.validationStatus();
-}
-
-Status VulkanDevice::createPipelines()
-{
-    // All the one-sample builds at construction: a shader the driver rejects is reported before any
-    // work is done, and lazy creation would only move the compile time into the first frame. The
-    // builds of setup, raster_tiles and shade for MSAA or SSAA are made when a frame first asks for them
-    // (pipeline()), so that a device nobody asks for anti-aliasing compiles no more shaders.
-    // The tessellation stages are made when a frame first tessellates, like the anti-aliasing builds.
-    for (uint32_t stage = 0; stage < STAGE_TESS_COUNT; ++stage) {
-        bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES;
-        SR_TRY(createPipeline(stage, Build{}, pipelines_[stage]));
-        if (variants) SR_TRY(createPipeline(stage, Build{true, 1, false}, materialPipelines_[stage]));
-    }
-    return okStatus();
 }
 
 Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline)
@@ -290,19 +281,30 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     info.stage.pSpecializationInfo = variants ? &specialization : nullptr;
     info.layout = context_.pipelineLayout();
     VkResult result =
-        vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+        vkCreateComputePipelines(context_.device(), pipelineCache_.handle(), 1, &info, nullptr, &pipeline);
     // The pipeline keeps what it needs of the module.
     vkDestroyShaderModule(context_.device(), *module, nullptr);
     if (result != VK_SUCCESS)
         return vkError(result, fmt::format("vkCreateComputePipelines (stage {})", stageName(stage)), __FILE__,
                        __LINE__);
+    pipelinesAdded_ = true;
     return okStatus();
+}
+
+void VulkanDevice::savePipelineCache()
+{
+    if (!pipelinesAdded_ || !pipelineCacheSaves_) return;
+    pipelinesAdded_ = false;
+    Status saved = pipelineCache_.save();
+    if (saved) return;
+    pipelineCacheSaves_ = false;
+    fmt::print(stderr, "warning: pipeline cache not saved: {}\n", saved.error().message);
 }
 
 Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams& params)
 {
     Build build;
-    build.materials = d.alphaTest && materialPipelines_[d.stage] != VK_NULL_HANDLE;
+    build.materials = d.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES);
     if (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES || d.stage == STAGE_SHADE)
         build.samples = params.sampleCount;
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
@@ -311,10 +313,9 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
     if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8) {
-        if (build.materials) return materialPipelines_[d.stage];
-        if (pipelines_[d.stage] == VK_NULL_HANDLE)
-            SR_TRY(createPipeline(d.stage, build, pipelines_[d.stage]));
-        return pipelines_[d.stage];
+        VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
+        if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
+        return p;
     }
     VkPipeline& p = sampledPipelines_[{d.stage, build}];
     if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
@@ -450,6 +451,7 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
                       kBufferUserStages, kBufferUserAccess);
     }
     SR_TRY(context_.submitAndWait());
+    savePipelineCache();
     return context_.readTimestampPairs(pairs, gpuMs);
 }
 
