@@ -3036,6 +3036,13 @@ TEST(MeshLoader, MalformedFilesAreOneLineErrors)
           Case{"type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n0\n",
                "unknown type 'quad'"},
           Case{"notply.ply", "solid x\n", "not a PLY file"},
+          // `end_header` not on a line of its own made assimp's header reader loop without end (found by
+          // raster_fuzz).
+          Case{"garbled.ply",
+               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nendsoend_header\n0\n",
+               "no 'end_header' line"},
+          Case{"noproperties.ply", "ply\nformat ascii 1.0\nelement vertex 1\nend_header\n0\n",
+               "element 'vertex' has no properties"},
           Case{"truncated.stl", binaryStl.substr(0, binaryStl.size() - 20),
                "binary STL header declares 6 triangles"},
           Case{"short.stl", "abc", "not an STL file"},

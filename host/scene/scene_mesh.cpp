@@ -88,29 +88,41 @@ Status checkPly(const std::vector<unsigned char>& bytes, const std::string& path
                            std::min<size_t>(bytes.size(), 1 << 20));
     if (text.compare(0, 4, "ply\n") != 0 && text.compare(0, 5, "ply\r\n") != 0)
         return fail("not a PLY file (it does not start with a 'ply' line)");
-    size_t end = text.find("end_header");
-    size_t bodyStart = end == std::string::npos ? std::string::npos : text.find('\n', end);
-    if (bodyStart == std::string::npos)
-        return fail("the PLY header has no 'end_header' line in its first MiB");
-    ++bodyStart;
+    // `end_header` as a line of its own (ending in "\n" or "\r\n"): assimp's header reader loops without
+    // end when the word only ends a line ("endsoend_header", from a fuzzed cube.ply).
+    size_t end = text.find("\nend_header");
+    while (end != std::string::npos && text.compare(end + 11, 1, "\n") != 0 &&
+           text.compare(end + 11, 2, "\r\n") != 0)
+        end = text.find("\nend_header", end + 1);
+    if (end == std::string::npos) return fail("the PLY header has no 'end_header' line in its first MiB");
+    size_t bodyStart = text.find('\n', end + 1) + 1;
 
+    // `format`, `element` and `property` lines have no word missing or left over. Other lines are
+    // skipped, as assimp does: some writers put free text there without `comment` (Blender 2.47's
+    // "Created by Blender3D ..." in assimp-testmodels' Wuson.ply).
     std::istringstream header(text.substr(0, end));
     std::string line, format;
     std::vector<PlyElement> elements;
-    for (int lineNo = 1; std::getline(header, line); ++lineNo) {
+    std::getline(header, line);  // "ply"
+    for (int lineNo = 2; std::getline(header, line); ++lineNo) {
         std::istringstream words(line);
-        std::string keyword;
+        std::string keyword, extra;
         words >> keyword;
+        if (keyword == "comment" || keyword == "obj_info") continue;
+        auto leftOver = [&]() { return static_cast<bool>(words >> extra); };
         if (keyword == "format") {
-            words >> format;
+            std::string version;
+            words >> format >> version;
+            if (version.empty() || leftOver())
+                return fail(fmt::format("PLY header line {}: expected 'format TYPE VERSION'", lineNo));
         } else if (keyword == "element") {
             PlyElement e;
             std::string count;
             words >> e.name >> count;
             char* stop = nullptr;
             e.count = std::strtoull(count.c_str(), &stop, 10);
-            if (count.empty() || *stop != '\0' || count[0] == '-')
-                return fail(fmt::format("PLY header line {}: element '{}' has no count", lineNo, e.name));
+            if (count.empty() || *stop != '\0' || count[0] == '-' || leftOver())
+                return fail(fmt::format("PLY header line {}: expected 'element NAME COUNT'", lineNo));
             elements.push_back(e);
         } else if (keyword == "property") {
             if (elements.empty())
@@ -133,9 +145,17 @@ Status checkPly(const std::vector<unsigned char>& bytes, const std::string& path
                 if (p.size == 0)
                     return fail(fmt::format("PLY header line {}: unknown type '{}'", lineNo, type));
             }
+            if (p.name.empty() || leftOver())
+                return fail(
+                    fmt::format("PLY header line {}: expected 'property TYPE NAME' or 'property list "
+                                "COUNT_TYPE ITEM_TYPE NAME'",
+                                lineNo));
             elements.back().properties.push_back(p);
         }
     }
+    for (const PlyElement& e : elements)
+        if (e.properties.empty() && e.count > 0)
+            return fail(fmt::format("PLY element '{}' has no properties", e.name));
     const bool ascii = format == "ascii";
     const bool bigEndian = format == "binary_big_endian";
     if (!ascii && !bigEndian && format != "binary_little_endian")
