@@ -72,13 +72,15 @@ std::optional<Kind> kindOf(const fs::path& path, bool& text)
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     text = ext == ".gltf" || ext == ".obj";
-    if (ext == ".gltf" || ext == ".glb" || ext == ".obj") return Kind::Scene;
+    if (ext == ".gltf" || ext == ".glb" || ext == ".obj" || ext == ".ply" || ext == ".stl")
+        return Kind::Scene;
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return Kind::Image;
     return std::nullopt;
 }
 
 // The default corpus: the project's assets and, where Debian's assimp-testmodels is installed, a
-// textured glTF (text and binary), OBJ files with materials and points, and the images they use.
+// textured glTF (text and binary), OBJ files with materials and points, the images they use, and PLY
+// and STL in ASCII and binary.
 std::vector<fs::path> defaultCorpus()
 {
     const fs::path assimp = "/usr/share/assimp/models";
@@ -91,6 +93,11 @@ std::vector<fs::path> defaultCorpus()
         assimp / "OBJ/spider.obj",
         assimp / "OBJ/testpoints.obj",
         assimp / "OBJ/SpiderTex.jpg",
+        assimp / "PLY/cube.ply",
+        assimp / "PLY/cube_binary.ply",
+        assimp / "PLY/float-color.ply",
+        assimp / "STL/triangle_with_two_solids.stl",
+        assimp / "STL/Spider_binary.stl",
     };
 }
 

@@ -174,6 +174,34 @@ TEST(Turntable, AzimuthsIncludeBothEnds)
     EXPECT_EQ(range2->to, 315.5f);
 }
 
+// `AZ0:AZ1)` leaves AZ1 out: N frames of 0:360) step 360 / N and end one step before 360, so a looped
+// video does not show the first view twice.
+TEST(Turntable, EndExclusiveAzimuthsLeaveTheLastOut)
+{
+    auto loop = parseAzimuthRange("0:360)");
+    ASSERT_TRUE(loop.ok()) << loop.error().message;
+    EXPECT_TRUE(loop->endExclusive);
+    EXPECT_EQ(loop->from, 0.0f);
+    EXPECT_EQ(loop->to, 360.0f);
+    const float expected[] = {0.0f, 90.0f, 180.0f, 270.0f};
+    for (uint32_t k = 0; k < 4; ++k) EXPECT_EQ(turntableAzimuth(*loop, k, 4), expected[k]) << k;
+    EXPECT_EQ(turntableAzimuth(*loop, 0, 1), 0.0f);
+    auto backwards = parseAzimuthRange("90:-30)");
+    ASSERT_TRUE(backwards.ok());
+    EXPECT_EQ(turntableAzimuth(*backwards, 2, 3), 10.0f);
+    // The inclusive form is unchanged: 0:360 over 4 frames ends on 360.
+    auto closed = parseAzimuthRange("0:360");
+    ASSERT_TRUE(closed.ok());
+    EXPECT_FALSE(closed->endExclusive);
+    EXPECT_EQ(turntableAzimuth(*closed, 3, 4), 360.0f);
+    for (const char* bad : {"0:360))", "0:360(", ")", "0)", "(0:360)", "0:)", "0:360 )"}) {
+        auto range = parseAzimuthRange(bad);
+        ASSERT_FALSE(range.ok()) << bad;
+        EXPECT_TRUE(isOneLine(range.error().message));
+        EXPECT_NE(range.error().message.find("AZ0:AZ1)"), std::string::npos) << range.error().message;
+    }
+}
+
 // ---- the command line -------------------------------------------------------------------------
 
 class TurntableToolTest : public BackendTest {};
@@ -232,6 +260,23 @@ TEST_P(TurntableToolTest, AutoCameraFramesAndSummary)
         runTool("render -q" + common + " -o " + dir.file("r.png") + " --aov " + dir.file("r.exr"));
     ASSERT_EQ(single.exitCode, 0) << single.stderrText;
     EXPECT_TRUE(sameFrame(dir.file("a0.png"), dir.file("a0.exr"), dir.file("r.png"), dir.file("r.exr")));
+}
+
+// `--orbit '0:360)'`: the last of 4 frames is the render at azimuth 270, and the summary names it.
+TEST_P(TurntableToolTest, EndExclusiveOrbitEndsOneStepShort)
+{
+    ScratchDir dir("turntable-loop");
+    const std::string common = fmt::format(" --backend {} --width 48 --height 32", GetParam());
+    ToolRun run = runTool("render --frames 4 --orbit '0:360)' --camera orbit:0,20,9" + common + " -o " +
+                          dir.file("l%d.png") + " --aov " + dir.file("l%d.exr"));
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    EXPECT_NE(run.stdoutText.find("4 frames from --camera orbit:0,20,9 to orbit:270,20,9:"),
+              std::string::npos)
+        << run.stdoutText;
+    ToolRun single = runTool("render -q --camera orbit:270,20,9" + common + " -o " + dir.file("r.png") +
+                             " --aov " + dir.file("r.exr"));
+    ASSERT_EQ(single.exitCode, 0) << single.stderrText;
+    EXPECT_TRUE(sameFrame(dir.file("l3.png"), dir.file("l3.exr"), dir.file("r.png"), dir.file("r.exr")));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, TurntableToolTest, ::testing::Values("vulkan", "cuda"),

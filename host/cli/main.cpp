@@ -1,7 +1,7 @@
 // main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
 //
 //   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [-o out.png]
-//                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1] [-q]
+//                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1[)]] [-q]
 //                 [--quality psnr:N [--study FILE]] [SETTINGS: every option of `raster settings`]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
@@ -33,6 +33,7 @@
 #include "cli/outputs.h"
 #include "cli/study.h"
 #include "cli/turntable.h"
+#include "cli/usage_errors.h"
 #include "cli/view.h"
 #include "study/quality.h"
 #include "scene/camera.h"
@@ -347,8 +348,9 @@ int main(int argc, char** argv)
 
     RenderCommand cmd;
     CLI::App* render = app.add_subcommand("render", "render a scene (built-in when SCENE is omitted)");
-    render->add_option("scene", cmd.scenePath,
-                       "glTF 2.0 (.gltf/.glb) or OBJ file, or builtin, builtin:dense, builtin:huge");
+    render->add_option(
+        "scene", cmd.scenePath,
+        "glTF 2.0 (.gltf/.glb), OBJ, PLY or STL file, or builtin, builtin:dense, builtin:huge");
     render
         ->add_option(
             "--backend", cmd.backend,
@@ -372,8 +374,9 @@ int main(int argc, char** argv)
         render
             ->add_option(
                 "--orbit", cmd.orbitRange,
-                "AZ0:AZ1: the turntable's azimuths, degrees, both ends included; elevation, distance and "
-                "target from --camera orbit:... or the auto camera")
+                "AZ0:AZ1: the turntable's azimuths, degrees, both ends rendered; AZ0:AZ1) leaves AZ1 out "
+                "(a loop: '0:360)', quoted for the shell); elevation, distance and target from --camera "
+                "orbit:... or the auto camera")
             ->needs(framesOption);
     framesOption->needs(orbitOption);
     // Every render setting, from the schema (settings/schema.h).
@@ -494,7 +497,8 @@ int main(int argc, char** argv)
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help
-        fmt::print(stderr, "raster: error: {}\n", e.what());
+        fmt::print(stderr, "raster: error: {}\n",
+                   parseErrorMessage(app, std::vector<std::string>(argv + 1, argv + argc), e));
         return int(ExitCode::Usage);
     }
 

@@ -63,16 +63,25 @@ Result<AzimuthRange> parseAzimuthRange(const std::string& text)
         return errno == 0 && end == s.c_str() + s.size() && std::isfinite(out);
     };
     AzimuthRange range;
-    size_t colon = text.find(':');
-    if (colon == std::string::npos || !number(text.substr(0, colon), range.from) ||
-        !number(text.substr(colon + 1), range.to))
-        return makeError(ExitCode::Usage, "invalid --orbit '{}': expected AZ0:AZ1 (degrees)", text);
+    std::string ends = text;
+    if (!ends.empty() && ends.back() == ')') {
+        range.endExclusive = true;
+        ends.pop_back();
+    }
+    size_t colon = ends.find(':');
+    if (colon == std::string::npos || !number(ends.substr(0, colon), range.from) ||
+        !number(ends.substr(colon + 1), range.to))
+        return makeError(ExitCode::Usage,
+                         "invalid --orbit '{}': expected AZ0:AZ1 (degrees, both ends rendered) or AZ0:AZ1) "
+                         "(AZ1 left out, for a loop)",
+                         text);
     return range;
 }
 
 float turntableAzimuth(const AzimuthRange& range, uint32_t frame, uint32_t frames)
 {
     if (frames <= 1) return range.from;
+    if (range.endExclusive) return range.from + (range.to - range.from) * float(frame) / float(frames);
     if (frame + 1 >= frames) return range.to;
     return range.from + (range.to - range.from) * float(frame) / float(frames - 1);
 }

@@ -25,14 +25,17 @@ struct FramePattern {
 Result<FramePattern> parseFramePattern(const std::string& option, const std::string& text);
 std::string framePath(const FramePattern& pattern, uint32_t frame);
 
-// `--orbit AZ0:AZ1`, degrees.
+// `--orbit AZ0:AZ1` (both ends rendered) or `--orbit AZ0:AZ1)` (AZ1 left out, interval notation), degrees.
+// A looped video of 0:360 repeats its first view at the end, a visible stutter; 0:360) ends one step
+// short of it, so frame N - 1 flows into frame 0.
 struct AzimuthRange {
     float from = 0.0f, to = 0.0f;
+    bool endExclusive = false;
 };
 Result<AzimuthRange> parseAzimuthRange(const std::string& text);
 
-// Azimuth of frame k of n: from + (to - from) * k / (n - 1) in float, in that order, and exactly `to`
-// for the last frame (inclusive ends); `from` when n is 1.
+// Azimuth of frame k of n: inclusive ends, from + (to - from) * k / (n - 1) in float, in that order, and
+// exactly `to` for the last frame; end-exclusive, from + (to - from) * k / n. `from` when n is 1.
 float turntableAzimuth(const AzimuthRange& range, uint32_t frame, uint32_t frames);
 
 struct TurntableOptions {

@@ -244,9 +244,72 @@ Status checkSkins(const Json& doc)
 
 }  // namespace
 
+namespace {
+
+// Geometry compression raster does not decode. A file that requires one cannot be drawn: without this
+// check tinygltf fails later on the compressed primitives' accessors, which have no bufferView
+// ("accessor[0] invalid bufferView"), a message that does not name the cause.
+bool isCompressionExtension(const std::string& name)
+{
+    return name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
+           name == "KHR_meshopt_compression";
+}
+
+// A required compression extension is an error naming it. One that is only used (the file also carries
+// the uncompressed data, as the extensions allow) is drawn from that data with one warning, unless a
+// compressed primitive lacks it: then the error names the primitive and the extension.
+Status checkCompression(const Json& doc, std::vector<std::string>& warnings)
+{
+    for (const Json& name : arrayOf(doc, "extensionsRequired")) {
+        if (name.is_string() && isCompressionExtension(name.get<std::string>()))
+            return Error{fmt::format("the file requires the extension {} (compressed geometry), which is not "
+                                     "supported: decompress it first (e.g. gltf-transform copy)",
+                                     name.get<std::string>()),
+                         ExitCode::Usage};
+    }
+    const Json& accessors = arrayOf(doc, "accessors");
+    auto hasData = [&](const Json& index) {
+        return isIndexBelow(index, accessors.size()) && member(accessors[index.get<size_t>()], "bufferView");
+    };
+    const char* kDraco = "KHR_draco_mesh_compression";
+    size_t compressed = 0;
+    const Json& meshes = arrayOf(doc, "meshes");
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const Json& primitives = arrayOf(meshes[m], "primitives");
+        for (size_t p = 0; p < primitives.size(); ++p) {
+            const Json* extensions = member(primitives[p], "extensions");
+            if (!extensions || !member(*extensions, kDraco)) continue;
+            ++compressed;
+            std::vector<const Json*> used;
+            if (const Json* attributes = member(primitives[p], "attributes");
+                attributes && attributes->is_object())
+                for (const Json& index : *attributes) used.push_back(&index);
+            if (const Json* indices = member(primitives[p], "indices")) used.push_back(indices);
+            for (const Json* index : used) {
+                if (!hasData(*index))
+                    return Error{
+                        fmt::format("meshes[{}].primitives[{}] is compressed with {}, which is not "
+                                    "supported, and has no uncompressed fallback (accessor {} has no "
+                                    "bufferView)",
+                                    m, p, kDraco, shown(*index)),
+                        ExitCode::Usage};
+            }
+        }
+    }
+    if (compressed > 0)
+        warnings.push_back(
+            fmt::format("{} is not supported: {} primitive(s) drawn from their uncompressed "
+                        "fallback data",
+                        kDraco, compressed));
+    return okStatus();
+}
+
+}  // namespace
+
 Status checkGltfSpec(const Json& doc, std::vector<std::string>& warnings)
 {
     if (!doc.is_object()) return Error{"the document is not a JSON object", ExitCode::Usage};
+    SR_TRY(checkCompression(doc, warnings));
     size_t morphed = 0;
     SR_TRY(checkScene(doc));
     SR_TRY(checkNodes(doc));

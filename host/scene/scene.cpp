@@ -1,10 +1,14 @@
 // scene.cpp - loader dispatch and the checks every loaded scene goes through.
 #include "scene/scene.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <unordered_map>
 
 namespace sr {
@@ -17,6 +21,8 @@ constexpr uint64_t kMaxVertices = uint64_t(1) << 31;
 // most kMaxIndices / 3 + kMaxIndices / 2 + kMaxIndices) stay below 2^31.
 constexpr uint64_t kMaxLineIndices = kMaxIndices;
 constexpr uint64_t kMaxPoints = kMaxIndices;
+
+constexpr const char* kSceneExtensions = ".gltf, .glb, .obj, .ply or .stl";
 
 std::string lowerExtension(const std::string& path)
 {
@@ -305,9 +311,18 @@ Result<Scene> loadScene(const std::string& path)
     std::string ext = lowerExtension(path);
     if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
     if (ext == ".obj") return loadObj(path);
-    return makeError(ExitCode::Usage,
-                     "cannot load '{}': unknown file extension '{}' (expected .gltf, .glb or .obj)", path,
-                     ext);
+    if (ext == ".ply") return loadPly(path);
+    if (ext == ".stl") return loadStl(path);
+    // The extension is only worth blaming when the path is a file: a folder (whose name has no
+    // extension) or a missing path is said to be one.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0)
+        return makeError(ExitCode::Usage, "cannot load '{}': {}", path, std::strerror(errno));
+    if (S_ISDIR(st.st_mode))
+        return makeError(ExitCode::Usage, "cannot load '{}': it is a directory, not a scene file ({})", path,
+                         kSceneExtensions);
+    return makeError(ExitCode::Usage, "cannot load '{}': unknown file extension '{}' (expected {})", path,
+                     ext, kSceneExtensions);
 }
 
 Status finalizeScene(Scene& scene, const std::string& what)

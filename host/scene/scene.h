@@ -3,7 +3,7 @@
 // Loaders (glTF, OBJ, the built-in procedural scene) produce one flat triangle list in world space:
 // node transforms are already applied, normals are always present (flat normals computed where the
 // file has none), and the triangle order defines the triangle ids written to the `id` AOV
-// (OBJ faces in file order; glTF nodes depth-first in document order, primitives in order, triangles
+// (OBJ, PLY and STL faces in file order; glTF nodes depth-first in document order, primitives in order, triangles
 // in index order).
 #ifndef RASTER_SCENE_H
 #define RASTER_SCENE_H
@@ -102,11 +102,13 @@ struct Scene {
     size_t primitiveCount() const { return triangleCount() + lineCount() + pointCount(); }
 };
 
-// Loads a .gltf, .glb or .obj file, chosen by extension, or a procedural scene named "builtin...".
-// Errors are one-line messages naming the file.
+// Loads a .gltf, .glb, .obj, .ply or .stl file, chosen by extension, or a procedural scene named
+// "builtin...". Errors are one-line messages naming the file.
 Result<Scene> loadScene(const std::string& path);
 Result<Scene> loadGltf(const std::string& path);
 Result<Scene> loadObj(const std::string& path);
+Result<Scene> loadPly(const std::string& path);  // scene_mesh.cpp, through assimp
+Result<Scene> loadStl(const std::string& path);  // scene_mesh.cpp, through assimp
 
 // The built-in procedural scene used when no file is given: a few shaded solids on a ground plane,
 // with vertex colours, sized to a few thousand triangles.

@@ -1,8 +1,10 @@
 // scene_obj.cpp - Wavefront OBJ to the flat triangle, segment and point lists, through tinyobjloader.
 //
-// tinyobjloader's own triangulation is off so that the triangle order (the ids in the `id` AOV) is
-// defined here: polygons are fanned as (v0, vi, vi+1) in file order. Every face corner becomes its
-// own vertex, because OBJ indexes positions, normals, texture coordinates and colours separately.
+// tinyobjloader's own triangulation is off (it fans polygons, which overlaps itself on concave ones) so
+// that the triangle order (the ids in the `id` AOV) is defined here: polygons are ear clipped in their
+// best-fit plane (triangulate.h; a convex polygon gives the fan (v0, vi, vi+1)), faces in file order.
+// A self-intersecting or degenerate polygon is fanned, with one warning per file. Every face corner becomes
+// its own vertex, because OBJ indexes positions, normals, texture coordinates and colours separately.
 //
 // Points: every vertex of every `p` statement, in file order, with the material of the `usemtl` in
 // force and its own vertex (a zero normal unless it names a `vn`: points are shaded unlit). Lines: every
@@ -32,6 +34,7 @@
 #include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
+#include "scene/triangulate.h"
 
 namespace sr {
 namespace {
@@ -170,6 +173,108 @@ std::vector<ObjPointRef> readObjRefs(const char* token, int vertices, int texcoo
 // line ends, leading blanks, a keyword followed by a blank, "v/vt/vn" triples read with atoi, negative
 // indices relative to the lines read so far), and `usemtl` is resolved with tinyobjloader's material
 // map, as it does for faces.
+// The numbers after a `v`, `vn` or `vt` keyword: how many there are, or -1 with `bad` set to the first
+// word that is not a number as a whole (tinyobjloader reads "0f" as 0 and goes on).
+int countNumbers(const char* token, std::string& bad)
+{
+    int count = 0;
+    for (;;) {
+        token += std::strspn(token, " \t\r");
+        if (token[0] == '\0' || token[0] == '#') return count;
+        size_t length = std::strcspn(token, " \t\r");
+        std::string word(token, length);
+        char* end = nullptr;
+        std::strtod(word.c_str(), &end);
+        if (end != word.c_str() + word.size()) {
+            bad = word;
+            return -1;
+        }
+        ++count;
+        token += length;
+    }
+}
+
+// The first `f` corner of a line that names no vertex: its index as written, or empty. Positive indices
+// may name any of the file's `total` vertices (tinyobjloader resolves them after the whole file),
+// negative ones count back from the `seen` read so far.
+std::string missingFaceVertex(const char* token, int total, int seen)
+{
+    while (token[0] != '\0' && token[0] != '\r' && token[0] != '#') {
+        token += std::strspn(token, " \t\r");
+        if (token[0] == '\0' || token[0] == '#') break;
+        size_t length = std::strcspn(token, "/ \t\r");
+        std::string word(token, length);
+        char* end = nullptr;
+        long i = std::strtol(word.c_str(), &end, 10);
+        if (end != word.c_str() + word.size() || i == 0 || i > total || -i > seen) return word;
+        token += std::strcspn(token, " \t\r");
+    }
+    return "";
+}
+
+// Checks the lines tinyobjloader reads leniently, with the file's line numbers: a `v`, `vn` or `vt` line
+// with a word that is not a number (or too few numbers) is an error, since the rest of the file's
+// indices would silently shift or read a wrong value; a face corner naming a vertex that does not exist
+// is dropped with the face by finalizeScene, and the first such line is named in one warning here.
+Status checkObjLines(std::string_view text, const std::string& path)
+{
+    int vertices = 0;
+    size_t firstMissingLine = 0, missingFaces = 0;
+    std::string firstMissing;
+    // Positive indices may name vertices defined further on, as tinyobjloader resolves them after the
+    // whole file: count the vertices first.
+    for (int pass = 0; pass < 2; ++pass) {
+        size_t start = 0, lineNo = 0;
+        int seen = 0;
+        while (start < text.size()) {
+            size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+            std::string line(text.substr(start, end - start));
+            start = end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
+            ++lineNo;
+            const char* token = line.c_str() + std::strspn(line.c_str(), " \t");
+            auto isSpace = [](char c) { return c == ' ' || c == '\t'; };
+            // Vertices are x y z [w] or x y z r g b [a]; normals x y z; texture coordinates u [v [w]].
+            int least = 0, most = 0, keyword = 2;
+            const char* what = "";
+            if (token[0] == 'v' && isSpace(token[1])) {
+                least = 3, most = 7, keyword = 1, what = "vertex";
+                ++seen;
+            } else if (token[0] == 'v' && token[1] == 'n' && isSpace(token[2])) {
+                least = 3, most = 3, what = "normal";
+            } else if (token[0] == 'v' && token[1] == 't' && isSpace(token[2])) {
+                least = 1, most = 3, what = "texture coordinate";
+            } else if (pass == 1 && token[0] == 'f' && isSpace(token[1])) {
+                std::string missing = missingFaceVertex(token + 2, vertices, seen);
+                if (!missing.empty() && missingFaces++ == 0) {
+                    firstMissing = missing;
+                    firstMissingLine = lineNo;
+                }
+                continue;
+            } else {
+                continue;
+            }
+            if (pass == 1) continue;
+            std::string bad;
+            int n = countNumbers(token + keyword, bad);
+            if (n < 0)
+                return makeError(ExitCode::Usage,
+                                 "cannot load '{}': line {}: '{}' is not a number in the {} '{}'", path,
+                                 lineNo, printableText(bad.c_str()), what, printableText(line.c_str()));
+            if (n < least || n > most)
+                return makeError(ExitCode::Usage,
+                                 "cannot load '{}': line {}: a {} has {} to {} numbers, not {}: '{}'", path,
+                                 lineNo, what, least, most, n, printableText(line.c_str()));
+        }
+        vertices = seen;
+    }
+    if (missingFaces > 0)
+        fmt::print(stderr,
+                   "warning: {}:{}: face corner '{}' names no vertex (the file has {}); {} face(s) naming "
+                   "missing vertices are dropped\n",
+                   path, firstMissingLine, printableText(firstMissing.c_str()), vertices, missingFaces);
+    return okStatus();
+}
+
 ObjElements readObjElements(std::string_view text, const std::map<std::string, int>& materialIds)
 {
     ObjElements out;
@@ -229,9 +334,9 @@ Result<Scene> loadObj(const std::string& path)
             return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
         }
         if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
-        elements =
-            readObjElements(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()),
-                            mtlReader.materialIds);
+        std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+        SR_TRY(checkObjLines(text, path));
+        elements = readObjElements(text, mtlReader.materialIds);
     }
 
     size_t positionCount = attrib.vertices.size() / 3;
@@ -289,6 +394,7 @@ Result<Scene> loadObj(const std::string& path)
         return uint32_t(materialIndex[size_t(id)]);
     };
     size_t shortFaces = 0;
+    size_t fannedPolygons = 0;
     auto position = [&](int i) {
         const tinyobj::real_t* p = &attrib.vertices[3 * size_t(i)];
         return glm::dvec3(p[0], p[1], p[2]);
@@ -372,8 +478,14 @@ Result<Scene> loadObj(const std::string& path)
                 scene.texcoords.push_back(texcoord(corners[k].texcoord_index));
                 scene.colors.push_back(color(size_t(v)));
             }
-            for (size_t k = 1; k + 1 < n; ++k) {
-                scene.indices.insert(scene.indices.end(), {base, base + uint32_t(k), base + uint32_t(k + 1)});
+            if (n == 3) {
+                scene.indices.insert(scene.indices.end(), {base, base + 1, base + 2});
+            } else {
+                std::vector<glm::dvec3> polygon(n);
+                for (size_t k = 0; k < n; ++k) polygon[k] = position(corners[k].vertex_index);
+                PolygonTriangles triangles = triangulatePolygon(polygon);
+                fannedPolygons += triangles.fanned ? 1 : 0;
+                for (uint32_t corner : triangles.corners) scene.indices.push_back(base + corner);
             }
         }
     }
@@ -432,6 +544,8 @@ Result<Scene> loadObj(const std::string& path)
     if (elements.faces == 0 && elements.polylines.empty() && elements.points.empty() && positionCount > 0) {
         // A bare vertex list is a point cloud. Meshlab writes a `vn` before each `v`, so equal counts
         // pair them by position in the file.
+        fmt::print(stderr, "warning: {}: no faces, lines or points: its {} vertices are drawn as points\n",
+                   path, positionCount);
         Result<uint32_t> materialId = useMaterial(-1);
         if (!materialId) return materialId.error();
         bool pairedNormals = normalCount == positionCount;
@@ -442,6 +556,12 @@ Result<Scene> loadObj(const std::string& path)
     if (!anyNonWhite) scene.colors.clear();
     if (shortFaces > 0) {
         fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
+    }
+    if (fannedPolygons > 0) {
+        fmt::print(stderr,
+                   "warning: {}: {} polygon(s) self-intersecting, without area or of over {} corners: "
+                   "fanned from their first corner, which may cover parts twice\n",
+                   path, fannedPolygons, kMaxEarClippedCorners);
     }
     if (shortLines > 0) {
         fmt::print(stderr, "warning: {}: skipped {} line element(s) with fewer than 2 vertices\n", path,
