@@ -3,8 +3,8 @@
 // Loaders (glTF, OBJ, the built-in procedural scene) produce one flat triangle list in world space:
 // node transforms are already applied, normals are always present (flat normals computed where the
 // file has none), and the triangle order defines the triangle ids written to the `id` AOV
-// (OBJ, PLY and STL faces in file order; glTF nodes depth-first in document order, primitives in order, triangles
-// in index order).
+// (OBJ, PLY and STL faces in file order; glTF nodes depth-first in document order, primitives in
+// order, triangles in index order).
 #ifndef RASTER_SCENE_H
 #define RASTER_SCENE_H
 
@@ -122,8 +122,9 @@ Scene tessellatedSphere(int rings);
 Result<Scene> builtinSceneNamed(const std::string& name);
 
 // Drops triangles, segments and points with out-of-range indices or non-finite positions (counting them
-// in droppedTriangles, droppedLines and droppedPoints), drops materials, texture coordinates and textures that change nothing
-// (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing drawable is left.
+// in droppedTriangles, droppedLines and droppedPoints), drops materials, texture coordinates and textures
+// that change nothing (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing
+// drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 
 // finalizeScene for a scene read from `path`: warnings name the file and a failure reads
