@@ -48,6 +48,16 @@ bool isIndexBelow(const Json& value, size_t count)
     return value.is_number_integer() && value.get<int64_t>() >= 0 && uint64_t(value.get<int64_t>()) < count;
 }
 
+// An error unless `value`, at `path`, indexes one of the `count` entries of the top-level array
+// `array` ("scenes", "skins", "nodes"), whose entries the message calls `entry`.
+Status checkIndex(const std::string& path, const Json& value, size_t count, const char* array,
+                  const char* entry)
+{
+    if (isIndexBelow(value, count)) return okStatus();
+    return invalid(path, fmt::format("is {}, but the file has {} {}(s)", shown(value), count, entry),
+                   fmt::format("the index of a {} in `{}`", entry, array));
+}
+
 bool isPositive(const Json& value)
 {
     return value.is_number() && value.get<double>() > 0.0;
@@ -105,11 +115,7 @@ Status checkScene(const Json& doc)
 {
     const Json* scene = member(doc, "scene");
     if (!scene) return okStatus();
-    size_t scenes = arrayOf(doc, "scenes").size();
-    if (!isIndexBelow(*scene, scenes))
-        return invalid("scene", fmt::format("is {}, but the file has {} scene(s)", shown(*scene), scenes),
-                       "the index of a scene in `scenes`");
-    return okStatus();
+    return checkIndex("scene", *scene, arrayOf(doc, "scenes").size(), "scenes", "scene");
 }
 
 Status checkNodes(const Json& doc)
@@ -124,10 +130,8 @@ Status checkNodes(const Json& doc)
                 return invalid(fmt::format("nodes[{}].matrix", i), "is " + shown(*matrix),
                                "16 numbers, a column-major 4x4 matrix");
         }
-        if (const Json* skin = member(nodes[i], "skin"); skin && !isIndexBelow(*skin, skins))
-            return invalid(fmt::format("nodes[{}].skin", i),
-                           fmt::format("is {}, but the file has {} skin(s)", shown(*skin), skins),
-                           "the index of a skin in `skins`");
+        if (const Json* skin = member(nodes[i], "skin"))
+            SR_TRY(checkIndex(fmt::format("nodes[{}].skin", i), *skin, skins, "skins", "skin"));
     }
     return okStatus();
 }
@@ -230,14 +234,10 @@ Status checkSkins(const Json& doc)
             return invalid(fmt::format("skins[{}].joints", s), "is " + shownOrMissing(joints),
                            "at least one node index");
         for (size_t j = 0; j < joints->size(); ++j)
-            if (!isIndexBelow((*joints)[j], nodes))
-                return invalid(fmt::format("skins[{}].joints[{}]", s, j),
-                               fmt::format("is {}, but the file has {} node(s)", shown((*joints)[j]), nodes),
-                               "the index of a node in `nodes`");
-        if (const Json* skeleton = member(skins[s], "skeleton"); skeleton && !isIndexBelow(*skeleton, nodes))
-            return invalid(fmt::format("skins[{}].skeleton", s),
-                           fmt::format("is {}, but the file has {} node(s)", shown(*skeleton), nodes),
-                           "the index of a node in `nodes`");
+            SR_TRY(
+                checkIndex(fmt::format("skins[{}].joints[{}]", s, j), (*joints)[j], nodes, "nodes", "node"));
+        if (const Json* skeleton = member(skins[s], "skeleton"))
+            SR_TRY(checkIndex(fmt::format("skins[{}].skeleton", s), *skeleton, nodes, "nodes", "node"));
     }
     return okStatus();
 }
