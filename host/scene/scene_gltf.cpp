@@ -678,12 +678,7 @@ Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
 
 Status GltfFlattener::run()
 {
-    for (const std::string& ext : model_.extensionsRequired) {
-        if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-            ext == "KHR_meshopt_compression")
-            return fail(fmt::format("the file requires the unsupported extension {}", ext));
-    }
-
+    // Required extensions that compress geometry were refused by checkGltfSpec, before tinygltf.
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
         // checkGltfSpec has refused a `scene` that names no scene; without one, the first is drawn.
