@@ -217,6 +217,65 @@ TEST_P(AovTest, BarycentricsArePerspectiveCorrect)
     EXPECT_GT(covered, size_t(size) * size / 4);
 }
 
+// Sample 0 of Vulkan's standard sample locations (the spec's table "Standard sample locations"), in
+// pixels from the pixel's top-left corner: what the id and depth AOVs of an antialiased frame describe.
+glm::vec2 standardSampleZero(uint32_t count)
+{
+    switch (count) {
+    case 2: return {0.75f, 0.75f};
+    case 4: return {0.375f, 0.125f};
+    case 8: return {0.5625f, 0.3125f};
+    case 16: return {0.5625f, 0.5625f};
+    default: return {0.5f, 0.5f};
+    }
+}
+
+// Under MSAA and SSAA the id and depth of an output pixel are those of sample 0 of its middle raster
+// pixel (raster pixel (x ssaa + ssaa / 2, ...)); the barycentrics must be that sample's, so inside the
+// triangle, not extrapolated to the output pixel's centre (which the triangle need not cover).
+TEST_P(AovTest, BarycentricsDescribeTheSampleOfTheId)
+{
+    const glm::vec2 ndc[3] = {{-0.9f, -0.9f}, {0.9f, -0.6f}, {-0.3f, 0.9f}};
+    const float w[3] = {1.0f, 4.0f, 2.0f};
+    std::vector<glm::vec4> corners;
+    for (int k = 0; k < 3; ++k) corners.emplace_back(ndc[k] * w[k], 0.5f * w[k], w[k]);
+    const Scene scene = clipSpaceScene(corners);
+    const uint32_t size = 24;
+    for (const auto& [msaa, ssaa] :
+         std::vector<std::pair<uint32_t, uint32_t>>{{4, 1}, {8, 1}, {1, 2}, {4, 2}}) {
+        RenderSettings s = testSettings(size, size);
+        s.surfaceAovs = true;
+        s.msaa = msaa;
+        s.ssaa = ssaa;
+        auto out = renderScene(*device_, scene, identityCamera(), s);
+        ASSERT_TRUE(out.ok()) << out.error().message;
+        const AovImage& aov = out->aov;
+        ASSERT_TRUE(aov.hasBary());
+        const std::string config = "msaa " + std::to_string(msaa) + " ssaa " + std::to_string(ssaa);
+        const glm::vec2 sample = standardSampleZero(msaa);
+        size_t covered = 0, outside = 0;
+        for (uint32_t py = 0; py < size; ++py) {
+            for (uint32_t px = 0; px < size; ++px) {
+                const size_t i = size_t(py) * size + px;
+                if (aov.id[i] == EMPTY_ID) continue;
+                ++covered;
+                // The sample in output pixels: raster pixel ssaa / 2 of the block, then the sample in it.
+                const glm::vec2 at =
+                    glm::vec2(float(px), float(py)) + (glm::vec2(float(ssaa / 2)) + sample) / float(ssaa);
+                const glm::vec2 p = at * 2.0f / float(size) - 1.0f;
+                glm::vec3 b = screenBary(p, ndc[0], ndc[1], ndc[2]) / glm::vec3(w[0], w[1], w[2]);
+                b /= b.x + b.y + b.z;
+                const float u = aov.baryU[i], v = aov.baryV[i];
+                if (u < 0.0f || v < 0.0f || u + v > 1.0f + 1e-6f) ++outside;
+                EXPECT_NEAR(u, b.y, kEps) << config << ", pixel " << px << ", " << py;
+                EXPECT_NEAR(v, b.z, kEps) << config << ", pixel " << px << ", " << py;
+            }
+        }
+        EXPECT_GT(covered, size_t(size) * size / 4) << config;
+        EXPECT_EQ(outside, 0u) << config << ": barycentrics outside the triangle whose id the pixel holds";
+    }
+}
+
 // Every channel survives writeAovExr / readAovExr bit for bit, and the comparison of the file with the
 // render reports no surface difference.
 TEST_P(AovTest, ExrRoundTripOfEveryChannel)

@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <random>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "io/image_io.h"
 #include "render/aov.h"
 #include "test_util.h"
 
@@ -393,6 +396,34 @@ TEST(MsaaCommandLine, RejectsBadRequestsWithOneLine)
         EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 1)
             << args << run.stderrText;
     }
+}
+
+// `raster render` makes anti-aliased pictures unless told otherwise (kImageMsaa, README), and says so in
+// its statistics; `--msaa 1` is the exact one-sample path the tests and goldens use.
+TEST(MsaaCommandLine, RenderDefaultsToMsaa4)
+{
+    ScratchDir dir("msaa-default");
+    auto render = [&](const std::string& name, const std::string& args) {
+        ToolRun run = runTool("render builtin --backend vulkan -q --width 64 --height 48 -o " +
+                              dir.file(name + ".png") + " --stats " + dir.file(name + ".json") + args);
+        EXPECT_EQ(run.exitCode, 0) << run.stderrText;
+        auto png = readPng(dir.file(name + ".png"));
+        EXPECT_TRUE(png.ok()) << (png.ok() ? "" : png.error().message);
+        return png.ok() ? png->pixels : std::vector<uint32_t>{};
+    };
+    const std::vector<uint32_t> byDefault = render("default", "");
+    const std::vector<uint32_t> msaa4 = render("msaa4", " --msaa 4");
+    const std::vector<uint32_t> msaa1 = render("msaa1", " --msaa 1");
+    ASSERT_EQ(byDefault.size(), size_t(64) * 48);
+    EXPECT_EQ(byDefault, msaa4);
+    // Edge pixels blend: the one-sample image differs from the default along every silhouette.
+    size_t differing = 0;
+    for (size_t i = 0; i < msaa1.size() && i < byDefault.size(); ++i) differing += msaa1[i] != byDefault[i];
+    EXPECT_GT(differing, 50u);
+    std::ifstream statsFile(dir.file("default.json"));
+    ASSERT_TRUE(statsFile) << "no statistics written";
+    const nlohmann::json stats = nlohmann::json::parse(statsFile);
+    EXPECT_EQ(stats["settings"]["msaa"], 4) << stats.dump();
 }
 
 TEST(MsaaCommandLine, AovSamplesWritesEverySampleOfThePixel)

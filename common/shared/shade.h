@@ -65,6 +65,15 @@ SR_FN vec2 pixelCenterNdc(int px, int py, uint width, uint height)
     return vec2(x, y);
 }
 
+// NDC of subpixel position p (1/256 pixel, as samplePosition gives) of a width x height raster. For a
+// pixel centre, p = 256 px + 128, it has the bits of pixelCenterNdc: p / 256 is exact in float.
+SR_FN vec2 subpixelNdc(ivec2 p, uint width, uint height)
+{
+    SR_PRECISE float x = float(p.x) * (1.0f / float(SUBPIXEL_SCALE)) * 2.0f * recipDet(float(width)) - 1.0f;
+    SR_PRECISE float y = float(p.y) * (1.0f / float(SUBPIXEL_SCALE)) * 2.0f * recipDet(float(height)) - 1.0f;
+    return vec2(x, y);
+}
+
 SR_FN float linearToSrgb(float c)
 {
     c = clamp(c, 0.0f, 1.0f);
@@ -168,23 +177,22 @@ struct SurfacePoint {
     vec3 faceNormal;  // geometric normal of the triangle in view space (not normalised)
 };
 
-// The surface of triangle (pos*, nrm*) at the centre of pixel (px, py), from its world-space vertex
-// positions and normals. Shading re-derives each vertex's clip position, view position and view normal
-// with transformVertex instead of reading them from per-vertex buffers: three small matrix products per
-// pixel cost less than storing and re-reading 48 bytes per vertex, and the clip positions come out
+// The surface of triangle (pos*, nrm*) at NDC point `ndc`, from its world-space vertex positions and
+// normals. Shading re-derives each vertex's clip position, view position and view normal with
+// transformVertex instead of reading them from per-vertex buffers: three small matrix products per pixel
+// cost less than storing and re-reading 48 bytes per vertex, and the clip positions come out
 // bit-identical to the vertex stage's, so the barycentrics match the rasterized triangle exactly.
-SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec4 pos1, vec4 pos2, vec4 nrm0,
-                             vec4 nrm1, vec4 nrm2)
+// `extrapolate`: the point need not be covered by the triangle (clipBarycentrics). The texture
+// coordinate derivatives are per pixel of a params.width x params.height grid.
+SR_FN SurfacePoint surfaceAtNdc(RasterParams params, vec2 ndc, bool extrapolate, vec4 pos0, vec4 pos1,
+                                vec4 pos2, vec4 nrm0, vec4 nrm1, vec4 nrm2)
 {
     vec4 c0, c1, c2, p0, p1, p2, n0, n1, n2;
     transformVertex(params, pos0, nrm0, c0, p0, n0);
     transformVertex(params, pos1, nrm1, c1, p1, n1);
     transformVertex(params, pos2, nrm2, c2, p2, n2);
-    vec2 ndc = pixelCenterNdc(px, py, params.width, params.height);
     SurfacePoint s;
     vec3 dX, dY;
-    // With one sample the pixel centre is covered; with several it may be any of the samples.
-    bool extrapolate = params.sampleCount > 1u;
     s.bary = clipBarycentrics(c0, c1, c2, ndc, vec3(1.0f), extrapolate, dX, dY);
     if (params.uvInterpolation == UV_AFFINE)
         s.uvBary = clipBarycentrics(c0, c1, c2, ndc, vec3(c0.w, c1.w, c2.w), extrapolate, dX, dY);
@@ -201,6 +209,16 @@ SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec
     vec3 e2 = vec3(p2.x - p0.x, p2.y - p0.y, p2.z - p0.z);
     s.faceNormal = cross(e1, e2);
     return s;
+}
+
+// The surface the shade stage lights: at the centre of pixel (px, py). With one sample the centre is
+// covered; with several it may be any of the samples, and the triangle's plane is extrapolated there
+// as hardware does without centroid interpolation.
+SR_FN SurfacePoint surfaceAt(RasterParams params, int px, int py, vec4 pos0, vec4 pos1, vec4 pos2, vec4 nrm0,
+                             vec4 nrm1, vec4 nrm2)
+{
+    return surfaceAtNdc(params, pixelCenterNdc(px, py, params.width, params.height), params.sampleCount > 1u,
+                        pos0, pos1, pos2, nrm0, nrm1, nrm2);
 }
 
 // Texture coordinates of one set (tc*: the set's (u, v) at the three vertices) at the surface point,

@@ -439,8 +439,7 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.color.resize(out.color.pixels.size() * 4);
     for (size_t i = 0; i < out.color.pixels.size(); ++i)
         for (int c = 0; c < 4; ++c) f.color[4 * i + c] = uint8_t(out.color.pixels[i] >> (8 * c));
-    if (request.surfaceAovs && !out.aov.hasBary())
-        sr::fillSurfaceAovs(scene, sr::outputParams(out.params), out.aov);
+    if (request.surfaceAovs && !out.aov.hasBary()) sr::fillSurfaceAovs(scene, out.params, out.aov);
     f.id = std::move(out.aov.id);
     f.depth = std::move(out.aov.depth);
     if (out.aov.hasBary()) {

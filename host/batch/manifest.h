@@ -30,8 +30,8 @@ struct ManifestJob {
     std::string orbit;    // `--orbit AZ0:AZ1` with frames > 0 (checked where frames are expanded)
     uint32_t frames = 0;  // `--frames N`: a turntable of N frames (0: one render)
     // Every render setting of the schema (settings/schema.h) under its key: width, camera, shading,
-    // texture_filter, tessellate, ...; those the job does not name at their defaults.
-    RenderOptions options;
+    // texture_filter, tessellate, ...; those the job does not name at `raster render`'s defaults.
+    RenderOptions options = imageRenderOptions();
     std::string output, aov, stats;  // resolved paths (patterns when frames > 0); aov, stats may be empty
     std::string outputPattern, aovPattern, statsPattern;  // the same as written (joined after expansion)
     // Every setting that decides the images, with the defaults filled in and the paths as written:

@@ -65,7 +65,7 @@ struct RenderCommand {
     bool quiet = false;
     std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
     std::string studyPath;  // --study FILE: ... from this study JSON instead of measuring
-    RenderOptions options;  // every render setting (settings/schema.h)
+    RenderOptions options = imageRenderOptions();  // every render setting (settings/schema.h)
 };
 
 // Most samples per pixel --aov-samples writes (two EXR channels each).

@@ -18,7 +18,7 @@ Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& 
     const RenderSettings settings = options.resolved();
     SR_TRY(writePng(paths.png, out.color));
     if (!paths.aov.empty()) {
-        if (!out.aov.hasBary()) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
+        if (!out.aov.hasBary()) fillSurfaceAovs(scene, out.params, out.aov);
         if (settings.aovSamples && out.aov.sampleId.empty())
             fillSampleAovs(out.samples, settings.ssaa, out.aov);
         SR_TRY(writeAovExr(paths.aov, out.aov));

@@ -26,6 +26,10 @@ vec3 shadingNormal(const SurfacePoint& s)
 
 void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov)
 {
+    // The id and depth of output pixel (x, y) are those of sample 0 of raster pixel (x ssaa + ssaa / 2,
+    // y ssaa + ssaa / 2) (aovSampleIndex), a covered sample: the surface is evaluated there, not at the
+    // output pixel's centre, which under MSAA or SSAA need not lie on the triangle at all.
+    const RasterParams output = outputParams(params);
     const size_t pixels = std::min(aov.id.size(), size_t(aov.width) * aov.height);
     for (std::vector<float>* plane :
          {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
@@ -47,9 +51,12 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
         const uint32_t i1 = scene.indices[3 * size_t(id) + 1];
         const uint32_t i2 = scene.indices[3 * size_t(id) + 2];
         const int px = int(i % aov.width), py = int(i / aov.width);
-        const SurfacePoint s =
-            surfaceAt(params, px, py, scene.positions[i0], scene.positions[i1], scene.positions[i2],
-                      scene.normals[i0], scene.normals[i1], scene.normals[i2]);
+        const int half = int(params.ssaa / 2u);
+        const ivec2 sample = samplePosition(params.sampleCount, 0u, px * int(params.ssaa) + half,
+                                            py * int(params.ssaa) + half);
+        const SurfacePoint s = surfaceAtNdc(output, subpixelNdc(sample, params.width, params.height), false,
+                                            scene.positions[i0], scene.positions[i1], scene.positions[i2],
+                                            scene.normals[i0], scene.normals[i1], scene.normals[i2]);
         aov.baryU[i] = s.bary.y;
         aov.baryV[i] = s.bary.z;
 

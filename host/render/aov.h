@@ -14,8 +14,9 @@
 namespace sr {
 
 // Fills aov's bary, uv and normal channels (see AovImage) from aov.id, for the scene and the
-// RasterParams the frame was drawn with (RenderOutput::params); aov.width x aov.height must be
-// params.width x params.height and aov.id one id per pixel. Background pixels, and ids outside the
+// RasterParams the frame was drawn with (RenderOutput::params, at the raster resolution); aov.width x
+// aov.height must be the output size (params.width x params.height / params.ssaa) and aov.id one id per
+// pixel. Each pixel's channels describe the sample its id and depth come from (aovSampleIndex). Background pixels, and ids outside the
 // scene (which no backend writes), get 0 in every channel.
 void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov);
 

@@ -656,14 +656,13 @@ Status RenderSession::remap(const RenderSettings& settings, FrameState& f)
         std::vector<uint32_t> sourceIds(f.tessTotals.y);
         SR_TRY(device_->download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
         if (settings.surfaceAovs)
-            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, f.params).scene, outputParams(out.params),
-                            out.aov);
+            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, f.params).scene, out.params, out.aov);
         const auto sceneTriangles = uint32_t(scene.triangleCount());
         mapToSourceIds(out.aov.id, sourceIds, sceneTriangles);
         mapToSourceIds(out.samples.id, sourceIds, sceneTriangles);
         return okStatus();
     }
-    if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
     return okStatus();
 }
 

@@ -96,7 +96,7 @@ inline uint64_t aovSampleIndex(uint32_t x, uint32_t y, uint32_t rasterWidth, uin
 
 struct RenderOutput {
     RgbaImage color;  // resolved: the mean linear colour of every sample of the pixel, then sRGB
-    AovImage aov;     // id and Z of aovSampleIndex's sample; surface channels at the pixel centre
+    AovImage aov;     // id, Z and surface channels of aovSampleIndex's sample
     SampleAovs samples;
     // Covering triangles per sample of the raster grid (indexed as SampleAovs), only when counting hits
     // (SHADING_HIT_COUNT or countHits).

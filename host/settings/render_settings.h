@@ -103,6 +103,21 @@ struct RenderOptions {
     }
 };
 
+// The MSAA of `raster render` and `raster batch` when not told otherwise: they make pictures, and a
+// picture is expected to be anti-aliased. 4 is the count every Vulkan device supports (lavapipe's
+// graphics pipeline has no other), at Vulkan's standard sample locations; colour is still shaded once
+// per pixel and triangle. The library and the Python module keep RenderSettings::msaa = 1: the exact,
+// one-sample-per-pixel path that tests, goldens and cross-backend checks compare.
+constexpr uint32_t kImageMsaa = 4;
+
+// The options `raster render` and `raster batch` start from: the defaults above with kImageMsaa.
+inline RenderOptions imageRenderOptions()
+{
+    RenderOptions options;
+    options.settings.msaa = kImageMsaa;
+    return options;
+}
+
 }  // namespace sr
 
 #endif  // RASTER_RENDER_SETTINGS_H

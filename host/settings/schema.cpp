@@ -159,6 +159,8 @@ std::vector<Setting> makeSchema()
                                "samples per pixel at Vulkan's standard locations, shaded once per pixel and "
                                "triangle, resolved in linear space");
     msaa.numbers = {1, 2, 4, 8, 16};
+    msaa.defaultNote =
+        "raster render and batch: 4 (kImageMsaa); the library and Python module: 1, the exact path";
     t.push_back(msaa);
     t.push_back(
         uintSetting("anti-aliasing", "ssaa", &RenderSettings::ssaa, 1, MAX_SSAA,
@@ -438,7 +440,8 @@ json settingsJson(const RenderOptions& options)
 
 std::string renderArguments(const RenderOptions& options)
 {
-    const RenderOptions defaults;
+    // A `raster render` command line: what differs from that command's own defaults.
+    const RenderOptions defaults = imageRenderOptions();
     std::string args;
     for (const Setting& s : settingsSchema()) {
         if (s.get(options) == s.get(defaults)) continue;

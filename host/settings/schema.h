@@ -87,8 +87,8 @@ std::string settingDefaultText(const Setting& setting);
 
 // Every setting's value by its key: the --stats echo, the manifest's canonical form, the API's view.
 nlohmann::json settingsJson(const RenderOptions& options);
-// The `raster render` arguments that reproduce `options` (each setting that differs from its default,
-// as --name value; Bools as a bare --name), in schema order.
+// The `raster render` arguments that reproduce `options` (each setting that differs from that command's
+// default, imageRenderOptions(), as --name value; Bools as a bare --name), in schema order.
 std::string renderArguments(const RenderOptions& options);
 
 // The checks that involve several settings or whole RenderSettings built in code (each value as

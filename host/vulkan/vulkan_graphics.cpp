@@ -1494,8 +1494,8 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
         if (frame >= settings.warmup) drawMs.push_back(ms);
     }
     SR_TRY(render.readBack(out, settings.aovSamples));
-    // The surface channels describe output pixel centres, whatever the raster grid.
-    if (settings.surfaceAovs) fillSurfaceAovs(scene, outputParams(out.params), out.aov);
+    // The surface channels describe the sample the id and depth AOVs come from (aovSampleIndex).
+    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
 
     StageTiming draw;
     draw.name = "draw";
