@@ -182,9 +182,13 @@ TEST(Api, SettingsByNameFollowTheSchema)
     EXPECT_EQ(*s.get("texture_filter"), "auto") << "underscores name the same setting";
     ASSERT_TRUE(s.set("light_dir", std::array<double, 3>{1, 0, 0}).ok());
     EXPECT_EQ(*s.get("light-dir"), "1,0,0");
-    ASSERT_TRUE(s.set("msaa", 4).ok());
+    ASSERT_TRUE(s.set("msaa", 8).ok());
     ASSERT_TRUE(s.set("wireframe", true).ok());
-    EXPECT_EQ(s.commandLine(), "--light-dir 1,0,0 --msaa 4 --wireframe");
+    EXPECT_EQ(s.commandLine(), "--light-dir 1,0,0 --msaa 8 --wireframe");
+    ASSERT_TRUE(s.set("msaa", 4).ok());
+    EXPECT_EQ(s.commandLine(), "--light-dir 1,0,0 --wireframe") << "MSAA 4x is raster render's default";
+    ASSERT_TRUE(s.set("msaa", 1).ok());
+    EXPECT_EQ(s.commandLine(), "--light-dir 1,0,0 --msaa 1 --wireframe") << "the library's is spelled out";
     EXPECT_EQ(raster::Settings::names().size(), sr::settingsSchema().size());
 
     auto unknown = s.set("msaaa", 4);

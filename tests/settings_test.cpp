@@ -226,7 +226,8 @@ TEST(SettingsSchema, RenderArgumentsParseBackToTheSameSettings)
     std::reverse(argv.begin(), argv.end());  // CLI11 parses a reversed vector
     app.parse(argv);
     EXPECT_EQ(settingsJson(parsed), settingsJson(changed));
-    EXPECT_EQ(renderArguments(RenderOptions{}), "") << "defaults need no arguments";
+    EXPECT_EQ(renderArguments(imageRenderOptions()), "") << "raster render's defaults need no arguments";
+    EXPECT_EQ(renderArguments(RenderOptions{}), "--msaa 1") << "the library's exact default is spelled out";
 }
 
 // `raster render --help` documents every setting with the schema's help, and `raster settings` prints

@@ -39,10 +39,11 @@ def test_frame_arrays_shapes_dtypes_and_rows_match_the_cli_png(vulkan, tmp_path)
     assert frame.bary.shape == (H, W, 2) and frame.bary.dtype == np.float32
     assert frame.uv.shape == (H, W, 2) and frame.normal.shape == (H, W, 3)
     assert frame.sample_ids is None and frame.sample_depth is None
-    # Row 0 is the top row of the PNG the command line writes for the same render.
+    # Row 0 is the top row of the PNG the command line writes for the same render (at the library's one
+    # sample per pixel: `raster render` alone would anti-alias).
     png = tmp_path / "cli.png"
     run_cli("render", "builtin", "--backend", "vulkan", "--width", W, "--height", H, "--camera", "orbit:30,20,4",
-            "--warmup", 0, "-q", "-o", png)
+            "--msaa", 1, "--warmup", 0, "-q", "-o", png)
     np.testing.assert_array_equal(frame.color, read_png(png))
     empty = frame.ids == raster.EMPTY_ID
     assert empty.any() and (~empty).any()
