@@ -449,6 +449,8 @@ int main(int argc, char** argv)
     viewApp->add_option("--height", view.settings.height, "initial window height")
         ->check(CLI::Range(1, 16384));
     viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
+    viewApp->add_option("--model", view.model,
+                        "initial model transform: identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S");
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
     viewApp
         ->add_option("--present", view.present,
