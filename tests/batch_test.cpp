@@ -331,10 +331,11 @@ TEST_P(BatchToolTest, OutputsEqualDirectRendersAndRerunsSkip)
         "{\"defaults\": {\"width\": 64, \"height\": 48}}\n"
         "{\"scene\": \"builtin\", \"camera\": \"orbit:30,20,9\", \"output\": \"out/a.png\", \"aov\": "
         "\"out/a.exr\", \"stats\": \"out/a.json\"}\n"
-        "{\"scene\": \"builtin\", \"msaa\": 4, \"shading\": \"normals\", \"output\": \"out/b.png\", \"aov\": "
-        "\"out/b.exr\"}\n"
+        "{\"scene\": \"builtin\", \"msaa\": 4, \"shading\": \"normals\", \"model\": "
+        "\"rotate:0,30,0,scale:1.25\", "
+        "\"output\": \"out/b.png\", \"aov\": \"out/b.exr\"}\n"
         "{\"scene\": \"builtin\", \"orbit\": \"0:90\", \"frames\": 3, \"camera\": \"orbit:0,20,9\", "
-        "\"output\": "
+        "\"model\": \"translate:0.25,0,0\", \"output\": "
         "\"out/t_%d.png\", \"aov\": \"out/t_%d.exr\"}\n";
     writeText(dir.file("m.jsonl"), jobs);
     ToolRun run = runTool("batch m.jsonl" + backend, dir.file(""));
@@ -355,12 +356,13 @@ TEST_P(BatchToolTest, OutputsEqualDirectRendersAndRerunsSkip)
         sameImages(dir.file("out/a.png"), dir.file("r.png"), dir.file("out/a.exr"), dir.file("r.exr")));
     std::ifstream stats(dir.file("out/a.json"));
     EXPECT_EQ(json::parse(stats)["backend"], GetParam());
-    ToolRun b = runTool("render --msaa 4 --shading normals" + common);
+    ToolRun b = runTool("render --msaa 4 --shading normals --model rotate:0,30,0,scale:1.25" + common);
     ASSERT_EQ(b.exitCode, 0) << b.stderrText;
     EXPECT_TRUE(
         sameImages(dir.file("out/b.png"), dir.file("r.png"), dir.file("out/b.exr"), dir.file("r.exr")));
     for (int k = 0; k < 3; ++k) {
-        ToolRun t = runTool(fmt::format("render --camera orbit:{},20,9", 45 * k) + common);
+        ToolRun t =
+            runTool(fmt::format("render --camera orbit:{},20,9 --model translate:0.25,0,0", 45 * k) + common);
         ASSERT_EQ(t.exitCode, 0) << t.stderrText;
         EXPECT_TRUE(sameImages(dir.file(fmt::format("out/t_{}.png", k)), dir.file("r.png"),
                                dir.file(fmt::format("out/t_{}.exr", k)), dir.file("r.exr")))

@@ -221,12 +221,15 @@ class TurntableToolTest : public BackendTest {};
     return ::testing::AssertionSuccess();
 }
 
-// Frame k of a turntable is `raster render --camera orbit:AZk,EL,DIST[,TX,TY,TZ]`, with AZk = 30 k.
+// Frame k of a turntable is `raster render --camera orbit:AZk,EL,DIST[,TX,TY,TZ]`, with AZk = 30 k, and
+// with a --model the same render of the moved model (the camera orbits the unmoved scene's centre).
 TEST_P(TurntableToolTest, FrameKEqualsTheOrbitRender)
 {
     ScratchDir dir("turntable");
-    const std::string common = fmt::format(" --backend {} --width 64 --height 48 -q", GetParam());
-    for (const std::string tail : {"20,9", "20,9,0.75,-0.25,0.5"}) {
+    for (const auto& [tail, model] : std::vector<std::pair<std::string, std::string>>{
+             {"20,9", ""}, {"20,9,0.75,-0.25,0.5", " --model translate:0.25,0,0,rotate:0,0,10,scale:1.25"}}) {
+        const std::string common =
+            fmt::format(" --backend {} --width 64 --height 48 -q{}", GetParam(), model);
         ToolRun run = runTool("render --frames 4 --orbit 0:90 --camera orbit:0," + tail + common + " -o " +
                               dir.file("t_%02d.png") + " --aov " + dir.file("t_%02d.exr") + " --stats " +
                               dir.file("t_%d.json"));

@@ -433,7 +433,7 @@ TEST(ViewerControls, UnboundKeysChangeNothing)
 {
     ViewerState s = startState();
     const ViewerState before = s;
-    for (char key : {'x', 'M', 'W', ' ', '0', '\n', char(0)}) {
+    for (char key : {'v', 'M', 'W', ' ', '0', '\n', char(0)}) {
         EXPECT_FALSE(isBoundKey(key)) << int(key);
         EXPECT_FALSE(onKey(s, key)) << int(key);
     }
@@ -441,7 +441,8 @@ TEST(ViewerControls, UnboundKeysChangeNothing)
     EXPECT_EQ(s.settings.shadingMode, before.settings.shadingMode);
     EXPECT_EQ(s.aaPreset, before.aaPreset);
     EXPECT_FALSE(s.quit || s.saveRequested || s.sceneChanged || s.backendChanged);
-    for (char key : std::string("123456789mwpbrsq\x1b")) EXPECT_TRUE(isBoundKey(key)) << key;
+    EXPECT_TRUE(s.model.isIdentity());
+    for (char key : std::string("123456789mwpbrsq\x1bjlikuoxXyYzZ+=-")) EXPECT_TRUE(isBoundKey(key)) << key;
 }
 
 TEST(ViewerControls, MouseDragsOrbitPanAndTheWheelZooms)
@@ -472,9 +473,9 @@ TEST(ViewerControls, MouseDragsOrbitPanAndTheWheelZooms)
 TEST(ViewerControls, HelpListsEveryControl)
 {
     const std::string help = controlsHelp();
-    for (const char* text :
-         {"left drag", "right/middle drag", "wheel", "1-9", "Esc, q", "1 blinn-phong", "9 texcoord",
-          "MSAA 8x", "SSAA 2x2", "wireframe", "primitive mode", "backend", "reset", "save"})
+    for (const char* text : {"left drag", "right/middle drag", "wheel", "1-9", "Esc, q", "1 blinn-phong",
+                             "9 texcoord", "MSAA 8x", "SSAA 2x2", "wireframe", "primitive mode", "backend",
+                             "reset", "save", "j l, i k, u o", "x X, y Y, z Z", "+ -", "model"})
         EXPECT_NE(help.find(text), std::string::npos) << text;
     for (char key : std::string("mwpbrs"))
         EXPECT_NE(help.find(std::string("  ") + key + " "), std::string::npos);
@@ -489,6 +490,115 @@ TEST(ViewerControls, HelpListsEveryControl)
     onKey(s, 'w');
     onKey(s, '5');
     EXPECT_EQ(stateSummary(s), "normals, 1x, triangles + wireframe");
+    onKey(s, 'y');
+    onKey(s, '+');
+    EXPECT_EQ(stateSummary(s), "normals, 1x, triangles + wireframe, model rotate:0,15,0,scale:1.25");
+}
+
+// The model keys: j / l, i / k and u / o move the model a tenth of the bounding radius along the camera's
+// right, up and back vectors (so it moves left / right, up / down and nearer / farther on screen); x, y,
+// z and their capitals add or take 15 degrees to AX, AY, AZ; + (=) and - scale by 1.25. Each key and its
+// opposite undo each other exactly, and r resets the model with the camera.
+TEST(ViewerControls, ModelKeysMoveTurnAndScaleTheModel)
+{
+    ViewerState s = startState();
+    onDrag(s, MouseButton::Left, 40.0f, -25.0f);  // any camera: the keys follow its basis
+    const OrbitBasis basis = orbitBasis(s.camera.pose());
+    const float step = 0.1f * s.camera.sphere().radius;
+    const glm::vec3 center = s.camera.sphere().center;
+    // Where the centre of the scene lands on screen (NDC x, y and view depth) with the state's model.
+    auto centreOnScreen = [&]() {
+        const CameraMatrices m = s.camera.matrices(160, 120, s.model);
+        const glm::vec4 clip = m.clipFromWorld * glm::vec4(center, 1.0f);
+        const glm::vec4 view = m.viewFromWorld * glm::vec4(center, 1.0f);
+        return glm::vec3(clip.x / clip.w, clip.y / clip.w, -view.z);
+    };
+    const glm::vec3 still = centreOnScreen();
+    EXPECT_NEAR(still.x, 0.0f, 1e-5f);  // the camera looks at the centre
+    EXPECT_NEAR(still.y, 0.0f, 1e-5f);
+    struct Move {
+        char key, undo;
+        glm::vec3 direction;
+    };
+    for (const Move& m :
+         {Move{'l', 'j', basis.right}, Move{'j', 'l', -basis.right}, Move{'i', 'k', basis.up},
+          Move{'k', 'i', -basis.up}, Move{'u', 'o', basis.back}, Move{'o', 'u', -basis.back}}) {
+        SCOPED_TRACE(m.key);
+        ASSERT_TRUE(onKey(s, m.key));
+        EXPECT_EQ(s.model.translate, step * m.direction);
+        const glm::vec3 now = centreOnScreen();
+        // Right is +x in NDC, up is -y (Vulkan's y points down), towards the camera is less depth.
+        const glm::vec3 expectedSign(glm::dot(m.direction, basis.right), -glm::dot(m.direction, basis.up),
+                                     -glm::dot(m.direction, basis.back));
+        for (int c = 0; c < 3; ++c) {
+            const float moved = now[c] - still[c];
+            if (expectedSign[c] == 0.0f)
+                EXPECT_NEAR(moved, 0.0f, 1e-4f) << c;
+            else
+                EXPECT_GT(moved * expectedSign[c], 1e-3f) << c;
+        }
+        ASSERT_TRUE(onKey(s, m.undo));
+        EXPECT_TRUE(s.model.isIdentity());
+    }
+
+    for (char key : {'x', 'y', 'z'}) {
+        SCOPED_TRACE(key);
+        const int axis = key - 'x';
+        for (int i = 0; i < 6; ++i) onKey(s, key);
+        EXPECT_EQ(s.model.rotateDeg[axis], 90.0f);
+        for (int i = 0; i < 12; ++i) onKey(s, key);
+        EXPECT_EQ(s.model.rotateDeg[axis], -90.0f) << "kept within (-180, 180]";
+        for (int i = 0; i < 6; ++i) onKey(s, char(key - 'a' + 'A'));
+        EXPECT_EQ(s.model.rotateDeg[axis], 180.0f);
+        for (int i = 0; i < 12; ++i) onKey(s, char(key - 'a' + 'A'));
+        EXPECT_EQ(s.model.rotateDeg[axis], 0.0f);
+    }
+    EXPECT_TRUE(s.model.isIdentity());
+
+    onKey(s, '+');
+    EXPECT_EQ(s.model.scale, 1.25f);
+    onKey(s, '=');
+    EXPECT_EQ(s.model.scale, 1.5625f);
+    onKey(s, '-');
+    onKey(s, '-');
+    onKey(s, '-');
+    EXPECT_EQ(s.model.scale, 0.8f);
+    onKey(s, '+');
+    EXPECT_EQ(s.model.scale, 1.0f);
+    for (int i = 0; i < 100; ++i) onKey(s, '-');
+    EXPECT_EQ(s.model.scale, float(std::pow(1.25, -31))) << "the range ends at 1.25^-31";
+    for (int i = 0; i < 31; ++i) onKey(s, '+');
+    EXPECT_EQ(s.model.scale, 1.0f) << "presses undo each other exactly";
+    for (int i = 0; i < 100; ++i) onKey(s, '+');
+    EXPECT_EQ(s.model.scale, float(std::pow(1.25, 31)));
+    for (int i = 0; i < 31; ++i) onKey(s, '-');
+    EXPECT_EQ(s.model.scale, 1.0f);
+
+    onKey(s, 'l');
+    onKey(s, 'y');
+    EXPECT_TRUE(onKey(s, 'r'));
+    EXPECT_TRUE(s.model.isIdentity()) << "r resets the model with the camera";
+}
+
+// What the viewer draws with a moved model is what `raster render --camera SPEC --model SPEC` draws: the
+// state's two specs resolve to the matrices of its frame, bit for bit.
+TEST(ViewerControls, TheMovedModelsSpecsGiveTheFramesMatrices)
+{
+    const Scene scene = boundsScene();
+    ViewerState s = startState();
+    onDrag(s, MouseButton::Left, 33.0f, 12.0f);
+    onDrag(s, MouseButton::Right, -7.0f, 4.0f);
+    for (char key : std::string("lliuyyyx+Z")) ASSERT_TRUE(onKey(s, key));
+    const std::string model = modelSpecString(s.model);
+    EXPECT_NE(model.find("translate:"), std::string::npos) << model;
+    EXPECT_NE(model.find("rotate:15,45,-15"), std::string::npos) << model;
+    EXPECT_NE(model.find("scale:1.25"), std::string::npos) << model;
+    auto camera = parseCameraSpec(s.camera.specString());
+    auto parsed = parseModelSpec(model);
+    ASSERT_TRUE(camera.ok() && parsed.ok());
+    auto resolvedCamera = resolveCamera(*camera, scene, 160, 120, *parsed);
+    ASSERT_TRUE(resolvedCamera.ok());
+    EXPECT_TRUE(sameBits(s.camera.matrices(160, 120, s.model), *resolvedCamera));
 }
 
 // ---- scripts --------------------------------------------------------------------------------
@@ -540,7 +650,7 @@ TEST(ViewerScript, BadLinesAreOneLineErrorsNamingFileAndLine)
     for (const char* line : {"drag",          "drag left 1",     "drag up 1 2",     "drag left 1 2 3",
                              "drag left a 2", "drag left 1 nan", "drag left 1 inf", "drag left +1 2",
                              "scroll",        "scroll x",        "scroll 1 2",      "key",
-                             "key x",         "key ab",          "key esc esc",     "resize 0 10",
+                             "key v",         "key ab",          "key esc esc",     "resize 0 10",
                              "resize 10",     "resize 10 -5",    "resize 99999 10", "resize 1.5 2",
                              "save",          "frame 1",         "click 1 2",       "Frame"}) {
         const std::string text = std::string("frame\n# ok\n") + line + "\nframe\n";

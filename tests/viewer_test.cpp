@@ -1,10 +1,10 @@
 // viewer_test.cpp - `raster view` through its real window: without a display it refuses in one line;
 // under Xvfb (a virtual X server) on lavapipe a scripted session orbits, zooms, pans, switches shading,
-// anti-aliasing and primitive mode and saves, and every saved frame must equal `raster render` of the
-// same view (ids identical, colour within 1/255), while the pixels read back from the window's swapchain
-// must equal the saved frame exactly. Needs xvfb-run (Debian xvfb); SR_ALLOW_MISSING_BACKENDS=display is
-// the explicit switch for machines without it (the GPU machine). The CUDA backend's shared buffer
-// (ViewerInterop) runs the same session offscreen on a CUDA GPU, skipped under
+// anti-aliasing and primitive mode, moves the model and saves, and every saved frame must equal `raster
+// render` of the same view (ids identical, colour within 1/255), while the pixels read back from the window's
+// swapchain must equal the saved frame exactly. Needs xvfb-run (Debian xvfb);
+// SR_ALLOW_MISSING_BACKENDS=display is the explicit switch for machines without it (the GPU machine). The
+// CUDA backend's shared buffer (ViewerInterop) runs the same session offscreen on a CUDA GPU, skipped under
 // SR_ALLOW_MISSING_BACKENDS=cuda.
 #include <algorithm>
 #include <cstdlib>
@@ -142,6 +142,69 @@ void scriptedSession(const std::string& present, bool offscreen = false,
     std::ifstream third(c + ".view.json");
     EXPECT_NE(nlohmann::json::parse(third)["render_args"].get<std::string>().find("--primitive-mode lines"),
               std::string::npos);
+}
+
+// The model keys (issue 26, point 14): a session under Xvfb orbits, moves, turns and scales the model
+// and saves, then resets with r and saves again. Each save's printed `raster render` arguments must
+// reproduce its frame (ids identical, colour within 1/255); the first carries the --model spec the keys
+// made (two presses of l and one of i and u move it, y y y X turn it to AX -15, AY 45, + scales it by
+// 1.25), the second, after r, no model at all.
+TEST(ViewerXvfb, ModelKeysSaveAViewThatRasterRenderReproduces)
+{
+    if (!haveXvfb()) {
+        if (displayMayBeMissing())
+            GTEST_SKIP() << "xvfb-run absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        FAIL() << "xvfb-run not found (Debian package xvfb; ci/setup installs it)";
+    }
+    ScratchDir dir("view_model");
+    const std::string moved = dir.file("moved"), reset = dir.file("reset");
+    std::ofstream(dir.file("script.txt")) << "frame\n"
+                                             "drag left 40 -10\n"
+                                             "# move, turn and scale the model\n"
+                                             "key l\nkey l\nkey i\nkey u\n"
+                                             "key y\nkey y\nkey y\nkey X\n"
+                                             "key +\n"
+                                             "save "
+                                          << moved << "\nkey r\nsave " << reset << "\nkey q\n";
+    ToolRun run = runTool("view --backend vulkan --width 160 --height 120 --script " + dir.file("script.txt"),
+                          "", "xvfb-run -a -s '-screen 0 640x480x24'");
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+
+    std::vector<uint32_t> movedIds;
+    for (const std::string& prefix : {moved, reset}) {
+        SCOPED_TRACE(prefix);
+        std::ifstream viewFile(prefix + ".view.json");
+        ASSERT_TRUE(viewFile.good());
+        const nlohmann::json view = nlohmann::json::parse(viewFile);
+        const std::string args = view["render_args"].get<std::string>();
+        const std::string model = view["model"].get<std::string>();
+        if (prefix == moved) {
+            EXPECT_EQ(model.rfind("translate:", 0), 0u) << model;
+            EXPECT_NE(model.find(",rotate:-15,45,0,scale:1.25"), std::string::npos) << model;
+            EXPECT_NE(args.find("--model " + model), std::string::npos) << args;
+        } else {
+            EXPECT_EQ(model, "identity");
+            EXPECT_EQ(args.find("--model"), std::string::npos) << args;
+        }
+        ToolRun ref = runTool("render " + args + " --backend vulkan -q -o " + prefix + ".ref.png --aov " +
+                              prefix + ".ref.exr");
+        ASSERT_EQ(ref.exitCode, 0) << ref.stderrText;
+        auto saved = readPng(prefix + ".png");
+        auto refPng = readPng(prefix + ".ref.png");
+        auto savedAov = readAovExr(prefix + ".exr");
+        auto refAov = readAovExr(prefix + ".ref.exr");
+        ASSERT_TRUE(saved && refPng && savedAov && refAov);
+        EXPECT_EQ(savedAov->id, refAov->id) << "ids as raster render draws the same view";
+        ASSERT_EQ(refPng->pixels.size(), saved->pixels.size());
+        int worst = 0;
+        for (size_t i = 0; i < saved->pixels.size(); ++i)
+            worst = std::max(worst, channelDifference(saved->pixels[i], refPng->pixels[i]));
+        EXPECT_LE(worst, 1);
+        if (prefix == moved)
+            movedIds = savedAov->id;
+        else
+            EXPECT_NE(savedAov->id, movedIds) << "the model keys changed the frame";
+    }
 }
 
 TEST(ViewerXvfb, PresentedFromTheDeviceTheWindowShowsTheRender)

@@ -394,18 +394,20 @@ glm::mat4 toMat4(const std::array<float, 16>& m)
     return out;
 }
 
-// The matrices of `camera` for this scene and image: a spec resolved as `raster render --camera` does,
-// or explicit matrices with the depth range they encode (perspective: the last column is (0, 0, -1, 0);
-// otherwise orthographic).
+// The matrices of `camera` for this scene and image, looking at the scene moved by the model setting: a
+// spec resolved as `raster render --camera --model` does, or explicit matrices with the depth range they
+// encode (perspective: the last column is (0, 0, -1, 0); otherwise orthographic) times the model matrix.
 Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::RenderOptions& options,
                                           const sr::Scene& scene)
 {
     const sr::RenderSettings& s = options.settings;
+    auto model = sr::parseModelSpec(options.model);
+    if (!model) return toPublic(model.error());
     if (!camera.explicitMatrices) {
         const std::string& text = camera.spec == "auto" ? options.camera : camera.spec;
         auto spec = sr::parseCameraSpec(text);
         if (!spec) return toPublic(spec.error());
-        auto m = sr::resolveCamera(*spec, scene, s.width, s.height);
+        auto m = sr::resolveCamera(*spec, scene, s.width, s.height, *model);
         if (!m) return toPublic(m.error());
         return *m;
     }
@@ -427,7 +429,7 @@ Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::Render
         m.znear = p[3][2] / p[2][2];
         m.zfar = m.znear - 1.0f / p[2][2];
     }
-    return m;
+    return sr::withModel(m, *model, sr::boundingSphere(scene).center);
 }
 
 Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,

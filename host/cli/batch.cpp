@@ -535,14 +535,16 @@ private:
         const ManifestJob& job = *f.job;
         auto spec = parseCameraSpec(job.options.camera);
         if (!spec) return spec.error();
+        auto model = parseModelSpec(job.options.model);
+        if (!model) return model.error();
         const uint32_t w = job.options.settings.width, h = job.options.settings.height;
-        if (!job.frames) return resolveCamera(*spec, scene, w, h);
+        if (!job.frames) return resolveCamera(*spec, scene, w, h, *model);
         auto orbit = OrbitCamera::fromSpec(*spec, scene, w, h);
         if (!orbit) return orbit.error();
         OrbitPose pose = orbit->pose();
         pose.azimuthDeg = f.azimuthDeg;
         orbit->setPose(pose);
-        return orbit->matrices(w, h);
+        return orbit->matrices(w, h, *model);
     }
 
     // An I/O thread: encodes and writes finished frames until the queue closes.

@@ -137,6 +137,8 @@ Status runRender(RenderCommand& cmd)
     if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
     auto cameraSpec = parseCameraSpec(cmd.options.camera);
     if (!cameraSpec) return cameraSpec.error();
+    auto model = parseModelSpec(cmd.options.model);
+    if (!model) return model.error();
     const bool turntable = cmd.frames > 0;
     TurntableOptions frames;
     if (turntable) {
@@ -192,9 +194,10 @@ Status runRender(RenderCommand& cmd)
         pose.azimuthDeg = turntableAzimuth(frames.azimuth, 0, frames.frames);
         orbit->setPose(pose);
     }
-    auto camera = studyCamera ? Result<CameraMatrices>(*studyCamera)
-                  : orbit     ? Result<CameraMatrices>(orbit->matrices(s.width, s.height))
-                              : resolveCamera(*cameraSpec, *scene, s.width, s.height);
+    auto camera = studyCamera
+                      ? Result<CameraMatrices>(withModel(*studyCamera, *model, boundingSphere(*scene).center))
+                  : orbit ? Result<CameraMatrices>(orbit->matrices(s.width, s.height, *model))
+                          : resolveCamera(*cameraSpec, *scene, s.width, s.height, *model);
     if (!camera) return camera.error();
     const std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
     Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
@@ -446,6 +449,8 @@ int main(int argc, char** argv)
     viewApp->add_option("--height", view.settings.height, "initial window height")
         ->check(CLI::Range(1, 16384));
     viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
+    viewApp->add_option("--model", view.model,
+                        "initial model transform: identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S");
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
     viewApp
         ->add_option("--present", view.present,

@@ -90,6 +90,8 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
                                         const RenderOptions& render, const TurntableOptions& options)
 {
     RenderSettings settings = render.resolved();
+    auto model = parseModelSpec(render.model);
+    if (!model) return model.error();
     // The surface channels cost a host pass over the frame: only for EXRs that will hold them.
     settings.surfaceAovs = options.hasAov;
     TurntableResult result;
@@ -98,7 +100,7 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
         OrbitPose pose = camera.pose();
         pose.azimuthDeg = turntableAzimuth(options.azimuth, k, options.frames);
         camera.setPose(pose);
-        auto out = session.render(camera.matrices(settings.width, settings.height), settings);
+        auto out = session.render(camera.matrices(settings.width, settings.height, *model), settings);
         if (!out) return out.error();
         OutputPaths paths{framePath(options.png, k), options.hasAov ? framePath(options.aov, k) : "",
                           options.hasStats ? framePath(options.stats, k) : ""};

@@ -79,12 +79,13 @@ void applyInput(ViewerState& state, const InputEvent& e)
 // What a saved frame needs beside its PNG, EXR and JSON to be reproduced: the `raster render`
 // arguments of the same view (PREFIX.view.json), which the viewer test runs.
 //
-// The view as the options of `raster render`: the state's settings, camera and primitive mode.
+// The view as the options of `raster render`: the state's settings, camera, model and primitive mode.
 RenderOptions viewOptions(const ViewerState& state)
 {
     RenderOptions options;
     options.settings = state.settings;
     options.camera = state.camera.specString();
+    options.model = modelSpecString(state.model);
     options.primitiveMode = state.primitiveMode;
     options.wireframe = state.wireframe;
     options.tessMaxLevel =
@@ -96,11 +97,9 @@ nlohmann::json viewJson(const ViewerState& state, const std::string& scenePath, 
 {
     const std::string args =
         fmt::format("{} {}", scenePath.empty() ? "builtin" : scenePath, renderArguments(viewOptions(state)));
-    return {{"camera", state.camera.specString()},
-            {"backend", device.backend},
-            {"device", device.name},
-            {"state", stateSummary(state)},
-            {"render_args", args}};
+    return {{"camera", state.camera.specString()}, {"model", modelSpecString(state.model)},
+            {"backend", device.backend},           {"device", device.name},
+            {"state", stateSummary(state)},        {"render_args", args}};
 }
 
 }  // namespace
@@ -111,6 +110,8 @@ Status runView(const ViewOptions& o)
     if (!base) return base.error();
     auto spec = parseCameraSpec(o.camera);
     if (!spec) return spec.error();
+    auto model = parseModelSpec(o.model);
+    if (!model) return model.error();
     std::vector<ScriptEvent> script;
     if (!o.scriptPath.empty()) {
         auto loaded = loadScript(o.scriptPath);
@@ -150,6 +151,7 @@ Status runView(const ViewOptions& o)
     if (!camera) return camera.error();
     ViewerState state =
         makeViewerState(*camera, settings, false, PrimitiveMode::Triangles, uint32_t(devices->size()));
+    state.model = *model;
     Scene scene = frameScene(*base, state);
     std::optional<RenderSession> session;
 
@@ -230,7 +232,7 @@ Status runView(const ViewOptions& o)
         s.download = state.saveRequested    ? ImageDownload::All
                      : fromDevice || shared ? ImageDownload::None
                                             : ImageDownload::Colour;
-        auto out = session->render(state.camera.matrices(s.width, s.height), s);
+        auto out = session->render(state.camera.matrices(s.width, s.height, state.model), s);
         if (!out) return out.error();
         // Read after the frame: a new size replaces the buffer.
         std::optional<VulkanPresentSource> source;

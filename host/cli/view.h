@@ -14,12 +14,13 @@
 namespace sr {
 
 struct ViewOptions {
-    std::string scenePath;         // as `raster render`: a file, builtin, builtin:NAME
-    std::string backend = "auto";  // auto, cuda or vulkan (the compute backends; `b` switches live)
-    int device = -1;               // device index within the backend
-    int presentDevice = -1;        // Vulkan device that presents (-1: the first that can)
-    std::string camera = "auto";   // initial camera, as --camera of `raster render`
-    std::string scriptPath;        // replay this input script instead of waiting for the user
+    std::string scenePath;           // as `raster render`: a file, builtin, builtin:NAME
+    std::string backend = "auto";    // auto, cuda or vulkan (the compute backends; `b` switches live)
+    int device = -1;                 // device index within the backend
+    int presentDevice = -1;          // Vulkan device that presents (-1: the first that can)
+    std::string camera = "auto";     // initial camera, as --camera of `raster render`
+    std::string model = "identity";  // initial model transform, as --model of `raster render`
+    std::string scriptPath;          // replay this input script instead of waiting for the user
     // device: frames stay on the GPU: the Vulkan backend presents from its own framebuffer, the CUDA
     // backend shares a buffer with the presenter (render/frame_share.h) or, where it cannot (no Vulkan
     // device is its GPU, no export), goes through the host with a one-line notice; shared: the same, but

@@ -85,7 +85,105 @@ std::vector<std::string> splitCommas(const std::string& text)
     return parts;
 }
 
+// sin and cos of `degrees`, exact at quarter turns: the angle is reduced to the nearest multiple q of 90
+// degrees and a remainder within +-45, whose sine and cosine (0 and 1 for a remainder of 0) are then
+// turned by q quarters. sin(pi / 2) in floating point is 1 but cos(pi / 2) is 6e-17, not 0.
+void sinCosDegrees(double degrees, double& s, double& c)
+{
+    const double turn = std::fmod(degrees, 360.0);  // exact
+    const double quarters = std::nearbyint(turn / 90.0);
+    const double r = (turn - 90.0 * quarters) * (3.14159265358979323846 / 180.0);
+    const double s0 = std::sin(r), c0 = std::cos(r);
+    switch ((int(quarters) % 4 + 4) % 4) {
+    case 0: s = s0, c = c0; break;
+    case 1: s = c0, c = -s0; break;  // sin(x + 90) = cos x, cos(x + 90) = -sin x
+    case 2: s = -s0, c = -c0; break;
+    default: s = -c0, c = s0; break;
+    }
+}
+
 }  // namespace
+
+Result<ModelTransform> parseModelSpec(const std::string& text)
+{
+    auto invalid = [&](const std::string& why) {
+        return makeError(ExitCode::Usage, "invalid --model '{}': {}", text, why);
+    };
+    const std::string expected =
+        "expected identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S (each part optional, in this order)";
+    ModelTransform model;
+    if (text == "identity") return model;
+    struct Part {
+        const char* name;
+        const char* takes;
+        std::vector<float*> fields;
+    };
+    const Part parts[] = {
+        {"translate", "three numbers X,Y,Z", {&model.translate.x, &model.translate.y, &model.translate.z}},
+        {"rotate",
+         "three angles AX,AY,AZ in degrees",
+         {&model.rotateDeg.x, &model.rotateDeg.y, &model.rotateDeg.z}},
+        {"scale", "one number S above 0", {&model.scale}}};
+    // A part starts at a piece "NAME:NUMBER"; the pieces after it up to the next part are its numbers.
+    const std::vector<std::string> pieces = splitCommas(text);
+    size_t nextPart = 0;  // parts before this one are done: the order is T, R, S
+    for (size_t i = 0; i < pieces.size();) {
+        const size_t colon = pieces[i].find(':');
+        if (colon == std::string::npos) return invalid(expected);
+        const std::string name = pieces[i].substr(0, colon);
+        size_t p = 0;
+        while (p < 3 && name != parts[p].name) ++p;
+        if (p == 3) return invalid("unknown part '" + name + "': " + expected);
+        if (p < nextPart) return invalid("the parts go in the order translate, rotate, scale, each once");
+        nextPart = p + 1;
+        std::vector<std::string> numbers{pieces[i].substr(colon + 1)};
+        for (++i; i < pieces.size() && pieces[i].find(':') == std::string::npos; ++i)
+            numbers.push_back(pieces[i]);
+        const Part& part = parts[p];
+        if (numbers.size() != part.fields.size())
+            return invalid(fmt::format("{} takes {}", part.name, part.takes));
+        for (size_t k = 0; k < numbers.size(); ++k)
+            if (!parseFloat(numbers[k], *part.fields[k]))
+                return invalid(fmt::format("{} takes {}, not '{}'", part.name, part.takes, numbers[k]));
+    }
+    if (!(model.scale > 0.0f)) return invalid(fmt::format("scale takes {}", parts[2].takes));
+    return model;
+}
+
+std::string modelSpecString(const ModelTransform& model)
+{
+    // fmt's shortest round-trip form, as orbitSpecString: parseModelSpec reads back the same floats.
+    std::string text;
+    auto add = [&](const std::string& part) { text += (text.empty() ? "" : ",") + part; };
+    const glm::vec3& t = model.translate;
+    const glm::vec3& r = model.rotateDeg;
+    if (t != glm::vec3(0.0f)) add(fmt::format("translate:{},{},{}", t.x, t.y, t.z));
+    if (r != glm::vec3(0.0f)) add(fmt::format("rotate:{},{},{}", r.x, r.y, r.z));
+    if (model.scale != 1.0f) add(fmt::format("scale:{}", model.scale));
+    return text.empty() ? "identity" : text;
+}
+
+glm::mat4 worldFromModel(const ModelTransform& model, const glm::vec3& center)
+{
+    // A = Rz Ry Rx S in double (glm: m[column][row]); each rotation turns counter-clockwise looking
+    // down its axis, e.g. Ry maps +z to +x.
+    double sx, cx, sy, cy, sz, cz;
+    sinCosDegrees(model.rotateDeg.x, sx, cx);
+    sinCosDegrees(model.rotateDeg.y, sy, cy);
+    sinCosDegrees(model.rotateDeg.z, sz, cz);
+    glm::dmat3 rx(1.0), ry(1.0), rz(1.0);
+    rx[1][1] = cx, rx[2][1] = -sx, rx[1][2] = sx, rx[2][2] = cx;
+    ry[0][0] = cy, ry[2][0] = sy, ry[0][2] = -sy, ry[2][2] = cy;
+    rz[0][0] = cz, rz[1][0] = -sz, rz[0][1] = sz, rz[1][1] = cz;
+    const glm::dmat3 a = rz * ry * rx * double(model.scale);
+    // T(t) T(c) A T(-c) p = A p + (t + c - A c): for A = I the offset is t to the bit.
+    const glm::dvec3 c(center);
+    const glm::dvec3 offset = glm::dvec3(model.translate) + (c - a * c);
+    glm::mat4 m(1.0f);
+    for (int col = 0; col < 3; ++col) m[col] = glm::vec4(glm::vec3(a[col]), 0.0f);
+    m[3] = glm::vec4(glm::vec3(offset), 1.0f);
+    return m;
+}
 
 Result<CameraSpec> parseCameraSpec(const std::string& text)
 {
@@ -157,11 +255,21 @@ glm::mat4 orthographicVulkan(float xmag, float ymag, float znear, float zfar)
     return m;
 }
 
+CameraMatrices withModel(const CameraMatrices& camera, const ModelTransform& model, const glm::vec3& center)
+{
+    if (model.isIdentity()) return camera;
+    CameraMatrices m = camera;
+    m.viewFromWorld = camera.viewFromWorld * worldFromModel(model, center);
+    m.clipFromWorld = camera.clipFromView * m.viewFromWorld;  // as finish() multiplies
+    return m;
+}
+
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
-                                     unsigned height)
+                                     unsigned height, const ModelTransform& model)
 {
     float aspect = aspectOf(width, height);
     BoundingSphere sphere = boundingSphere(scene);
+    const BoundingSphere moved = movedSphere(sphere, model);
 
     if (spec.kind == CameraSpec::Kind::Gltf) {
         if (spec.gltfIndex < 0 || size_t(spec.gltfIndex) >= scene.cameras.size()) {
@@ -173,20 +281,21 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
         float znear = cam.znear;
         float zfar = cam.zfar;
         if (!(zfar > znear)) {
-            // Infinite far plane: stop just behind the farthest point of the scene's sphere.
+            // Infinite far plane: stop just behind the farthest point of the (moved) scene's sphere.
             glm::vec3 eye(cam.worldFromView[3]);
-            float reach = (glm::length(sphere.center - eye) + sphere.radius) * 1.01f;
+            float reach = (glm::length(moved.center - eye) + moved.radius) * 1.01f;
             zfar = std::max(reach, znear * 2.0f + 1e-6f);
         }
-        if (cam.perspective) {
-            float camAspect = cam.aspectRatio > 0.0f ? cam.aspectRatio : aspect;
-            return finish(viewFromWorld, perspectiveVulkan(cam.yfov, camAspect, znear, zfar), znear, zfar);
-        }
-        return finish(viewFromWorld, orthographicVulkan(cam.xmag, cam.ymag, znear, zfar), znear, zfar);
+        const glm::mat4 clipFromView =
+            cam.perspective
+                ? perspectiveVulkan(cam.yfov, cam.aspectRatio > 0.0f ? cam.aspectRatio : aspect, znear, zfar)
+                : orthographicVulkan(cam.xmag, cam.ymag, znear, zfar);
+        return withModel(finish(viewFromWorld, clipFromView, znear, zfar), model, sphere.center);
     }
 
-    if (spec.kind == CameraSpec::Kind::Orbit) return orbitCameraMatrices(spec.orbit, sphere, width, height);
-    return orbitCameraMatrices(autoOrbitPose(sphere, width, height), sphere, width, height);
+    if (spec.kind == CameraSpec::Kind::Orbit)
+        return orbitCameraMatrices(spec.orbit, sphere, width, height, model);
+    return orbitCameraMatrices(autoOrbitPose(sphere, width, height), sphere, width, height, model);
 }
 
 BoundingSphere boundingSphere(const Scene& scene)
@@ -195,6 +304,11 @@ BoundingSphere boundingSphere(const Scene& scene)
     float radius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
     float scale = std::max(glm::length(center), 1.0f);
     return {center, std::max(radius, scale * 1e-6f)};
+}
+
+BoundingSphere movedSphere(const BoundingSphere& sphere, const ModelTransform& model)
+{
+    return {sphere.center + model.translate, sphere.radius * model.scale};
 }
 
 OrbitPose autoOrbitPose(const BoundingSphere& sphere, unsigned width, unsigned height)
@@ -218,7 +332,7 @@ OrbitBasis orbitBasis(const OrbitPose& pose)
 }
 
 CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& sphere, unsigned width,
-                                   unsigned height)
+                                   unsigned height, const ModelTransform& model)
 {
     const float dist = pose.distance;
     const auto [right, up, back] = orbitBasis(pose);
@@ -230,13 +344,16 @@ CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& 
         viewFromWorld[i][2] = back[i];
     }
     viewFromWorld[3] = glm::vec4(-glm::dot(right, eye), -glm::dot(up, eye), -glm::dot(back, eye), 1.0f);
-    // The sphere's centre lies dist + offset . back in front of the eye (exactly dist without an offset,
-    // so the depth range of an unpanned camera does not depend on rounding).
-    float centerDepth = dist + glm::dot(pose.targetOffset, back);
+    // The moved sphere's centre c + translate lies dist + (offset - translate) . back in front of the eye
+    // at c + offset + dist back (exactly dist without an offset or translation, so the depth range of an
+    // unpanned camera does not depend on rounding); its radius is the scene's times the model's scale.
+    const BoundingSphere moved = movedSphere(sphere, model);
+    float centerDepth = dist + glm::dot(pose.targetOffset - model.translate, back);
     float znear, zfar;
-    encloseSphere(centerDepth, dist, sphere.radius, znear, zfar);
-    return finish(viewFromWorld, perspectiveVulkan(kOrbitYfov, aspectOf(width, height), znear, zfar), znear,
-                  zfar);
+    encloseSphere(centerDepth, dist, moved.radius, znear, zfar);
+    return withModel(finish(viewFromWorld,
+                            perspectiveVulkan(kOrbitYfov, aspectOf(width, height), znear, zfar), znear, zfar),
+                     model, sphere.center);
 }
 
 }  // namespace sr

@@ -1,6 +1,6 @@
-// camera.h - camera choice (`--camera auto|gltf:N|orbit:AZ,EL,DIST[,TX,TY,TZ]`) and the matrices it
-// yields, and the orbit camera model that the auto camera, `--camera orbit:...`, turntables and
-// `raster view` share.
+// camera.h - camera choice (`--camera auto|gltf:N|orbit:AZ,EL,DIST[,TX,TY,TZ]`), the model transform
+// (`--model translate:X,Y,Z,rotate:AX,AY,AZ,scale:S`) and the matrices they yield, and the orbit camera
+// model that the auto camera, `--camera orbit:...`, turntables and `raster view` share.
 //
 // All projections follow Vulkan's clip conventions: depth 0..1 (near -> 0), and NDC y = -1 is the
 // top row of the image, so clipFromView flips y relative to OpenGL.
@@ -47,6 +47,42 @@ Result<CameraSpec> parseCameraSpec(const std::string& text);
 // camera bit for bit.
 std::string orbitSpecString(const OrbitPose& pose);
 
+// The model transform: the whole scene moved as one rigid body and scaled uniformly, before the camera
+// looks at it. A point p of the scene (its world space as loaded) is drawn at
+//
+//     M p,   M = T(translate) * T(c) * Rz(AZ) * Ry(AY) * Rx(AX) * S(scale) * T(-c)
+//
+// where c is the centre of the scene's bounds (BoundingSphere::center, the orbit camera's target): the
+// scene is scaled about its centre, turned about the world x, then y, then z axis through its centre
+// (right-handed: counter-clockwise looking down the axis towards the centre), then moved by `translate`
+// in world units. Turning and scaling about the centre keep the model where the camera looks; about the
+// origin, a scene far from it would swing out of view. The scale is uniform and positive, so M keeps
+// the winding (culling) and normals need only the inverse transpose the pipeline already takes.
+//
+// The cameras frame the scene as loaded: auto, orbit targets and the viewer's reset do not follow the
+// model (moving the model never moves the camera); only the depth range encloses the moved scene.
+struct ModelTransform {
+    glm::vec3 translate{0.0f};  // world units
+    glm::vec3 rotateDeg{0.0f};  // AX, AY, AZ: degrees about the world x, y and z axes through c
+    float scale = 1.0f;         // > 0
+
+    bool isIdentity() const
+    {
+        return translate == glm::vec3(0.0f) && rotateDeg == glm::vec3(0.0f) && scale == 1.0f;
+    }
+};
+
+// Parses "identity" or "translate:X,Y,Z,rotate:AX,AY,AZ,scale:S", each part optional but in this order
+// (the order of the product T * R * S) and the numbers finite, S > 0; a malformed spec is a one-line
+// error naming what is wrong.
+Result<ModelTransform> parseModelSpec(const std::string& text);
+// The spec of `model`: "identity", or its parts that are not the identity, each number in the fewest
+// digits that parseModelSpec reads back as the same float (exact, as orbitSpecString).
+std::string modelSpecString(const ModelTransform& model);
+// M of the comment above for the centre `center`. Exact for what is exact in the maths: quarter turns
+// have sines and cosines of exactly 0 and +-1, a translation alone is T(translate) to the bit.
+glm::mat4 worldFromModel(const ModelTransform& model, const glm::vec3& center);
+
 struct CameraMatrices {
     glm::mat4 viewFromWorld{1.0f};
     glm::mat4 clipFromView{1.0f};
@@ -66,6 +102,9 @@ struct BoundingSphere {
     float radius = 1.0f;
 };
 BoundingSphere boundingSphere(const Scene& scene);
+// The bounding sphere of the scene moved by `model` (`sphere` is the scene's): rotation about the centre
+// keeps it, the scale scales its radius and the translation moves its centre.
+BoundingSphere movedSphere(const BoundingSphere& sphere, const ModelTransform& model);
 
 // The auto camera: kAuto* angles, no offset, and the distance at which the bounding sphere touches the
 // narrower half-angle of the 45-degree frustum of a width x height image.
@@ -79,15 +118,23 @@ struct OrbitBasis {
 OrbitBasis orbitBasis(const OrbitPose& pose);
 
 // The matrices of an orbit camera for a width x height image: 45-degree vertical field of view, near
-// and far planes enclosing the bounding sphere.
+// and far planes enclosing the bounding sphere. With a model transform, the camera still stands where
+// `pose` and the scene's `sphere` put it; viewFromWorld is V * worldFromModel(model, sphere.center) and
+// the depth range encloses the moved sphere (movedSphere). The identity gives V itself, bit for bit.
 CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& sphere, unsigned width,
-                                   unsigned height);
+                                   unsigned height, const ModelTransform& model = {});
 
-// Resolves the spec against the scene: auto is autoOrbitPose, orbit its pose (both through
-// orbitCameraMatrices), gltf:N the scene's camera N (error if it does not exist). Near and far planes
-// enclose the scene bounds.
+// `camera` looking at the scene moved by `model` about `center`: viewFromWorld and clipFromWorld times
+// worldFromModel, the projection and depth range the camera's own (a glTF camera's planes, explicit
+// matrices). The identity returns `camera` unchanged.
+CameraMatrices withModel(const CameraMatrices& camera, const ModelTransform& model, const glm::vec3& center);
+
+// Resolves the spec against the scene moved by `model`: auto is autoOrbitPose, orbit its pose (both
+// through orbitCameraMatrices; auto frames the scene as loaded), gltf:N the scene's camera N (error if
+// it does not exist) through withModel. Near and far planes enclose the (moved) scene bounds, except a
+// glTF camera's finite ones.
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
-                                     unsigned height);
+                                     unsigned height, const ModelTransform& model = {});
 
 }  // namespace sr
 

@@ -58,9 +58,9 @@ void OrbitCamera::reset(unsigned width, unsigned height)
     pose_ = autoOrbitPose(sphere_, width, height);
 }
 
-CameraMatrices OrbitCamera::matrices(unsigned width, unsigned height) const
+CameraMatrices OrbitCamera::matrices(unsigned width, unsigned height, const ModelTransform& model) const
 {
-    return orbitCameraMatrices(pose_, sphere_, width, height);
+    return orbitCameraMatrices(pose_, sphere_, width, height, model);
 }
 
 }  // namespace sr

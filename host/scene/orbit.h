@@ -58,9 +58,10 @@ public:
     void setPose(const OrbitPose& pose) { pose_ = pose; }
     const BoundingSphere& sphere() const { return sphere_; }
 
-    // The matrices for a width x height image: orbitCameraMatrices, the very function resolveCamera
-    // uses for `--camera orbit:...`, so the same numbers give the same bits.
-    CameraMatrices matrices(unsigned width, unsigned height) const;
+    // The matrices for a width x height image, looking at the scene moved by `model`:
+    // orbitCameraMatrices, the very function resolveCamera uses for `--camera orbit:...` and `--model`,
+    // so the same numbers give the same bits.
+    CameraMatrices matrices(unsigned width, unsigned height, const ModelTransform& model = {}) const;
     // `--camera` spec of the current pose (orbitSpecString), exact: parsing it gives the same floats.
     std::string specString() const { return orbitSpecString(pose_); }
 

@@ -80,11 +80,14 @@ struct RenderSettings {
     uint32_t tessMaxLevel = kDefaultTessMaxLevel;
 };
 
-// One render as a user describes it: the pipeline's settings, the camera spec and how the scene's
-// primitives are drawn. resolved() gives the settings the pipeline runs with.
+// One render as a user describes it: the pipeline's settings, the camera and model specs and how the
+// scene's primitives are drawn. resolved() gives the settings the pipeline runs with.
 struct RenderOptions {
     RenderSettings settings;
     std::string camera = "auto";  // `--camera` spec: auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ]
+    // `--model` spec (parseModelSpec, scene/camera.h): identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S,
+    // the scene moved before the camera looks at it.
+    std::string model = "identity";
     PrimitiveMode primitiveMode = PrimitiveMode::Triangles;
     bool wireframe = false;  // overlay the mesh's edges (displayScene), drawn with kWireframeDepthBias
     // The tessellation level as asked for; kAutoTessLevel: the mode's default. settings.tessMaxLevel is

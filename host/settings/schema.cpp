@@ -115,6 +115,13 @@ std::vector<Setting> makeSchema()
         "bounds centre)",
         [](const RenderOptions& o) { return json(o.camera); },
         [](RenderOptions& o, const json& v) { o.camera = v.get<std::string>(); }));
+    t.push_back(make(
+        "image", "model", SettingType::Model,
+        "identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S (parts optional, in this order): the scene "
+        "drawn moved by T Rz Ry Rx S, turned and scaled about its bounds centre (degrees, world units, S > "
+        "0); cameras frame the unmoved scene",
+        [](const RenderOptions& o) { return json(o.model); },
+        [](RenderOptions& o, const json& v) { o.model = v.get<std::string>(); }));
     // shading
     t.push_back(
         choiceSetting("shading", "shading", &RenderSettings::shadingMode,
@@ -352,6 +359,13 @@ Result<json> checkSettingValue(const Setting& s, const json& value, const std::s
         if (!spec) return spec.error();
         return value;
     }
+    case SettingType::Model: {
+        if (!value.is_string())
+            return makeError(ExitCode::Usage, "{} must be a string, not {}", label, value.dump());
+        auto spec = parseModelSpec(value.get<std::string>());
+        if (!spec) return spec.error();
+        return value;
+    }
     }
     return makeError(ExitCode::Usage, "{}: unknown setting type", label);
 }
@@ -397,7 +411,8 @@ Result<json> parseSettingText(const Setting& s, const std::string& text, const s
         break;
     }
     case SettingType::Choice:
-    case SettingType::Camera: value = text; break;
+    case SettingType::Camera:
+    case SettingType::Model: value = text; break;
     }
     return checkSettingValue(s, value, label);
 }
@@ -460,7 +475,7 @@ Status checkSettings(const RenderSettings& settings)
     options.settings = settings;
     options.tessMaxLevel = settings.tessMaxLevel;  // resolved: a number
     for (const Setting& s : settingsSchema()) {
-        if (s.type == SettingType::Camera) continue;
+        if (s.type == SettingType::Camera || s.type == SettingType::Model) continue;
         auto checked = checkSettingValue(s, s.get(options), "--" + s.name);
         if (!checked) return checked.error();
     }
@@ -525,6 +540,7 @@ std::string valuesText(const Setting& s)
     case SettingType::Choice: return joinNames(choiceNames(s));
     case SettingType::Vec3: return "X,Y,Z";
     case SettingType::Camera: return "camera spec";
+    case SettingType::Model: return "model spec";
     }
     return "";
 }
@@ -538,6 +554,7 @@ const char* typeName(SettingType type)
     case SettingType::Choice: return "choice";
     case SettingType::Vec3: return "vec3";
     case SettingType::Camera: return "camera";
+    case SettingType::Model: return "model";
     }
     return "";
 }

@@ -34,6 +34,7 @@ enum class SettingType {
     Choice,  // one of the names of `choices`
     Vec3,    // three finite numbers: X,Y,Z on the command line, [x, y, z] in JSON
     Camera,  // a camera spec (parseCameraSpec)
+    Model,   // a model transform spec (parseModelSpec)
 };
 
 struct SettingChoice {

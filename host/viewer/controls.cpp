@@ -1,6 +1,10 @@
 // controls.cpp - the viewer's key and mouse bindings as ViewerState transitions.
 #include "viewer/controls.h"
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 #include <fmt/format.h>
 
 #include "settings/schema.h"
@@ -23,6 +27,54 @@ PrimitiveMode nextMode(PrimitiveMode mode)
     case PrimitiveMode::Points: break;
     }
     return PrimitiveMode::Triangles;
+}
+
+// Angle `degrees` + `step` within (-180, 180]: the spec stays short, and multiples of the step stay exact.
+float turn(float degrees, float step)
+{
+    float a = degrees + step;
+    if (a > 180.0f) a -= 360.0f;
+    if (a <= -180.0f) a += 360.0f;
+    return a;
+}
+
+// The scale one press up (direction +1) or down (-1) from `scale` (kModelScaleStep's comment); at the
+// end of the range it stays.
+float scaleStep(float scale, int direction)
+{
+    const double next = double(scale) * std::pow(kModelScaleStep, direction);
+    const double n = std::round(std::log(next) / std::log(kModelScaleStep));
+    const double power = std::pow(kModelScaleStep, n);
+    const double snapped = std::fabs(next - power) <= 1e-5 * power ? power : next;
+    const double limit = std::pow(kModelScaleStep, kMaxModelScaleSteps) * (1.0 + 1e-5);
+    if (snapped > limit || snapped < 1.0 / limit) return scale;
+    return float(snapped);
+}
+
+// Model keys (onKey's comment); false for any other key.
+bool onModelKey(ViewerState& state, char key)
+{
+    ModelTransform& m = state.model;
+    const OrbitBasis basis = orbitBasis(state.camera.pose());
+    const float step = kModelStepRadii * state.camera.sphere().radius;
+    switch (key) {
+    case 'j': m.translate -= step * basis.right; return true;
+    case 'l': m.translate += step * basis.right; return true;
+    case 'i': m.translate += step * basis.up; return true;
+    case 'k': m.translate -= step * basis.up; return true;
+    case 'u': m.translate += step * basis.back; return true;
+    case 'o': m.translate -= step * basis.back; return true;
+    case 'x': m.rotateDeg.x = turn(m.rotateDeg.x, kModelStepDeg); return true;
+    case 'X': m.rotateDeg.x = turn(m.rotateDeg.x, -kModelStepDeg); return true;
+    case 'y': m.rotateDeg.y = turn(m.rotateDeg.y, kModelStepDeg); return true;
+    case 'Y': m.rotateDeg.y = turn(m.rotateDeg.y, -kModelStepDeg); return true;
+    case 'z': m.rotateDeg.z = turn(m.rotateDeg.z, kModelStepDeg); return true;
+    case 'Z': m.rotateDeg.z = turn(m.rotateDeg.z, -kModelStepDeg); return true;
+    case '+':
+    case '=': m.scale = scaleStep(m.scale, 1); return true;
+    case '-': m.scale = scaleStep(m.scale, -1); return true;
+    default: return false;
+    }
 }
 
 }  // namespace
@@ -55,7 +107,8 @@ bool isBoundKey(char key)
     case 's':
     case 'q':
     case kKeyEscape: return true;
-    default: return key >= '1' && key <= '9';
+    default:
+        return (key >= '1' && key <= '9') || std::string("jlikuoxXyYzZ+=-").find(key) != std::string::npos;
     }
 }
 
@@ -86,11 +139,14 @@ bool onKey(ViewerState& state, char key)
             state.backendChanged = true;
         }
         return true;
-    case 'r': state.camera.reset(state.settings.width, state.settings.height); return true;
+    case 'r':
+        state.camera.reset(state.settings.width, state.settings.height);
+        state.model = ModelTransform{};
+        return true;
     case 's': requestSave(state, ""); return true;
     case 'q':
     case kKeyEscape: state.quit = true; return true;
-    default: return false;
+    default: return onModelKey(state, key);
     }
 }
 
@@ -135,9 +191,10 @@ std::string aaName(const ViewerState& state)
 
 std::string stateSummary(const ViewerState& state)
 {
-    return fmt::format("{}, {}, {}{}", choiceName(setting("shading"), state.settings.shadingMode),
+    return fmt::format("{}, {}, {}{}{}", choiceName(setting("shading"), state.settings.shadingMode),
                        aaName(state), primitiveModeName(state.primitiveMode),
-                       state.wireframe ? " + wireframe" : "");
+                       state.wireframe ? " + wireframe" : "",
+                       state.model.isIdentity() ? "" : ", model " + modelSpecString(state.model));
 }
 
 std::string controlsHelp()
@@ -161,10 +218,13 @@ std::string controlsHelp()
         "  w                  wireframe overlay on/off\n"
         "  p                  primitive mode: triangles, lines, points\n"
         "  b                  switch backend (CUDA <-> Vulkan) where both exist\n"
-        "  r                  reset the camera (the auto camera)\n"
+        "  j l, i k, u o      move the model left/right, up/down (view plane), towards/away\n"
+        "  x X, y Y, z Z      turn the model +-{:g} degrees about x, y, z (AX, AY, AZ of --model)\n"
+        "  + -                scale the model up/down by a factor {:g} about its centre\n"
+        "  r                  reset the camera (the auto camera) and the model (identity)\n"
         "  s                  save PNG + EXR + JSON of the current frame\n"
         "  Esc, q             quit\n",
-        kMaxElevationDeg, kZoomFactorPerStep, shadings, presets);
+        kMaxElevationDeg, kZoomFactorPerStep, shadings, presets, kModelStepDeg, kModelScaleStep);
 }
 
 }  // namespace sr

@@ -42,8 +42,22 @@ struct AaPreset {
 constexpr std::array<AaPreset, 4> kAaPresets = {
     {{"1x", 1, 1}, {"MSAA 4x", 4, 1}, {"MSAA 8x", 8, 1}, {"SSAA 2x2", 1, 2}}};
 
+// The model keys' steps (onKey). Translation: a tenth of the scene's bounding radius per press, in the
+// view plane or along the view axis, so a key moves the model the same way on screen from any side.
+// Rotation: 15 degrees of AX, AY or AZ per press (24 presses a full turn). Scale: the powers of 1.25,
+// from 1.25^-31 to 1.25^31 (about 1/1000 to 1000): a press multiplies or divides by 1.25 and a result
+// within 1e-5 of a power 1.25^n becomes float(1.25^n), so presses undo each other exactly (a float
+// product alone would drift: 1 / 1.25 / 1.25 * 1.25 * 1.25 is not 1) and the spec stays short.
+constexpr float kModelStepRadii = 0.1f;
+constexpr float kModelStepDeg = 15.0f;
+constexpr double kModelScaleStep = 1.25;
+constexpr int kMaxModelScaleSteps = 31;
+
 struct ViewerState {
     OrbitCamera camera;
+    // The model transform (`--model`, scene/camera.h) the model keys change; the camera frames the
+    // scene as loaded whatever it is.
+    ModelTransform model;
     // What the next frame renders with: the window's framebuffer size, settings.shadingMode (keys 1-9),
     // msaa and ssaa (the AA preset) and lineDepthBias (the wireframe overlay) follow the controls.
     RenderSettings settings;
@@ -69,8 +83,13 @@ ViewerState makeViewerState(const OrbitCamera& camera, const RenderSettings& set
 
 // Key `key` pressed: 1-9 shading (kShadingKeyModes), m next AA preset, w wireframe overlay on / off, p
 // primitive mode triangles -> lines -> points -> triangles, b next backend (when there are several), r
-// camera reset (to the auto camera for the current size), s save, q and Escape quit. Returns false for
-// a key with no binding, which changes nothing.
+// camera and model reset (the auto camera for the current size, the identity), s save, q and Escape
+// quit. The model keys: j / l move the model left / right and i / k up / down in the view plane (the
+// camera's right and up vectors), u / o towards / away from the camera; x / X, y / Y, z / Z add +-
+// kModelStepDeg to AX, AY, AZ of the spec (kept within (-180, 180]; with M = T Rz Ry Rx S, z turns about the
+// world z axis through the centre, x about the model's own x axis); + (or =) / - scale it up / down by
+// kModelScaleStep. Returns false for a key with no
+// binding, which changes nothing.
 bool onKey(ViewerState& state, char key);
 // Whether onKey binds `key`.
 bool isBoundKey(char key);
@@ -90,7 +109,7 @@ Scene frameScene(const Scene& base, const ViewerState& state);
 
 // Name of the state's AA setting: the preset's, or "MSAA Nx SSAA MxM" for the command line's own.
 std::string aaName(const ViewerState& state);
-// One line for the window title: shading, AA, primitive mode, wireframe.
+// One line for the window title: shading, AA, primitive mode, wireframe, the model spec unless identity.
 std::string stateSummary(const ViewerState& state);
 
 // The controls, one per line, for `raster view --help` and the README.

@@ -70,7 +70,9 @@ Result<std::vector<ScriptEvent>> parseScript(const std::string& text, const std:
             if (words.size() != 2 || !parseNumber(words[1], e.steps)) return bad("scroll N (wheel steps)");
         } else if (command == "key") {
             e.kind = ScriptEvent::Kind::Key;
-            const char* usage = "key K (one of 1-9, m, w, p, b, r, s, q, esc)";
+            const char* usage =
+                "key K (one of 1-9, m, w, p, b, j, l, i, k, u, o, x, X, y, Y, z, Z, +, =, -, r, "
+                "s, q, esc)";
             if (words.size() != 2) return bad(usage);
             e.key = words[1] == "esc" ? kKeyEscape : words[1].size() == 1 ? words[1][0] : char(0);
             if (!isBoundKey(e.key)) return bad(usage);

@@ -101,6 +101,8 @@ def other_value(setting):
         return 2 if default == "auto" else default + 1
     if kind == "float":
         return default + (setting.get("step") or 1.0)
+    if kind == "model":
+        return "translate:0.5,0,0,rotate:0,90,0,scale:1.5"
     raise AssertionError(f"a setting type the test does not know: {kind}")
 
 
@@ -123,6 +125,25 @@ def test_every_schema_setting_is_a_keyword(vulkan):
     frame = vulkan.render(scene, 24, 16, "orbit:10,20,3")
     assert frame.stats["settings"]["camera"] == "orbit:10,20,3"
     assert (frame.stats["settings"]["width"], frame.stats["settings"]["height"]) == (24, 16)
+
+
+def test_model_moves_the_scene_as_the_camera_moved_the_other_way(vulkan):
+    # `model` is a setting like any other: a translation t draws what the orbit target moved by -t
+    # draws (tests/model_transform_test.cpp has the analytic cases).
+    scene = raster.Scene.load("builtin")
+    moved = vulkan.render(scene, W, H, "orbit:30,20,6", model="translate:0.5,-0.25,0.75", msaa=1)
+    camera = vulkan.render(scene, W, H, "orbit:30,20,6,-0.5,0.25,-0.75", msaa=1)
+    still = vulkan.render(scene, W, H, "orbit:30,20,6", msaa=1)
+    np.testing.assert_array_equal(moved.ids, camera.ids)
+    assert (moved.ids != still.ids).any()
+    assert moved.stats["settings"]["model"] == "translate:0.5,-0.25,0.75"
+    # A quarter turn about y is the azimuth turned back 90 degrees (equal up to the rounding of two
+    # orbit bases: an edge pixel at most).
+    turned = vulkan.render(scene, W, H, "orbit:30,20,6", model="rotate:0,90,0", msaa=1)
+    assert (turned.ids != vulkan.render(scene, W, H, "orbit:-60,20,6", msaa=1).ids).sum() <= 1
+    with pytest.raises(raster.Error) as error:
+        vulkan.render(scene, 8, 8, model="scale:0")
+    assert str(error.value) == "invalid --model 'scale:0': scale takes one number S above 0"
 
 
 def test_render_docstring_and_stubs_list_every_setting():
