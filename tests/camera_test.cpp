@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/camera.h"
+#include "scene/orbit.h"
 
 namespace sr {
 namespace {
@@ -243,6 +244,85 @@ TEST(ResolveCamera, GltfCameras)
     ASSERT_FALSE(missing.ok());
     EXPECT_EQ(missing.error().message, "--camera gltf:2: the scene has 2 camera(s)");
     EXPECT_EQ(missing.error().code, ExitCode::Usage);
+}
+
+// ---- distances in bounding radii ---------------------------------------------------------------
+
+TEST(CameraSpec, DistanceInBoundingRadii)
+{
+    auto spec = parseCameraSpec("orbit:30,20,2.5r");
+    ASSERT_TRUE(spec.ok()) << spec.error().message;
+    EXPECT_EQ(spec->kind, CameraSpec::Kind::Orbit);
+    EXPECT_TRUE(spec->distanceInRadii);
+    EXPECT_EQ(spec->orbit.distance, 2.5f);
+    auto offset = parseCameraSpec("orbit:0,0,1r,0.5,0,0");
+    ASSERT_TRUE(offset.ok());
+    EXPECT_TRUE(offset->distanceInRadii);
+    EXPECT_FALSE(parseCameraSpec("orbit:30,20,2.5")->distanceInRadii);
+    for (const char* bad : {"orbit:30,20,r", "orbit:30,20,2.5rr", "orbit:30,20,-1r", "orbit:30,20,0r",
+                            "orbit:30r,20,2", "orbit:30,20,2,1r,0,0", "orbit:30,20,2.5 r"})
+        EXPECT_FALSE(parseCameraSpec(bad).ok()) << bad;
+
+    // Bounds [0, 4] x [-1, 1] x [2, 6]: centre (2, 0, 4), radius |(4, 2, 4)| / 2 = 3, so 2.5r puts the
+    // eye 7.5 from the centre, the same camera as orbit:30,20,7.5.
+    Scene scene;
+    scene.boundsMin = glm::vec3(0, -1, 2);
+    scene.boundsMax = glm::vec3(4, 1, 6);
+    auto m = resolveCamera(*spec, scene, 64, 48);
+    ASSERT_TRUE(m.ok());
+    EXPECT_NEAR(glm::length(eyeOf(*m) - glm::vec3(2, 0, 4)), 7.5f, 1e-5f);
+    auto absolute = resolveCamera(*parseCameraSpec("orbit:30,20,7.5"), scene, 64, 48);
+    EXPECT_EQ(m->clipFromWorld, absolute->clipFromWorld);
+    EXPECT_EQ(resolvedCameraSpec(*spec, scene, 64, 48), "orbit:30,20,7.5");
+    EXPECT_EQ(resolvedCameraSpec(*offset, scene, 64, 48), "orbit:0,0,3,0.5,0,0");
+    EXPECT_EQ(resolvedCameraSpec(*parseCameraSpec("gltf:2"), scene, 64, 48), "gltf:2");
+    // The orbit camera of turntables and the viewer starts at the same place.
+    auto orbit = OrbitCamera::fromSpec(*spec, scene, 64, 48);
+    ASSERT_TRUE(orbit.ok());
+    EXPECT_EQ(orbit->pose().distance, 7.5f);
+    EXPECT_EQ(orbit->matrices(64, 48).clipFromWorld, m->clipFromWorld);
+}
+
+// ---- the eye inside the geometry -------------------------------------------------------------
+
+// The cube [-1, 1]^3 as 12 triangles, counter-clockwise seen from outside (outward), or inward.
+Scene closedCube(bool outward)
+{
+    Scene scene;
+    for (int i = 0; i < 8; ++i)
+        scene.positions.push_back(glm::vec4(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1, 1));
+    const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) {
+        const uint32_t tri[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+        for (int k = 0; k < 6; ++k) scene.indices.push_back(tri[outward ? k : 5 - k]);
+    }
+    scene.boundsMin = glm::vec3(-1.0f);
+    scene.boundsMax = glm::vec3(1.0f);
+    return scene;
+}
+
+TEST(EyeInsideScene, WindingNumberOfAClosedCube)
+{
+    const Scene cube = closedCube(true);
+    // Each face's normal points away from the centre (the fixture's own check).
+    for (size_t t = 0; t < cube.indices.size(); t += 3) {
+        glm::vec3 a(cube.positions[cube.indices[t]]), b(cube.positions[cube.indices[t + 1]]),
+            c(cube.positions[cube.indices[t + 2]]);
+        EXPECT_GT(glm::dot(glm::cross(b - a, c - a), (a + b + c) / 3.0f), 0.0f) << t;
+    }
+    EXPECT_NEAR(windingNumber(cube, glm::vec3(0.0f)), 1.0, 1e-9);
+    EXPECT_NEAR(windingNumber(cube, glm::vec3(0.9f, -0.5f, 0.3f)), 1.0, 1e-9);
+    EXPECT_NEAR(windingNumber(cube, glm::vec3(3.0f, 0.0f, 0.0f)), 0.0, 1e-9);
+    EXPECT_NEAR(windingNumber(closedCube(false), glm::vec3(0.0f)), -1.0, 1e-9);
+
+    // An orbit camera at 0.5 radii (inside) and at 2.5 radii (outside); inside a room whose walls face
+    // in, nothing to warn about.
+    auto inside = resolveCamera(*parseCameraSpec("orbit:30,20,0.5r"), cube, 32, 32);
+    auto outside = resolveCamera(*parseCameraSpec("orbit:30,20,2.5r"), cube, 32, 32);
+    EXPECT_TRUE(eyeInsideScene(cube, *inside));
+    EXPECT_FALSE(eyeInsideScene(cube, *outside));
+    EXPECT_FALSE(eyeInsideScene(closedCube(false), *inside));
 }
 
 }  // namespace

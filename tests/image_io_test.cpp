@@ -2,8 +2,11 @@
 // exact; failures are one-line errors.
 #include <stdlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
+#include <map>
 #include <fstream>
 #include <random>
 #include <string>
@@ -14,6 +17,7 @@
 #include <tinyexr.h>
 
 #include "io/image_io.h"
+#include "raster_shared.h"
 
 namespace sr {
 namespace {
@@ -313,6 +317,154 @@ TEST(ImageIo, AovExrSurfaceErrors)
     if (!read.ok()) {
         EXPECT_NE(read.error().message.find("'bary.v'"), std::string::npos) << read.error().message;
     }
+}
+
+// CRC-32 of the PNG specification, bit by bit (no table), to check the chunks the writer adds.
+uint32_t crc32Bitwise(const std::string& bytes)
+{
+    uint32_t c = 0xffffffffu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+
+struct PngChunk {
+    std::string type, data;
+    uint32_t crc;
+};
+
+// Every chunk of a PNG file, parsed by hand.
+std::vector<PngChunk> pngChunks(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto be32 = [&](size_t at) {
+        return uint32_t(uint8_t(file[at])) << 24 | uint32_t(uint8_t(file[at + 1])) << 16 |
+               uint32_t(uint8_t(file[at + 2])) << 8 | uint32_t(uint8_t(file[at + 3]));
+    };
+    std::vector<PngChunk> chunks;
+    for (size_t at = 8; at + 12 <= file.size();) {
+        const uint32_t length = be32(at);
+        chunks.push_back({file.substr(at + 4, 4), file.substr(at + 8, length), be32(at + 8 + length)});
+        at += 12 + length;
+    }
+    return chunks;
+}
+
+TEST(ImageIo, PngNamesItsBackendInTextChunksBeforeThePixels)
+{
+    ASSERT_EQ(crc32Bitwise("IEND"), 0xae426082u);  // the checker against the specification's value
+    RgbaImage image;
+    image.width = 5;
+    image.height = 3;
+    for (uint32_t i = 0; i < 15; ++i) image.pixels.push_back(0xff000000u | i * 0x010203u);
+    test::ScratchDir dir("sr_image");
+    const std::string path = dir.file("tagged.png"), plain = dir.file("plain.png");
+    ASSERT_TRUE(writePng(path, image, {"vulkan-graphics", "llvmpipe (LLVM 15)"}).ok());
+    ASSERT_TRUE(writePng(plain, image).ok());
+
+    const std::vector<PngChunk> chunks = pngChunks(path);
+    ASSERT_GE(chunks.size(), 5u);
+    EXPECT_EQ(chunks[0].type, "IHDR");
+    EXPECT_EQ(chunks[1].type, "tEXt");
+    EXPECT_EQ(chunks[1].data, std::string("raster:backend\0vulkan-graphics", 30));
+    EXPECT_EQ(chunks[2].type, "tEXt");
+    EXPECT_EQ(chunks[2].data, std::string("raster:device\0llvmpipe (LLVM 15)", 32));
+    for (const PngChunk& c : chunks) EXPECT_EQ(c.crc, crc32Bitwise(c.type + c.data)) << c.type;
+    for (const PngChunk& c : pngChunks(plain)) EXPECT_NE(c.type, "tEXt");
+
+    // The pixels are untouched, and the origin reads back; a PNG without it has none.
+    auto back = readPng(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->pixels, image.pixels);
+    auto origin = readPngOrigin(path);
+    ASSERT_TRUE(origin.ok()) << origin.error().message;
+    EXPECT_EQ(origin->backend, "vulkan-graphics");
+    EXPECT_EQ(origin->device, "llvmpipe (LLVM 15)");
+    auto none = readPngOrigin(plain);
+    ASSERT_TRUE(none.ok());
+    EXPECT_TRUE(none->empty());
+    expectOneLineError(readPngOrigin(dir.file("missing.png")), dir.file("missing.png"));
+}
+
+TEST(ImageIo, EverySrgbCodeDecodesToALinearValueThatEncodesBack)
+{
+    // The sRGB definition (IEC 61966-2-1) at a few codes, by hand.
+    EXPECT_EQ(srgbCodeToLinear(0), 0.0f);
+    EXPECT_EQ(srgbCodeToLinear(255), 1.0f);
+    EXPECT_NEAR(srgbCodeToLinear(10), 10.0 / 255.0 / 12.92, 1e-9);
+    EXPECT_NEAR(srgbCodeToLinear(128), std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4), 1e-7);
+    for (uint32_t code = 0; code < 256; ++code) {
+        const float v = srgbCodeToLinear(code);
+        // The shaders' own encode (common/shared/shade.h) gives the code back.
+        EXPECT_EQ(packRgba8(vec3(v, v, v)) & 0xffu, code) << code;
+    }
+}
+
+TEST(ImageIo, AovExrCarriesTheLinearColourAsHalfAndItsOrigin)
+{
+    // 256 pixels: every code in red, reversed in green, a ramp in blue, alpha from 0 to 255.
+    RgbaImage image;
+    image.width = 16;
+    image.height = 16;
+    for (uint32_t i = 0; i < 256; ++i)
+        image.pixels.push_back(i | (255u - i) << 8 | ((i * 7u) & 255u) << 16 | i << 24);
+    AovImage aov;
+    aov.width = 16;
+    aov.height = 16;
+    aov.id.assign(256, 3u);
+    aov.depth.assign(256, 0.25f);
+    linearColorAov(image, aov);
+    test::ScratchDir dir("sr_image");
+    const std::string path = dir.file("colour.exr");
+    ASSERT_TRUE(writeAovExr(path, aov, {"cuda", "NVIDIA H100"}).ok());
+
+    // The file, through tinyexr directly: R, G, B, A are HALF; the origin is two string attributes.
+    EXRVersion version;
+    ASSERT_EQ(ParseEXRVersionFromFile(&version, path.c_str()), TINYEXR_SUCCESS);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    ASSERT_EQ(ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err), TINYEXR_SUCCESS);
+    int halves = 0;
+    for (int c = 0; c < header.num_channels; ++c) {
+        const std::string name = header.channels[c].name;
+        if (name == "R" || name == "G" || name == "B" || name == "A") {
+            EXPECT_EQ(header.pixel_types[c], TINYEXR_PIXELTYPE_HALF) << name;
+            ++halves;
+        }
+    }
+    EXPECT_EQ(halves, 4);
+    std::map<std::string, std::string> attributes;
+    for (int i = 0; i < header.num_custom_attributes; ++i) {
+        const EXRAttribute& a = header.custom_attributes[i];
+        if (std::string(a.type) == "string")
+            attributes[a.name] = std::string(reinterpret_cast<const char*>(a.value), size_t(a.size));
+    }
+    FreeEXRHeader(&header);
+    EXPECT_EQ(attributes["raster:backend"], "cuda");
+    EXPECT_EQ(attributes["raster:device"], "NVIDIA H100");
+
+    // Read back and encoded with the shaders' encode: the PNG's codes exactly; alpha as code / 255.
+    auto back = readAovExr(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_TRUE(back->hasColor());
+    for (uint32_t i = 0; i < 256; ++i) {
+        const uint32_t rgb = packRgba8(vec3(back->colorR[i], back->colorG[i], back->colorB[i])) & 0xffffffu;
+        EXPECT_EQ(rgb, image.pixels[i] & 0xffffffu) << i;
+        EXPECT_EQ(uint32_t(std::lround(back->colorA[i] * 255.0f)), i) << i;
+    }
+    auto origin = readExrOrigin(path);
+    ASSERT_TRUE(origin.ok());
+    EXPECT_EQ(origin->backend, "cuda");
+    EXPECT_EQ(origin->device, "NVIDIA H100");
+
+    // A colour group cut short is refused, as the surface groups are.
+    AovImage partial = aov;
+    partial.colorA.clear();
+    EXPECT_FALSE(writeAovExr(dir.file("partial.exr"), partial).ok());
 }
 
 }  // namespace

@@ -17,13 +17,39 @@ nlohmann::json stagesJson(const std::vector<StageTiming>& stages)
     return json;
 }
 
-nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, const std::string& scene)
+namespace {
+
+// A matrix as 16 numbers, column-major (glm's and Vulkan's order).
+nlohmann::json matrixJson(const glm::mat4& m)
+{
+    nlohmann::json a = nlohmann::json::array();
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) a.push_back(m[c][r]);
+    return a;
+}
+
+}  // namespace
+
+nlohmann::json cameraJson(const CameraMatrices& camera, const std::string& spec, const std::string& resolved)
+{
+    const glm::vec3 eye(glm::inverse(camera.viewFromWorld)[3]);
+    nlohmann::json json = {{"spec", spec},
+                           {"view_from_world", matrixJson(camera.viewFromWorld)},
+                           {"clip_from_view", matrixJson(camera.clipFromView)},
+                           {"eye", {eye.x, eye.y, eye.z}},
+                           {"znear", camera.znear},
+                           {"zfar", camera.zfar}};
+    if (!resolved.empty()) json["resolved_spec"] = resolved;
+    return json;
+}
+
+nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, const std::string& scene,
+                         const std::string& resolvedCamera)
 {
     const RenderSettings settings = options.resolved();
-    nlohmann::json clip = nlohmann::json::array();
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) clip.push_back(out.params.clipFromWorld[c][r]);
     const RenderStats& s = out.stats;
+    // Counts the backend did not measure are null (vulkan-graphics: RenderStats::pipelineCounts).
+    auto counted = [&](uint64_t v) { return s.pipelineCounts ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json json = {
         {"backend", out.device.backend},
         {"device", out.device.name},
@@ -32,20 +58,21 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, 
         {"resolution", {settings.width, settings.height}},
         {"msaa", settings.msaa},
         {"ssaa", settings.ssaa},
-        {"clip_from_world", clip},
+        {"clip_from_world", matrixJson(out.params.clipFromWorld)},
+        {"camera", cameraJson(out.camera, options.camera, resolvedCamera)},
         {"triangles",
          {{"in", s.trianglesIn},
-          {"culled", s.culled},
-          {"clipped", s.clipped},
-          {"invalid", s.invalid},
+          {"culled", counted(s.culled)},
+          {"clipped", counted(s.clipped)},
+          {"invalid", counted(s.invalid)},
           {"points_in", s.pointsIn},
-          {"points", s.points},
-          {"rasterized", s.rasterized},
-          {"small", s.smallTris},
-          {"big", s.bigTris},
-          {"records", s.records},
-          {"pieces", s.pieces},
-          {"bin_entries", s.binEntries}}},
+          {"points", counted(s.points)},
+          {"rasterized", counted(s.rasterized)},
+          {"small", counted(s.smallTris)},
+          {"big", counted(s.bigTris)},
+          {"records", counted(s.records)},
+          {"pieces", counted(s.pieces)},
+          {"bin_entries", counted(s.binEntries)}}},
         {"stages_ms", stagesJson(out.stages)},
         {"gpu_total_ms", timingJson(out.total)},
         {"peak_device_bytes", out.peakDeviceBytes},

@@ -15,10 +15,18 @@ namespace sr {
 nlohmann::json timingJson(const StageTiming& t);
 nlohmann::json stagesJson(const std::vector<StageTiming>& stages);
 
-// backend, device, driver, resolution, clip_from_world (column-major), triangle counts, per-stage GPU
-// ms (min/median/max over the timed runs), total GPU ms, peak device memory, and under "settings" every
-// setting of the schema as the render was asked for (settingsJson).
-nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, const std::string& scene);
+// The camera a frame was drawn with: its spec as given, the view and projection matrices (column-major),
+// the eye's world position, the depth range, and `resolved` (the spec in absolute scene units,
+// resolvedCameraSpec) where not empty.
+nlohmann::json cameraJson(const CameraMatrices& camera, const std::string& spec, const std::string& resolved);
+
+// backend, device, driver, resolution, clip_from_world (column-major), the camera (cameraJson),
+// triangle counts (null where the backend does not count them: RenderStats::pipelineCounts), per-stage
+// GPU ms (min/median/max over the timed runs), total GPU ms, peak device memory, and under "settings"
+// every setting of the schema as the render was asked for (settingsJson): the scene and "settings" are a
+// `raster render` that reproduces the frame (renderArguments).
+nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, const std::string& scene,
+                         const std::string& resolvedCamera = "");
 Status writeJson(const std::string& path, const nlohmann::json& json);
 
 }  // namespace sr

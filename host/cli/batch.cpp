@@ -27,6 +27,7 @@
 #include "api/backend.h"
 #include "api/stats_json.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "cli/turntable.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
@@ -504,11 +505,13 @@ private:
             s.surfaceAovs = !f.aov.empty();
             s.download = f.aov.empty() ? ImageDownload::Colour : ImageDownload::All;
             const auto renderStart = Clock::now();
-            auto camera = frameCamera(f, *scene);
+            std::string frameSpec = job.options.camera;
+            auto camera = frameCamera(f, *scene, frameSpec);
             if (!camera) {
                 fail(frameIndex, camera.error().message);
                 continue;
             }
+            warnOnce(f, viewWarnings(*scene, *camera, s));
             auto out = session->render(*camera, s);
             if (!out) {
                 fail(frameIndex, out.error().message);
@@ -520,6 +523,8 @@ private:
             finished.gpuMs = out->total.medianMs;
             finished.out = std::move(*out);
             finished.options = job.options;
+            // A turntable frame's statistics name its own camera, so each frame renders again from them.
+            finished.options.camera = frameSpec;
             finished.scene = scene;
             report.frames++;
             report.gpuMs += finished.gpuMs;
@@ -528,22 +533,34 @@ private:
         }
     }
 
-    // Frame k of a turntable is `raster render --camera orbit:AZk,...` (the turntable's camera model);
-    // any other job is its camera spec resolved against the scene.
-    static Result<CameraMatrices> frameCamera(const BatchFrame& f, const Scene& scene)
+    // One warning line per job (the first of its frames to meet it), above the progress line.
+    void warnOnce(const BatchFrame& f, const std::vector<std::string>& warnings)
+    {
+        if (warnings.empty()) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!warnedJobs_.insert(f.job).second) return;
+        if (progress_) fmt::print(stderr, "\n");
+        for (const std::string& w : warnings)
+            fmt::print(stderr, "warning: {}:{}: {}\n", options_.manifest, f.job->line, w);
+    }
+
+    // Frame k of a turntable is `raster render --camera orbit:AZk,...` (the turntable's camera model),
+    // which `spec` receives; any other job is its camera spec resolved against the scene.
+    static Result<CameraMatrices> frameCamera(const BatchFrame& f, const Scene& scene, std::string& spec)
     {
         const ManifestJob& job = *f.job;
-        auto spec = parseCameraSpec(job.options.camera);
-        if (!spec) return spec.error();
+        auto parsed = parseCameraSpec(job.options.camera);
+        if (!parsed) return parsed.error();
         auto model = parseModelSpec(job.options.model);
         if (!model) return model.error();
         const uint32_t w = job.options.settings.width, h = job.options.settings.height;
-        if (!job.frames) return resolveCamera(*spec, scene, w, h, *model);
-        auto orbit = OrbitCamera::fromSpec(*spec, scene, w, h);
+        if (!job.frames) return resolveCamera(*parsed, scene, w, h, *model);
+        auto orbit = OrbitCamera::fromSpec(*parsed, scene, w, h);
         if (!orbit) return orbit.error();
         OrbitPose pose = orbit->pose();
         pose.azimuthDeg = f.azimuthDeg;
         orbit->setPose(pose);
+        spec = orbit->specString();
         return orbit->matrices(w, h, *model);
     }
 
@@ -580,7 +597,8 @@ private:
         for (const std::string* path : {&f.png, &f.aov, &f.stats})
             if (!path->empty()) SR_TRY(createParentFolder(*path));
         auto start = Clock::now();
-        auto png = encodePng(item.out.color);
+        const ImageOrigin origin = outputOrigin(item.out);
+        auto png = encodePng(item.out.color, origin);
         if (!png) return png.error();
         times.encode = msSince(start);
         start = Clock::now();
@@ -593,8 +611,13 @@ private:
         times.write += msSince(start);
         // The EXR and the statistics go through the same temporary name and rename (io/file_write.h).
         start = Clock::now();
-        if (!f.aov.empty()) SR_TRY(writeAovExr(f.aov, item.out.aov));
-        if (!f.stats.empty()) SR_TRY(writeJson(f.stats, statsJson(item.out, item.options, f.job->scene)));
+        if (!f.aov.empty()) {
+            linearColorAov(item.out.color, item.out.aov);
+            SR_TRY(writeAovExr(f.aov, item.out.aov, origin));
+        }
+        if (!f.stats.empty())
+            SR_TRY(writeJson(f.stats, statsJson(item.out, item.options, f.job->scene,
+                                                absoluteCamera(item.options, *item.scene, f.job->scene))));
         times.aux = msSince(start);
         start = Clock::now();
         const std::string text = sidecarJson(f.settings, f.job->scene).dump(2) + "\n";
@@ -631,7 +654,8 @@ private:
     const bool progress_;
     std::atomic<size_t> next_{0};
     std::vector<WorkerReport> reports_;
-    std::mutex mutex_;  // times_, failures_, the progress line
+    std::mutex mutex_;  // times_, failures_, warnedJobs_, the progress line
+    std::set<const ManifestJob*> warnedJobs_;
     std::vector<FrameTimes> times_;
     std::vector<Failure> failures_;
     Clock::time_point start_ = Clock::now(), lastProgress_;

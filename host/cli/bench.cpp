@@ -315,7 +315,9 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                          {"driver", out->device.driver},
                          {"triangles", s.scene.primitiveCount()},
                          {"triangle_area_px", s.triangleArea},
-                         {"rasterized", out->stats.rasterized},
+                         // null where the backend does not count it (vulkan-graphics)
+                         {"rasterized", out->stats.pipelineCounts ? nlohmann::json(out->stats.rasterized)
+                                                                  : nlohmann::json(nullptr)},
                          {"stages_ms", stagesJson(out->stages)},
                          {"gpu_total_ms", timingJson(out->total)},
                          {"visibility_ms", ms - shadeMs},

@@ -4,6 +4,7 @@
 //                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1[)]] [-q]
 //                 [--quality psnr:N [--study FILE]] [SETTINGS: every option of `raster settings`]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
+//                  [--max-fraction F]
 //   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
 //                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
 //                [--json F]
@@ -57,7 +58,7 @@ struct RenderCommand {
     std::string scenePath;
     std::string backend = "auto";
     int device = -1;
-    std::string output = "render.png";
+    std::string output;  // -o; empty: render.png, unless --aov is given (then the EXR alone)
     std::string aovPath;
     std::string statsPath;
     uint32_t frames = 0;     // --frames N: a turntable of N frames (0: one render)
@@ -109,9 +110,9 @@ Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene
         fmt::print(
             "{}: {} frame{} from --camera {} to {}: {}x{} on {} ({}), {} triangles, GPU ms per frame min "
             "{:.4f} median {:.4f} max {:.4f}\n",
-            cmd.output, frames.frames, frames.frames == 1 ? "" : "s", orbitSpecString(first),
-            orbitSpecString(last), cmd.options.settings.width, cmd.options.settings.height,
-            result->device.backend, result->device.name, result->triangles,
+            cmd.output.empty() ? cmd.aovPath : cmd.output, frames.frames, frames.frames == 1 ? "" : "s",
+            orbitSpecString(first), orbitSpecString(last), cmd.options.settings.width,
+            cmd.options.settings.height, result->device.backend, result->device.name, result->triangles,
             *std::min_element(ms.begin(), ms.end()), median(ms), *std::max_element(ms.begin(), ms.end()));
     }
     return okStatus();
@@ -119,6 +120,8 @@ Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene
 
 Status runRender(RenderCommand& cmd)
 {
+    // An EXR asked for alone is the only output: no render.png appears beside it unasked.
+    if (cmd.output.empty() && cmd.aovPath.empty()) cmd.output = "render.png";
     RenderSettings s = cmd.options.resolved();
     // Each output in its format and a file of its own, before anything is loaded or rendered.
     SR_TRY(checkOutputNames(
@@ -150,11 +153,13 @@ Status runRender(RenderCommand& cmd)
                              "--frames orbits the scene: use --camera auto or orbit:AZ,EL,DIST[,TX,TY,TZ]");
         auto range = parseAzimuthRange(cmd.orbitRange);
         if (!range) return range.error();
-        auto png = parseFramePattern("-o", cmd.output);
-        if (!png) return png.error();
         frames.frames = cmd.frames;
         frames.azimuth = *range;
-        frames.png = *png;
+        if ((frames.hasPng = !cmd.output.empty())) {
+            auto png = parseFramePattern("-o", cmd.output);
+            if (!png) return png.error();
+            frames.png = *png;
+        }
         if ((frames.hasAov = !cmd.aovPath.empty())) {
             auto aov = parseFramePattern("--aov", cmd.aovPath);
             if (!aov) return aov.error();
@@ -199,6 +204,9 @@ Status runRender(RenderCommand& cmd)
                   : orbit ? Result<CameraMatrices>(orbit->matrices(s.width, s.height, *model))
                           : resolveCamera(*cameraSpec, *scene, s.width, s.height, *model);
     if (!camera) return camera.error();
+    // Before the render, so that a long one is not waited for to learn that it shows nothing.
+    for (const std::string& warning : viewWarnings(*scene, *camera, s))
+        fmt::print(stderr, "warning: {}\n", warning);
     const std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
     Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
     if (cmd.backend == "vulkan-graphics") {
@@ -243,9 +251,19 @@ Status runRender(RenderCommand& cmd)
         std::string lines =
             st.linesIn ? fmt::format(", {} line segments ({} drawn)", st.linesIn, st.lines) : "";
         std::string points = st.pointsIn ? fmt::format(", {} points ({} drawn)", st.pointsIn, st.points) : "";
-        fmt::print("{}: {}x{} on {} ({}), {} triangles{}{}: {} culled, {} clipped, {} triangles rasterized\n",
-                   cmd.output, s.width, s.height, out->device.backend, out->device.name, st.trianglesIn,
-                   lines, points, st.culled, st.clipped, st.rasterized);
+        // The graphics pipeline's fixed-function stages count nothing we read back.
+        std::string counts =
+            st.pipelineCounts
+                ? fmt::format("{} culled, {} clipped, {} triangles rasterized", st.culled, st.clipped,
+                              st.rasterized)
+                : "culled, clipped and rasterized n/a (the graphics pipeline does not count them)";
+        if (!st.pipelineCounts) {
+            lines = st.linesIn ? fmt::format(", {} line segments", st.linesIn) : "";
+            points = st.pointsIn ? fmt::format(", {} points", st.pointsIn) : "";
+        }
+        fmt::print("{}: {}x{} on {} ({}), {} triangles{}{}: {}\n",
+                   cmd.output.empty() ? cmd.aovPath : cmd.output, s.width, s.height, out->device.backend,
+                   out->device.name, st.trianglesIn, lines, points, counts);
         printStageTable(*out);
     }
     return okStatus();
@@ -254,17 +272,46 @@ Status runRender(RenderCommand& cmd)
 struct CompareCommand {
     std::string a, b;
     std::string diffPath;
-    CompareTolerance tolerance;
+    CompareTolerance tolerance;  // the fields whose flag was given (CompareFlags)
+};
+
+// Which tolerance flags were given: each one replaces that part of the pair's documented tolerance.
+struct CompareFlags {
+    CLI::Option *colour = nullptr, *ids = nullptr, *depth = nullptr, *fraction = nullptr;
 };
 
 // Exit code 0 within tolerance, 1 outside it (ExitCode::CompareFailed), 2 for unreadable inputs.
-Result<bool> runCompare(const CompareCommand& cmd)
+Result<bool> runCompare(const CompareCommand& cmd, const CompareFlags& flags)
 {
     SR_TRY(checkOutputNames({{"-o", cmd.diffPath, ".png"}}));
-    auto report = compareFiles(cmd.a, cmd.b, cmd.tolerance);
+    // The default is what the project documents for the two backends that made the files.
+    // A file whose origin cannot be read has none: reading its pixels below reports what is wrong.
+    auto readOrigin = [](const std::string& path) {
+        auto origin = fileOrigin(path);
+        return origin ? *origin : FileOrigin{};
+    };
+    const FileOrigin originA = readOrigin(cmd.a), originB = readOrigin(cmd.b);
+    PairTolerance pair = documentedTolerance(originA.origin, originB.origin, isExrPath(cmd.a));
+    CompareTolerance tol = pair.tolerance;
+    std::vector<std::string> given;
+    if (flags.colour->count()) tol.colorLsb = cmd.tolerance.colorLsb, given.push_back("--tolerance");
+    if (flags.ids->count())
+        tol.maxIdMismatches = cmd.tolerance.maxIdMismatches, given.push_back("--max-id-mismatches");
+    if (flags.depth->count())
+        tol.depthTolerance = cmd.tolerance.depthTolerance, given.push_back("--depth-tolerance");
+    if (flags.fraction->count())
+        tol.maxFraction = cmd.tolerance.maxFraction, given.push_back("--max-fraction");
+    auto report = compareFiles(cmd.a, cmd.b, tol);
     if (!report) return report.error();
-    fmt::print("Comparing \"{}\" and \"{}\" ({}x{})\n{}", cmd.a, cmd.b, report->width, report->height,
-               formatReport(*report, cmd.tolerance));
+    auto madeBy = [](const std::string& path, const FileOrigin& f) {
+        if (f.origin.backend.empty()) return fmt::format("  {}: no backend recorded\n", path);
+        return fmt::format("  {}: {}{} (from {})\n", path, f.origin.backend,
+                           f.origin.device.empty() ? "" : " on " + f.origin.device, f.source);
+    };
+    std::string rule = "  Tolerance: " + pair.rule;
+    if (!given.empty()) rule += fmt::format("; overridden by {}", fmt::join(given, ", "));
+    fmt::print("Comparing \"{}\" and \"{}\" ({}x{})\n{}{}{}\n{}", cmd.a, cmd.b, report->width, report->height,
+               madeBy(cmd.a, originA), madeBy(cmd.b, originB), rule, formatReport(*report, tol));
     if (!cmd.diffPath.empty()) SR_TRY(writePng(cmd.diffPath, report->heatmap));
     return report->pass;
 }
@@ -363,9 +410,12 @@ int main(int argc, char** argv)
     render->add_option("--device", cmd.device, "device index within the backend (default: first)");
     render->add_option(
         "-o,--output", cmd.output,
-        "colour image (PNG, sRGB); with --frames a pattern with one %d or %0Nd (frame_%04d.png)");
-    render->add_option("--aov", cmd.aovPath,
-                       "EXR with channels id (UINT), Z, bary.u, bary.v, uv.u, uv.v, N.x, N.y, N.z (FLOAT)");
+        "colour image (PNG, sRGB; default render.png, none when only --aov is given); with --frames a "
+        "pattern with one %d or %0Nd (frame_%04d.png)");
+    render->add_option(
+        "--aov", cmd.aovPath,
+        "EXR with channels id (UINT), Z, bary.u, bary.v, uv.u, uv.v, N.x, N.y, N.z (FLOAT) and "
+        "the linear colour R, G, B, A (HALF)");
     render->add_option("--stats", cmd.statsPath, "JSON statistics and per-stage GPU times");
     CLI::Option* framesOption =
         render
@@ -409,13 +459,29 @@ int main(int argc, char** argv)
     cmp->add_option("a", compare.a, "reference (.png or .exr)")->required();
     cmp->add_option("b", compare.b, "test image of the same kind")->required();
     cmp->add_option("-o,--output", compare.diffPath, "difference heat map (PNG)");
-    cmp->add_option("--tolerance", compare.tolerance.colorLsb, "largest allowed 8-bit channel difference")
-        ->check(CLI::Range(0, 255));
-    cmp->add_option("--max-id-mismatches", compare.tolerance.maxIdMismatches,
-                    "AOVs: pixels allowed to differ in id or coverage");
-    cmp->add_option("--depth-tolerance", compare.tolerance.depthTolerance,
-                    "AOVs: largest allowed depth difference")
-        ->check(CLI::Range(0.0, 1.0));
+    cmp->footer(
+        "Without tolerance flags compare applies the tolerance the project documents for the pair of "
+        "backends "
+        "that made the files (their metadata, or a JSON of the same stem beside them): exact for one backend "
+        "on "
+        "one device, the goldens' criterion between cuda and vulkan, the oracle bounds against "
+        "vulkan-graphics, "
+        "exact when a file names no backend (docs/validation.md). Each flag replaces its part.");
+    CompareFlags compareFlags;
+    compareFlags.colour =
+        cmp->add_option("--tolerance", compare.tolerance.colorLsb, "largest allowed 8-bit channel difference")
+            ->check(CLI::Range(0, 255));
+    compareFlags.ids = cmp->add_option("--max-id-mismatches", compare.tolerance.maxIdMismatches,
+                                       "AOVs: pixels allowed to differ in id or coverage");
+    compareFlags.depth = cmp->add_option("--depth-tolerance", compare.tolerance.depthTolerance,
+                                         "AOVs: largest allowed depth difference")
+                             ->check(CLI::Range(0.0, 1.0));
+    compareFlags.fraction =
+        cmp->add_option(
+               "--max-fraction", compare.tolerance.maxFraction,
+               "fraction of the pixels (of the samples, for sample channels) allowed over the colour, "
+               "depth and surface tolerances")
+            ->check(CLI::Range(0.0, 1.0));
 
     BenchCommand bench;
     CLI::App* benchApp = app.add_subcommand("bench", "the benchmark suite on several backends in one run");
@@ -448,7 +514,9 @@ int main(int argc, char** argv)
     viewApp->add_option("--width", view.settings.width, "initial window width")->check(CLI::Range(1, 16384));
     viewApp->add_option("--height", view.settings.height, "initial window height")
         ->check(CLI::Range(1, 16384));
-    viewApp->add_option("--camera", view.camera, "initial camera: auto, gltf:N or orbit:AZ,EL,DIST");
+    viewApp->add_option("--camera", view.camera,
+                        "initial camera: auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] (DIST in scene units, "
+                        "or Nr: N bounding radii)");
     viewApp->add_option("--model", view.model,
                         "initial model transform: identity or translate:X,Y,Z,rotate:AX,AY,AZ,scale:S");
     viewApp->add_option("--script", view.scriptPath, "replay an input script and quit (headless tests)");
@@ -520,7 +588,7 @@ int main(int argc, char** argv)
         if (!allRendered.ok()) status = allRendered.error();
     }
     if (cmp->parsed()) {
-        auto pass = runCompare(compare);
+        auto pass = runCompare(compare, compareFlags);
         if (pass.ok() && !*pass) return int(ExitCode::CompareFailed);
         if (!pass.ok()) status = pass.error();
     }

@@ -4,6 +4,9 @@
 #include "api/stats_json.h"
 #include "io/image_io.h"
 #include "render/aov.h"
+#include "scene/camera.h"
+#include "settings/schema.h"
+#include "study/scenes.h"
 
 namespace sr {
 
@@ -12,18 +15,53 @@ OutputPaths savePaths(const std::string& prefix)
     return {prefix + ".png", prefix + ".exr", prefix + ".json"};
 }
 
+std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName)
+{
+    auto spec = parseCameraSpec(options.camera);
+    if (!spec) return "";
+    if (spec->kind == CameraSpec::Kind::Auto && sceneName.rfind(kStudyScenePrefix, 0) == 0) return "";
+    return resolvedCameraSpec(*spec, scene, options.settings.width, options.settings.height);
+}
+
+std::vector<std::string> viewWarnings(const Scene& scene, const CameraMatrices& camera,
+                                      const RenderSettings& settings)
+{
+    std::vector<std::string> warnings;
+    if ((settings.shadingMode == SHADING_TEXCOORD || settings.shadingMode == SHADING_MIP) &&
+        scene.textures.empty())
+        warnings.push_back(fmt::format(
+            "--shading {} shows the base colour texture's {}, but the scene has no textures: every surface "
+            "shows the same colour",
+            choiceName(setting("shading"), settings.shadingMode),
+            settings.shadingMode == SHADING_TEXCOORD ? "coordinates" : "level of detail"));
+    if (scene.triangleCount() > 0 && eyeInsideScene(scene, camera))
+        warnings.push_back(
+            "the camera is inside the scene's geometry, so it sees the inside of its surfaces (culled back "
+            "faces, or the wrong side): move it out, e.g. --camera orbit:AZ,EL,2.5r (2.5 bounding radii)");
+    return warnings;
+}
+
+ImageOrigin outputOrigin(const RenderOutput& out)
+{
+    return {out.device.backend, out.device.name};
+}
+
 Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName)
 {
     const RenderSettings settings = options.resolved();
-    SR_TRY(writePng(paths.png, out.color));
+    const ImageOrigin origin = outputOrigin(out);
+    if (!paths.png.empty()) SR_TRY(writePng(paths.png, out.color, origin));
     if (!paths.aov.empty()) {
         if (!out.aov.hasBary()) fillSurfaceAovs(scene, out.params, out.aov);
         if (settings.aovSamples && out.aov.sampleId.empty())
             fillSampleAovs(out.samples, settings.ssaa, out.aov);
-        SR_TRY(writeAovExr(paths.aov, out.aov));
+        if (!out.aov.hasColor()) linearColorAov(out.color, out.aov);
+        SR_TRY(writeAovExr(paths.aov, out.aov, origin));
     }
-    if (!paths.stats.empty()) SR_TRY(writeJson(paths.stats, statsJson(out, options, sceneName)));
+    if (!paths.stats.empty())
+        SR_TRY(writeJson(paths.stats,
+                         statsJson(out, options, sceneName, absoluteCamera(options, scene, sceneName))));
     return okStatus();
 }
 

@@ -4,6 +4,7 @@
 #define RASTER_OUTPUTS_H
 
 #include <string>
+#include <vector>
 
 #include "base/result.h"
 #include "render/renderer.h"
@@ -17,13 +18,27 @@ struct OutputPaths {
     std::string stats;  // JSON statistics; empty: none
 };
 
+// What would make a render of `scene` from `camera` with `settings` a plain image without the user
+// knowing why, one line each (without the "warning: " prefix): a texture debug view (--shading texcoord
+// or mip) of a scene without textures, and an eye inside the scene's geometry (eyeInsideScene).
+std::vector<std::string> viewWarnings(const Scene& scene, const CameraMatrices& camera,
+                                      const RenderSettings& settings);
+
+// The frame's camera spec in absolute scene units for its statistics (resolvedCameraSpec); "" for a
+// study scene under the auto camera, which renders with the study's own camera (the matrices say which).
+std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName);
+
 // PREFIX.png, PREFIX.exr and PREFIX.json: what the viewer's `s` key and a script's `save PREFIX` write.
 OutputPaths savePaths(const std::string& prefix);
 
-// Writes the PNG, and the EXR (with the surface channels, computed here from the ids if the frame was
-// rendered without RenderSettings::surfaceAovs, and every sample with aovSamples) and the JSON where
-// `paths` names them. `out` is the frame of `scene` rendered with `options`; its AOV image gains the
-// channels the EXR needs.
+// Who made the frame, as its PNG and EXR record it (ImageOrigin: the backend and the device's name).
+ImageOrigin outputOrigin(const RenderOutput& out);
+
+// Writes the PNG, the EXR (with the surface channels, computed here from the ids if the frame was
+// rendered without RenderSettings::surfaceAovs, every sample with aovSamples, and the linear colour
+// decoded from the PNG's, linearColorAov) and the JSON where `paths` names them (an empty path: none),
+// the image files tagged with outputOrigin. `out` is the frame of `scene` rendered with `options`; its AOV
+// image gains the channels the EXR needs.
 Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName);
 

@@ -102,9 +102,13 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
         camera.setPose(pose);
         auto out = session.render(camera.matrices(settings.width, settings.height, *model), settings);
         if (!out) return out.error();
-        OutputPaths paths{framePath(options.png, k), options.hasAov ? framePath(options.aov, k) : "",
+        OutputPaths paths{options.hasPng ? framePath(options.png, k) : "",
+                          options.hasAov ? framePath(options.aov, k) : "",
                           options.hasStats ? framePath(options.stats, k) : ""};
-        SR_TRY(writeOutputs(*out, session.scene(), render, paths, options.sceneName));
+        // Each frame's statistics name its own camera, so that any frame renders again from its JSON.
+        RenderOptions frame = render;
+        frame.camera = camera.specString();
+        SR_TRY(writeOutputs(*out, session.scene(), frame, paths, options.sceneName));
         result.device = out->device;
         result.frameGpuMs.push_back(out->total.medianMs);
         if (options.progress) options.progress(k + 1, options.frames);

@@ -41,9 +41,9 @@ float turntableAzimuth(const AzimuthRange& range, uint32_t frame, uint32_t frame
 struct TurntableOptions {
     uint32_t frames = 1;
     AzimuthRange azimuth;
-    FramePattern png;
+    FramePattern png;         // used when hasPng (no -o with --aov: EXRs only)
     FramePattern aov, stats;  // used when hasAov / hasStats
-    bool hasAov = false, hasStats = false;
+    bool hasPng = true, hasAov = false, hasStats = false;
     std::string sceneName;  // for the JSON
     // Called after each frame is written with (frames done, frames): the progress line.
     std::function<void(uint32_t, uint32_t)> progress;

@@ -17,7 +17,45 @@ struct CompareTolerance {
     // AOVs: largest allowed difference of any surface channel (bary, uv, N) where both files have its
     // group and the pixel shows the same triangle in both; negative: reported, never failed on.
     double surfaceTolerance = -1.0;
+    // Fraction of the pixels (of the samples, for the sample channels) that may exceed the colour, depth
+    // and surface tolerances; the id and coverage mismatches have their own count.
+    double maxFraction = 0.0;
 };
+
+// The tolerance the project documents for two outputs of the named backends (README "Goldens",
+// docs/validation.md "What raster compare applies"), which `raster compare` applies when no flag sets
+// one:
+//   - cuda and vulkan (any devices, and the goldens, which are CUDA's): ids, coverage and depth exact,
+//     colour within 1/255, the goldens' criterion;
+//   - one backend on one device (both origins name the same device): exact, as the determinism tests
+//     require;
+//   - cuda or vulkan against vulkan-graphics: at most kGraphicsIdMismatches pixels (and samples) whose id
+//     or coverage differs, depth within kGraphicsDepthTolerance and colour within kGraphicsColorLsb on
+//     all but kGraphicsDepthFraction / kGraphicsColorFraction of the pixels (the oracle tests' bounds and
+//     the measured share of textured pixels whose mip level the graphics pipeline's quad derivatives
+//     choose otherwise);
+//   - anything else (no origin, an unknown backend, two graphics pipelines on different devices):
+//     exact, the behaviour before outputs named their backend.
+constexpr uint64_t kGraphicsIdMismatches = 64;
+constexpr float kGraphicsDepthTolerance = 1e-3f;
+constexpr double kGraphicsDepthFraction = 0.001;
+constexpr int kGraphicsColorLsb = 2;
+constexpr double kGraphicsColorFraction = 0.10;
+
+struct PairTolerance {
+    CompareTolerance tolerance;
+    std::string rule;  // one line: the rule applied and where it is documented, or why none was
+};
+PairTolerance documentedTolerance(const ImageOrigin& a, const ImageOrigin& b, bool aov);
+
+// Who made a file: its own metadata (ImageOrigin), else the "backend" and "device" of a JSON file with
+// the same stem beside it (the goldens' provenance, `raster render --stats` and a viewer save's JSON
+// under the image's name), else nothing. `source` says which, for the report ("" when none).
+struct FileOrigin {
+    ImageOrigin origin;
+    std::string source;
+};
+Result<FileOrigin> fileOrigin(const std::string& path);
 
 struct CompareReport {
     uint32_t width = 0, height = 0;
@@ -47,9 +85,13 @@ struct CompareReport {
 
 Result<CompareReport> compareColor(const RgbaImage& a, const RgbaImage& b, const CompareTolerance& tol);
 Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const CompareTolerance& tol);
+// Whether `path` names an EXR (AOV) file rather than a PNG, by its extension.
+bool isExrPath(const std::string& path);
 // Reads both files (.png colour or .exr AOV, by extension) and compares them.
 Result<CompareReport> compareFiles(const std::string& a, const std::string& b, const CompareTolerance& tol);
-// The report as printed by `raster compare`, ending in PASS or FAILURE.
+// The report as printed by `raster compare`, ending in PASS or FAILURE. An AOV report with surface
+// channels says that they are derived from the ids on the host (render/aov.h), the same code for every
+// backend, so that where the ids match they match by construction and prove nothing more.
 std::string formatReport(const CompareReport& report, const CompareTolerance& tol);
 
 }  // namespace sr

@@ -8,7 +8,9 @@
 #include <tinyexr.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iterator>
@@ -57,26 +59,107 @@ struct ExrImageGuard {
 constexpr const char* kDepthChannel = "Z";
 constexpr const char* kIdChannel = "id";
 
-// The surface channels by group: a group is written when computed and read when the file has all of
-// its channels, so the reader and the writer share one table.
-struct SurfaceGroup {
+// The optional channel groups: a group is written when filled and read when the file has all of its
+// channels, so the reader and the writer share one table. The colour is HALF, as OpenEXR images
+// usually are (11 significant bits hold every 8-bit sRGB code's linear value apart, linearColorAov).
+struct ChannelGroup {
     const char* label;
     size_t count;
-    const char* names[3];
-    std::vector<float> AovImage::*planes[3];
+    const char* names[4];
+    std::vector<float> AovImage::*planes[4];
+    int filePixelType;  // TINYEXR_PIXELTYPE_FLOAT or _HALF
 };
-const SurfaceGroup kSurfaceGroups[] = {
-    {"bary", 2, {"bary.u", "bary.v", nullptr}, {&AovImage::baryU, &AovImage::baryV, nullptr}},
-    {"uv", 2, {"uv.u", "uv.v", nullptr}, {&AovImage::uvU, &AovImage::uvV, nullptr}},
-    {"N", 3, {"N.x", "N.y", "N.z"}, {&AovImage::normalX, &AovImage::normalY, &AovImage::normalZ}},
+const ChannelGroup kChannelGroups[] = {
+    {"bary",
+     2,
+     {"bary.u", "bary.v", nullptr, nullptr},
+     {&AovImage::baryU, &AovImage::baryV, nullptr, nullptr},
+     TINYEXR_PIXELTYPE_FLOAT},
+    {"uv",
+     2,
+     {"uv.u", "uv.v", nullptr, nullptr},
+     {&AovImage::uvU, &AovImage::uvV, nullptr, nullptr},
+     TINYEXR_PIXELTYPE_FLOAT},
+    {"N",
+     3,
+     {"N.x", "N.y", "N.z", nullptr},
+     {&AovImage::normalX, &AovImage::normalY, &AovImage::normalZ, nullptr},
+     TINYEXR_PIXELTYPE_FLOAT},
+    {"colour",
+     4,
+     {"R", "G", "B", "A"},
+     {&AovImage::colorR, &AovImage::colorG, &AovImage::colorB, &AovImage::colorA},
+     TINYEXR_PIXELTYPE_HALF},
 };
 
 // One channel of the file being written.
 struct ExrPlane {
     const char* name;
-    int pixelType;  // TINYEXR_PIXELTYPE_*
+    int pixelType;  // TINYEXR_PIXELTYPE_* of `data`
     const void* data;
+    int filePixelType;  // ... stored in the file (tinyexr converts FLOAT to HALF)
 };
+
+// The PNG CRC (ISO 3309, as zlib's crc32) of a chunk's type and data.
+uint32_t pngCrc(const unsigned char* data, size_t size)
+{
+    static const std::array<uint32_t, 256> table = [] {
+        std::array<uint32_t, 256> t{};
+        for (uint32_t n = 0; n < 256; ++n) {
+            uint32_t c = n;
+            for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+            t[n] = c;
+        }
+        return t;
+    }();
+    uint32_t c = 0xffffffffu;
+    for (size_t i = 0; i < size; ++i) c = table[(c ^ data[i]) & 0xffu] ^ (c >> 8);
+    return c ^ 0xffffffffu;
+}
+
+void putBigEndian(std::vector<unsigned char>& out, uint32_t v)
+{
+    for (int shift = 24; shift >= 0; shift -= 8) out.push_back((v >> shift) & 0xffu);
+}
+
+// A tEXt value must be Latin-1 without NUL; device names are ASCII, anything else becomes '?'.
+std::string latin1Text(const std::string& text)
+{
+    std::string out = text;
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+    return out;
+}
+
+// One tEXt chunk: length, type, keyword, NUL, text, CRC.
+std::vector<unsigned char> pngTextChunk(const std::string& keyword, const std::string& text)
+{
+    std::vector<unsigned char> body = {'t', 'E', 'X', 't'};
+    body.insert(body.end(), keyword.begin(), keyword.end());
+    body.push_back(0);
+    const std::string value = latin1Text(text);
+    body.insert(body.end(), value.begin(), value.end());
+    std::vector<unsigned char> chunk;
+    putBigEndian(chunk, uint32_t(body.size() - 4));
+    chunk.insert(chunk.end(), body.begin(), body.end());
+    putBigEndian(chunk, pngCrc(body.data(), body.size()));
+    return chunk;
+}
+
+// The origin's (key, value) pairs that are set, in file order.
+std::vector<std::pair<const char*, std::string>> originFields(const ImageOrigin& origin)
+{
+    std::vector<std::pair<const char*, std::string>> fields;
+    if (!origin.backend.empty()) fields.push_back({kOriginBackendKey, origin.backend});
+    if (!origin.device.empty()) fields.push_back({kOriginDeviceKey, origin.device});
+    return fields;
+}
+
+void setOriginField(ImageOrigin& origin, const std::string& key, const std::string& value)
+{
+    if (key == kOriginBackendKey) origin.backend = value;
+    if (key == kOriginDeviceKey) origin.device = value;
+}
 
 // RGBA bytes, spelled out byte by byte so the file does not depend on the host's endianness.
 std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
@@ -89,15 +172,15 @@ std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
 
 }  // namespace
 
-Status writePng(const std::string& path, const RgbaImage& image)
+Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin)
 {
     SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
-    auto file = encodePng(image);
+    auto file = encodePng(image, origin);
     if (!file) return file.error();
     return writeFileAtomically(path, file->data(), file->size());
 }
 
-Result<std::vector<unsigned char>> encodePng(const RgbaImage& image)
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin)
 {
     SR_TRY(checkSize("a PNG in memory", image.width, image.height, image.pixels.size(), "the image"));
     const std::vector<unsigned char> bytes = rgbaBytes(image);
@@ -111,7 +194,47 @@ Result<std::vector<unsigned char>> encodePng(const RgbaImage& image)
                                 int(image.width * 4)))
         return makeError(ExitCode::Usage, "cannot encode a {}x{} PNG: stb_image_write failed", image.width,
                          image.height);
+    // The text chunks go right after IHDR (8 bytes of signature, then 25 of IHDR), before the pixels,
+    // so that readPngOrigin stops reading at the first IDAT.
+    constexpr size_t kAfterHeader = 8 + 25;
+    std::vector<unsigned char> text;
+    for (const auto& [key, value] : originFields(origin)) {
+        std::vector<unsigned char> chunk = pngTextChunk(key, value);
+        text.insert(text.end(), chunk.begin(), chunk.end());
+    }
+    if (file.size() >= kAfterHeader) file.insert(file.begin() + kAfterHeader, text.begin(), text.end());
     return file;
+}
+
+Result<ImageOrigin> readPngOrigin(const std::string& path)
+{
+    SR_TRY(checkReadable(path));
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), std::fclose);
+    if (!f) return makeError(ExitCode::Usage, "cannot read '{}': {}", path, std::strerror(errno));
+    static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char head[8];
+    if (std::fread(head, 1, 8, f.get()) != 8 || std::memcmp(head, kSignature, 8) != 0)
+        return makeError(ExitCode::Usage, "cannot read '{}': not a PNG file", path);
+    ImageOrigin origin;
+    // Chunks up to the first IDAT (text after the pixels is not ours); a file cut short has no origin.
+    for (;;) {
+        unsigned char header[8];
+        if (std::fread(header, 1, 8, f.get()) != 8) break;
+        const uint32_t length = uint32_t(header[0]) << 24 | uint32_t(header[1]) << 16 |
+                                uint32_t(header[2]) << 8 | uint32_t(header[3]);
+        const std::string type(reinterpret_cast<const char*>(header + 4), 4);
+        if (type == "IDAT" || type == "IEND") break;
+        if (type == "tEXt" && length <= 4096) {
+            std::string data(length, '\0');
+            if (std::fread(data.data(), 1, length, f.get()) != length) break;
+            const size_t nul = data.find('\0');
+            if (nul != std::string::npos) setOriginField(origin, data.substr(0, nul), data.substr(nul + 1));
+            if (std::fseek(f.get(), 4, SEEK_CUR) != 0) break;  // the CRC
+            continue;
+        }
+        if (std::fseek(f.get(), long(length) + 4, SEEK_CUR) != 0) break;
+    }
+    return origin;
 }
 
 Result<RgbaImage> readPng(const std::string& path)
@@ -132,13 +255,14 @@ Result<RgbaImage> readPng(const std::string& path)
     return image;
 }
 
-Status writeAovExr(const std::string& path, const AovImage& aov)
+Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin)
 {
     SR_TRY(checkSize(path, aov.width, aov.height, aov.id.size(), "the id channel"));
     SR_TRY(checkSize(path, aov.width, aov.height, aov.depth.size(), "the depth channel"));
-    std::vector<ExrPlane> planes = {{kDepthChannel, TINYEXR_PIXELTYPE_FLOAT, aov.depth.data()},
-                                    {kIdChannel, TINYEXR_PIXELTYPE_UINT, aov.id.data()}};
-    for (const SurfaceGroup& group : kSurfaceGroups) {
+    std::vector<ExrPlane> planes = {
+        {kDepthChannel, TINYEXR_PIXELTYPE_FLOAT, aov.depth.data(), TINYEXR_PIXELTYPE_FLOAT},
+        {kIdChannel, TINYEXR_PIXELTYPE_UINT, aov.id.data(), TINYEXR_PIXELTYPE_UINT}};
+    for (const ChannelGroup& group : kChannelGroups) {
         bool any = false;
         for (size_t c = 0; c < group.count; ++c) any = any || !(aov.*group.planes[c]).empty();
         if (!any) continue;  // not computed: the file keeps the layout it had without the group
@@ -146,7 +270,7 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
             const std::vector<float>& plane = aov.*group.planes[c];
             std::string what = fmt::format("the {} channel", group.names[c]);
             SR_TRY(checkSize(path, aov.width, aov.height, plane.size(), what.c_str()));
-            planes.push_back({group.names[c], TINYEXR_PIXELTYPE_FLOAT, plane.data()});
+            planes.push_back({group.names[c], TINYEXR_PIXELTYPE_FLOAT, plane.data(), group.filePixelType});
         }
     }
     if (aov.sampleId.size() != aov.sampleDepth.size())
@@ -158,27 +282,39 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
         SR_TRY(checkSize(path, aov.width, aov.height, aov.sampleId[k].size(), "a sample id channel"));
         SR_TRY(checkSize(path, aov.width, aov.height, aov.sampleDepth[k].size(), "a sample depth channel"));
         sampleNames.push_back(fmt::format("{}.s{}", kIdChannel, k));
-        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_UINT, aov.sampleId[k].data()});
+        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_UINT, aov.sampleId[k].data(),
+                          TINYEXR_PIXELTYPE_UINT});
         sampleNames.push_back(fmt::format("{}.s{}", kDepthChannel, k));
-        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_FLOAT, aov.sampleDepth[k].data()});
+        planes.push_back({sampleNames.back().c_str(), TINYEXR_PIXELTYPE_FLOAT, aov.sampleDepth[k].data(),
+                          TINYEXR_PIXELTYPE_FLOAT});
     }
-    // OpenEXR wants channels sorted by name (bytewise: "N.x" < "Z" < "bary.u" < "id" < "uv.u"). ZIP is
-    // lossless, so ids and float bits survive exactly.
+    // OpenEXR wants channels sorted by name (bytewise: "A" < "N.x" < "R" < "Z" < "bary.u" < "id" <
+    // "uv.u"). ZIP is lossless, so ids and float bits survive exactly.
     std::sort(planes.begin(), planes.end(),
               [](const ExrPlane& a, const ExrPlane& b) { return std::strcmp(a.name, b.name) < 0; });
 
     const size_t n = planes.size();
     std::vector<EXRChannelInfo> channels(n);
-    std::vector<int> pixelTypes(n);
+    std::vector<int> pixelTypes(n), requestedTypes(n);
     std::vector<unsigned char*> images(n);
     for (size_t c = 0; c < n; ++c) {
         channels[c] = {};
         std::strcpy(channels[c].name, planes[c].name);
         pixelTypes[c] = planes[c].pixelType;
+        requestedTypes[c] = planes[c].filePixelType;
         // tinyexr's image is not const, but saving only reads it.
         images[c] = static_cast<unsigned char*>(const_cast<void*>(planes[c].data));
     }
-    std::vector<int> requestedTypes = pixelTypes;
+    // The origin as string attributes (tinyexr writes custom attributes as given: name, type, bytes).
+    const auto fields = originFields(origin);
+    std::vector<EXRAttribute> attributes(fields.size());
+    for (size_t i = 0; i < fields.size(); ++i) {
+        attributes[i] = {};
+        std::strcpy(attributes[i].name, fields[i].first);
+        std::strcpy(attributes[i].type, "string");
+        attributes[i].value = reinterpret_cast<unsigned char*>(const_cast<char*>(fields[i].second.data()));
+        attributes[i].size = int(fields[i].second.size());
+    }
 
     EXRHeader header;
     InitEXRHeader(&header);
@@ -189,6 +325,8 @@ Status writeAovExr(const std::string& path, const AovImage& aov)
     header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
     header.data_window = {0, 0, int(aov.width) - 1, int(aov.height) - 1};
     header.display_window = header.data_window;
+    header.num_custom_attributes = int(attributes.size());
+    header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
 
     EXRImage image;
     InitEXRImage(&image);
@@ -241,15 +379,15 @@ Result<AovImage> readAovExr(const std::string& path)
         return fail("channel 'id' is not of type UINT");
     if (header.pixel_types[depthChannel] == TINYEXR_PIXELTYPE_UINT)
         return fail("channel 'Z' is not of type FLOAT or HALF");
-    // Surface groups: all channels of a group, or none (files from before them, or written without).
-    int surfaceChannels[std::size(kSurfaceGroups)][3] = {};
-    for (size_t g = 0; g < std::size(kSurfaceGroups); ++g) {
-        const SurfaceGroup& group = kSurfaceGroups[g];
+    // Optional groups: all channels of a group, or none (files from before them, or written without).
+    int groupChannels[std::size(kChannelGroups)][4] = {};
+    for (size_t g = 0; g < std::size(kChannelGroups); ++g) {
+        const ChannelGroup& group = kChannelGroups[g];
         const char* present = nullptr;
         const char* missing = nullptr;
         for (size_t c = 0; c < group.count; ++c) {
             int index = channelIndex(group.names[c]);
-            surfaceChannels[g][c] = index;
+            groupChannels[g][c] = index;
             if (index >= 0)
                 present = group.names[c];
             else
@@ -290,10 +428,10 @@ Result<AovImage> readAovExr(const std::string& path)
     aov.depth.resize(count);
     std::memcpy(aov.id.data(), image.images[idChannel], count * sizeof(uint32_t));
     std::memcpy(aov.depth.data(), image.images[depthChannel], count * sizeof(float));
-    for (size_t g = 0; g < std::size(kSurfaceGroups); ++g) {
-        const SurfaceGroup& group = kSurfaceGroups[g];
+    for (size_t g = 0; g < std::size(kChannelGroups); ++g) {
+        const ChannelGroup& group = kChannelGroups[g];
         for (size_t c = 0; c < group.count; ++c) {
-            int index = surfaceChannels[g][c];
+            int index = groupChannels[g][c];
             if (index < 0) continue;
             std::vector<float>& plane = aov.*group.planes[c];
             plane.resize(count);
@@ -307,6 +445,53 @@ Result<AovImage> readAovExr(const std::string& path)
         std::memcpy(aov.sampleDepth.back().data(), image.images[depth], count * sizeof(float));
     }
     return aov;
+}
+
+Result<ImageOrigin> readExrOrigin(const std::string& path)
+{
+    SR_TRY(checkReadable(path));
+    EXRVersion version;
+    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS)
+        return makeError(ExitCode::Usage, "cannot read '{}': not an OpenEXR file", path);
+    if (version.multipart || version.non_image) return ImageOrigin{};
+    EXRHeader header;
+    InitEXRHeader(&header);
+    const char* err = nullptr;
+    int rc = ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err);
+    if (rc != TINYEXR_SUCCESS)
+        return makeError(ExitCode::Usage, "cannot read '{}': {}", path, takeExrError(err, rc));
+    ExrHeaderGuard headerGuard{&header};
+    ImageOrigin origin;
+    for (int i = 0; i < header.num_custom_attributes; ++i) {
+        const EXRAttribute& a = header.custom_attributes[i];
+        if (std::strcmp(a.type, "string") != 0 || a.size < 0 || !a.value) continue;
+        setOriginField(origin, a.name, std::string(reinterpret_cast<const char*>(a.value), size_t(a.size)));
+    }
+    return origin;
+}
+
+float srgbCodeToLinear(uint32_t code)
+{
+    const double c = std::min(code, 255u) / 255.0;
+    return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+
+void linearColorAov(const RgbaImage& image, AovImage& aov)
+{
+    static const std::array<float, 256> decode = [] {
+        std::array<float, 256> t{};
+        for (uint32_t b = 0; b < 256; ++b) t[b] = srgbCodeToLinear(b);
+        return t;
+    }();
+    const size_t n = image.pixels.size();
+    for (auto* plane : {&aov.colorR, &aov.colorG, &aov.colorB, &aov.colorA}) plane->resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t p = image.pixels[i];
+        aov.colorR[i] = decode[p & 0xffu];
+        aov.colorG[i] = decode[(p >> 8) & 0xffu];
+        aov.colorB[i] = decode[(p >> 16) & 0xffu];
+        aov.colorA[i] = float(p >> 24) / 255.0f;  // alpha is linear coverage, never sRGB-encoded
+    }
 }
 
 }  // namespace sr

@@ -3,8 +3,9 @@
 // PNG: 8-bit RGBA through stb (Debian's libstb). EXR: through tinyexr, with a UINT channel `id`
 // (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window depth, 1.0 background),
 // plus, when the renderer was asked for them (RenderSettings::surfaceAovs), the FLOAT surface channels
-// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background), and with
-// anti-aliasing and --aov-samples every sample's `id.s<k>` and `Z.s<k>`.
+// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background), the HALF
+// colour channels `R`, `G`, `B`, `A` (linear), and with anti-aliasing and --aov-samples every sample's
+// `id.s<k>` and `Z.s<k>`. Both formats carry an ImageOrigin: PNG tEXt chunks, EXR string attributes.
 #ifndef RASTER_IMAGE_IO_H
 #define RASTER_IMAGE_IO_H
 
@@ -36,6 +37,9 @@ struct AovImage {
     std::vector<float> uvU, uvV;
     // EXR `N.x`, `N.y`, `N.z`: unit view-space shading normal, facing the viewer.
     std::vector<float> normalX, normalY, normalZ;
+    // EXR `R`, `G`, `B`, `A` (HALF in the file): the frame's linear colour, as linearColorAov decodes it
+    // from the 8-bit sRGB image (the pipeline keeps no other copy of it).
+    std::vector<float> colorR, colorG, colorB, colorA;
 
     // EXR `id.s<k>` (UINT) and `Z.s<k>` (FLOAT), written only when asked for (--aov-samples): the id and
     // depth of every sample of the pixel, k = (j * ssaa + i) * msaa + s for sample s of raster pixel
@@ -46,17 +50,41 @@ struct AovImage {
     bool hasBary() const { return !baryU.empty(); }
     bool hasUv() const { return !uvU.empty(); }
     bool hasNormal() const { return !normalX.empty(); }
+    bool hasColor() const { return !colorR.empty(); }
 };
 
-Status writePng(const std::string& path, const RgbaImage& image);
+// Which backend and device made an image, so that `raster compare` can apply the tolerance documented for
+// the pair (io/compare.h). Written as PNG tEXt chunks and EXR string attributes named kOriginBackendKey
+// and kOriginDeviceKey; empty fields are not written, and read back empty where a file has none.
+struct ImageOrigin {
+    std::string backend;  // "cuda", "vulkan" or "vulkan-graphics"
+    std::string device;   // the device's name as its API reports it
+    bool empty() const { return backend.empty() && device.empty(); }
+};
+constexpr const char* kOriginBackendKey = "raster:backend";
+constexpr const char* kOriginDeviceKey = "raster:device";
+
+Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin = {});
 // The bytes writePng writes, in memory (`raster batch` encodes on its I/O threads and times the write
 // apart).
-Result<std::vector<unsigned char>> encodePng(const RgbaImage& image);
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin = {});
 Result<RgbaImage> readPng(const std::string& path);  // any PNG, expanded to RGBA8
-Status writeAovExr(const std::string& path, const AovImage& aov);
-// Needs the `id` and `Z` channels; reads each surface group whose channels are all present, and fails
-// on a group with only some of them (a file cut short or renamed by another tool).
+// The origin a PNG's tEXt chunks record (empty fields for a PNG without them).
+Result<ImageOrigin> readPngOrigin(const std::string& path);
+Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin = {});
+// Needs the `id` and `Z` channels; reads each surface and colour group whose channels are all present,
+// and fails on a group with only some of them (a file cut short or renamed by another tool).
 Result<AovImage> readAovExr(const std::string& path);
+// The origin an EXR's header attributes record (empty fields for a file without them).
+Result<ImageOrigin> readExrOrigin(const std::string& path);
+
+// The linear value of each 8-bit sRGB code (the exact inverse transfer function, in double, rounded to
+// float once): what linearColorAov stores.
+float srgbCodeToLinear(uint32_t code);
+// Fills `aov`'s colour channels from the sRGB image: each 8-bit code decoded exactly (srgbCodeToLinear),
+// alpha as code / 255. Encoding a value back with the shaders' linearToSrgb gives the same code, so the
+// EXR's colour is the PNG's, in linear light, to the precision of the 8-bit image.
+void linearColorAov(const RgbaImage& image, AovImage& aov);
 
 }  // namespace sr
 

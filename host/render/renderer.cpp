@@ -412,6 +412,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     SR_TRY(checkRenderInputs(*scene_, settings));
     FrameState f;
     f.out.device = device_->info();
+    f.out.camera = camera;
     SR_TRY(sizeFrame(settings, f));
     SR_TRY(draw(camera, settings, f));
     drawn_ = true;

@@ -74,6 +74,9 @@ struct RenderStats {
     uint64_t tessCulled = 0;     // scene triangles it culled before refining
     uint32_t redraws = 0;        // frames redrawn after growing an overflowing list or for a skipped stage
     ListCapacities capacities;   // final capacities of the lists
+    // Whether the counts after the inputs (culled, clipped, rasterized, ...) were measured: false for
+    // vulkan-graphics, whose fixed-function stages count nothing we read back; reports then say "n/a".
+    bool pipelineCounts = true;
 };
 
 // Every sample of a frame (RenderSettings::aovSamples). The raster grid is rasterWidth x rasterHeight
@@ -107,6 +110,7 @@ struct RenderOutput {
     size_t peakDeviceBytes = 0;
     DeviceInfo device;
     RasterParams params{};
+    CameraMatrices camera;  // the camera the frame was drawn with (--stats records it)
 };
 
 // The checks every backend makes on its inputs (sizes, repeat count, scene limits), one line each.

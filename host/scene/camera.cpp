@@ -190,7 +190,7 @@ Result<CameraSpec> parseCameraSpec(const std::string& text)
     auto invalid = [&]() {
         return makeError(ExitCode::Usage,
                          "invalid --camera '{}': expected auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] "
-                         "(DIST > 0)",
+                         "(DIST > 0: scene units, or Nr for N bounding radii)",
                          text);
     };
     CameraSpec spec;
@@ -207,6 +207,10 @@ Result<CameraSpec> parseCameraSpec(const std::string& text)
         OrbitPose& pose = spec.orbit;
         float* fields[] = {&pose.azimuthDeg,     &pose.elevationDeg,   &pose.distance,
                            &pose.targetOffset.x, &pose.targetOffset.y, &pose.targetOffset.z};
+        if (!parts[2].empty() && parts[2].back() == 'r') {
+            spec.distanceInRadii = true;
+            parts[2].pop_back();
+        }
         for (size_t i = 0; i < parts.size(); ++i)
             if (!parseFloat(parts[i], *fields[i])) return invalid();
         if (!(pose.distance > 0.0f)) return invalid();
@@ -264,6 +268,47 @@ CameraMatrices withModel(const CameraMatrices& camera, const ModelTransform& mod
     return m;
 }
 
+OrbitPose orbitPoseOf(const CameraSpec& spec, const BoundingSphere& sphere)
+{
+    OrbitPose pose = spec.orbit;
+    if (spec.distanceInRadii) pose.distance *= sphere.radius;
+    return pose;
+}
+
+std::string resolvedCameraSpec(const CameraSpec& spec, const Scene& scene, unsigned width, unsigned height)
+{
+    switch (spec.kind) {
+    case CameraSpec::Kind::Gltf: return fmt::format("gltf:{}", spec.gltfIndex);
+    case CameraSpec::Kind::Orbit: return orbitSpecString(orbitPoseOf(spec, boundingSphere(scene)));
+    case CameraSpec::Kind::Auto: break;
+    }
+    return orbitSpecString(autoOrbitPose(boundingSphere(scene), width, height));
+}
+
+double windingNumber(const Scene& scene, const glm::vec3& point)
+{
+    // Van Oosterom and Strackee's solid angle of each triangle seen from the point, in double.
+    double sum = 0.0;
+    for (size_t t = 0; t + 2 < scene.indices.size(); t += 3) {
+        const glm::dvec3 a = glm::dvec3(glm::vec3(scene.positions[scene.indices[t]])) - glm::dvec3(point);
+        const glm::dvec3 b = glm::dvec3(glm::vec3(scene.positions[scene.indices[t + 1]])) - glm::dvec3(point);
+        const glm::dvec3 c = glm::dvec3(glm::vec3(scene.positions[scene.indices[t + 2]])) - glm::dvec3(point);
+        const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+        const double det = glm::dot(a, glm::cross(b, c));
+        const double div = la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb;
+        sum += 2.0 * std::atan2(det, div);
+    }
+    return sum / (4.0 * 3.14159265358979323846);
+}
+
+bool eyeInsideScene(const Scene& scene, const CameraMatrices& camera)
+{
+    const glm::vec3 eye(glm::inverse(camera.viewFromWorld)[3]);
+    if (glm::any(glm::lessThan(eye, scene.boundsMin)) || glm::any(glm::greaterThan(eye, scene.boundsMax)))
+        return false;
+    return windingNumber(scene, eye) > 0.5;
+}
+
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
                                      unsigned height, const ModelTransform& model)
 {
@@ -294,7 +339,7 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
     }
 
     if (spec.kind == CameraSpec::Kind::Orbit)
-        return orbitCameraMatrices(spec.orbit, sphere, width, height, model);
+        return orbitCameraMatrices(orbitPoseOf(spec, sphere), sphere, width, height, model);
     return orbitCameraMatrices(autoOrbitPose(sphere, width, height), sphere, width, height, model);
 }
 

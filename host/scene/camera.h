@@ -36,10 +36,14 @@ struct CameraSpec {
     Kind kind = Kind::Auto;
     int gltfIndex = 0;  // Kind::Gltf: index into Scene::cameras
     OrbitPose orbit;    // Kind::Orbit
+    // Kind::Orbit with DIST written "Nr" ("orbit:30,20,2.5r"): orbit.distance is N bounding-sphere radii
+    // of the scene, not scene units, so one spec frames models of any size (orbitPoseOf resolves it).
+    bool distanceInRadii = false;
 };
 
-// Parses "auto", "gltf:N" or "orbit:AZ,EL,DIST[,TX,TY,TZ]" (TX,TY,TZ: OrbitPose::targetOffset, zero when
-// left out); a malformed spec is a one-line error.
+// Parses "auto", "gltf:N" or "orbit:AZ,EL,DIST[,TX,TY,TZ]" (DIST in scene units, or "Nr": N bounding
+// radii; TX,TY,TZ: OrbitPose::targetOffset in scene units, zero when left out); a malformed spec is a
+// one-line error.
 Result<CameraSpec> parseCameraSpec(const std::string& text);
 
 // The spec of `pose`, "orbit:AZ,EL,DIST" with ",TX,TY,TZ" when the offset is not zero, each number in
@@ -128,6 +132,25 @@ CameraMatrices orbitCameraMatrices(const OrbitPose& pose, const BoundingSphere& 
 // worldFromModel, the projection and depth range the camera's own (a glTF camera's planes, explicit
 // matrices). The identity returns `camera` unchanged.
 CameraMatrices withModel(const CameraMatrices& camera, const ModelTransform& model, const glm::vec3& center);
+
+// The pose of an orbit spec around `sphere`: its own, with a distance in radii multiplied by the radius.
+OrbitPose orbitPoseOf(const CameraSpec& spec, const BoundingSphere& sphere);
+
+// The spec that gives the same camera in absolute terms: auto and orbit specs as the exact
+// orbitSpecString of their pose in scene units (the auto pose for a width x height image, a distance in
+// radii resolved), gltf:N unchanged.
+std::string resolvedCameraSpec(const CameraSpec& spec, const Scene& scene, unsigned width, unsigned height);
+
+// The generalized winding number of the scene's triangles around `point` (Jacobson, Kavan and
+// Sorkine-Hornung 2013: the signed solid angle they subtend, over 4 pi): 1 inside a closed mesh whose
+// triangles face outwards, 0 outside it, in between near holes; -1 inside a room whose walls face in.
+double windingNumber(const Scene& scene, const glm::vec3& point);
+
+// Whether the camera's eye is inside the scene's geometry, where every view direction meets the inside
+// of a surface (back faces: culled, or an image of the wrong side): the eye inside the bounds and the
+// winding number around it above 1/2. The box test first, so a camera outside costs nothing; inside
+// it, one pass over the triangles.
+bool eyeInsideScene(const Scene& scene, const CameraMatrices& camera);
 
 // Resolves the spec against the scene moved by `model`: auto is autoOrbitPose, orbit its pose (both
 // through orbitCameraMatrices; auto frames the scene as loaded), gltf:N the scene's camera N (error if

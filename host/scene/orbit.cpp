@@ -16,7 +16,10 @@ Result<OrbitCamera> OrbitCamera::fromSpec(const CameraSpec& spec, const Scene& s
 {
     switch (spec.kind) {
     case CameraSpec::Kind::Auto: return OrbitCamera(scene, width, height);
-    case CameraSpec::Kind::Orbit: return OrbitCamera(boundingSphere(scene), spec.orbit);
+    case CameraSpec::Kind::Orbit: {
+        const BoundingSphere sphere = boundingSphere(scene);
+        return OrbitCamera(sphere, orbitPoseOf(spec, sphere));
+    }
     case CameraSpec::Kind::Gltf: break;
     }
     return makeError(ExitCode::Usage,

@@ -110,9 +110,9 @@ std::vector<Setting> makeSchema()
                             "image height in pixels"));
     t.push_back(make(
         "image", "camera", SettingType::Camera,
-        "auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] (degrees, scene units; TX,TY,TZ: the target's offset "
-        "from the "
-        "bounds centre)",
+        "auto, gltf:N or orbit:AZ,EL,DIST[,TX,TY,TZ] (degrees; DIST in scene units, or Nr: N radii of the "
+        "bounds' sphere, e.g. orbit:30,20,2.5r; TX,TY,TZ: the target's offset from the bounds centre, scene "
+        "units)",
         [](const RenderOptions& o) { return json(o.camera); },
         [](RenderOptions& o, const json& v) { o.camera = v.get<std::string>(); }));
     t.push_back(make(

@@ -1508,6 +1508,8 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
     out.stats.trianglesIn = scene.triangleCount();
     out.stats.linesIn = scene.lineCount();
     out.stats.pointsIn = scene.pointCount();
+    out.stats.pipelineCounts = false;
+    out.camera = camera;
     // No device memory is freed before the render ends, so the render's own adds to the context's peak.
     out.peakDeviceBytes = context.peakAllocatedBytes() + render.ownDeviceBytes();
     return out;

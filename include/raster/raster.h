@@ -218,7 +218,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// How the scene is seen: a `--camera` spec ("auto", "gltf:N", "orbit:AZ,EL,DIST[,TX,TY,TZ]"), or
+// How the scene is seen: a `--camera` spec ("auto", "gltf:N", "orbit:AZ,EL,DIST[,TX,TY,TZ]", DIST in
+// scene units or "Nr", N radii of the bounds' sphere), or
 // explicit view and projection matrices (column-major 4x4: element (row r, column c) at index 4 c + r)
 // in Vulkan's clip conventions, as the pipeline's own cameras: depth 0..1 with the near plane at 0, and
 // NDC y = -1 the top row of the image (glm::perspective's matrix needs its y row negated and its depth

@@ -52,6 +52,16 @@ def test_frame_arrays_shapes_dtypes_and_rows_match_the_cli_png(vulkan, tmp_path)
     assert frame.stats["resolution"] == [W, H] and frame.stats["backend"] == "vulkan"
 
 
+def test_camera_distance_in_bounding_radii_matches_the_cli(vulkan, tmp_path):
+    # "2.5r": 2.5 radii of the scene's bounding sphere, resolved as `raster render --camera` resolves it.
+    frame = vulkan.render(raster.Scene.load("builtin"), W, H, "orbit:30,20,2.5r", msaa=1)
+    png = tmp_path / "cli.png"
+    run_cli("render", "builtin", "--backend", "vulkan", "--width", W, "--height", H, "--camera", "orbit:30,20,2.5r",
+            "--msaa", 1, "--warmup", 0, "-q", "-o", png)
+    np.testing.assert_array_equal(frame.color, read_png(png))
+    assert frame.stats["camera"]["spec"] == "orbit:30,20,2.5r"
+
+
 def test_rows_from_the_top_with_explicit_matrices(vulkan):
     # A triangle in the upper half of NDC (y < 0 is up in Vulkan's clip space) covers only top rows.
     pos = np.array([[-0.5, -0.9, 0.5], [0.5, -0.9, 0.5], [0.0, -0.2, 0.5]], np.float32)
