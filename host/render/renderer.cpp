@@ -157,7 +157,7 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.lightDirView = glm::vec4(l, 0.0f);
     p.lightColor = glm::vec4(s.lightColor, s.ambient);
     p.background = glm::vec4(s.background, 1.0f);
-    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, 0.0f);
+    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, s.specular);
     // The raster grid: the output resolution times the SSAA factor per side.
     p.width = s.width * s.ssaa;
     p.height = s.height * s.ssaa;
