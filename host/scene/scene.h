@@ -9,6 +9,7 @@
 #define RASTER_SCENE_H
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,10 @@ struct Scene {
     uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
     uint64_t droppedLines = 0;                   // segments dropped by the loader (warned about once)
     uint64_t droppedPoints = 0;                  // points dropped by the loader (warned about once)
+    // Set on a scene displayScene derived (lines or points mode, the wireframe overlay): the scene it
+    // came from and how, so that a tessellated frame draws the display form of the tessellated mesh
+    // (tessellatedDisplay, render/renderer.h) rather than that of the scene's own triangles.
+    std::shared_ptr<const DisplayForm> display;
 
     size_t vertexCount() const { return positions.size(); }
     size_t triangleCount() const { return indices.size() / 3; }
