@@ -220,7 +220,8 @@ struct RasterParams {
     vec4 lightDirView;      // xyz: unit vector towards the light, view space
     vec4 lightColor;        // rgb: directional light colour; a: ambient intensity
     vec4 background;        // rgb: linear background colour
-    vec4 shadeExtra;        // x: specular exponent; y, z: view distances mapped to white/black in depth view
+    vec4 shadeExtra;        // x: specular exponent; y, z: view distances mapped to white/black in depth
+                            // view; w: specular strength (the highlight's peak as a fraction of the light)
     vec4 guardBand;         // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
     uint width;             // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
     uint height;            // framebuffer height in pixels
@@ -262,15 +263,21 @@ struct RasterParams {
     uint tessBlocks;           // scan blocks of scene triangles: ceil(tessSourceTriangles / SCAN_GROUP_SIZE)
 };
 
-// A glTF metallic-roughness material as far as the pipeline uses it: base colour and alpha. 64 bytes.
+// A glTF metallic-roughness material as far as the pipeline uses it: base colour, alpha and emission.
+// 96 bytes.
 struct GpuMaterial {
     vec4 baseColorFactor;   // linear RGBA, multiplies the texture and the vertex colour
     vec4 uvTransformU;      // u' = x u + y v + z (KHR_texture_transform; identity when absent), w unused
     vec4 uvTransformV;      // v' = x u + y v + z
+    vec4 emissive;          // rgb: linear emitted colour (emissiveFactor x emissive strength), w unused
     uint baseColorTexture;  // index into BUF_TEXTURES, NO_TEXTURE when none
     uint texCoord;          // 0: TEXCOORD_0, 1: TEXCOORD_1 (BUF_TEXCOORDS .xy or .zw)
     uint alphaMode;         // ALPHA_OPAQUE or ALPHA_MASK (BLEND is drawn as OPAQUE)
     float alphaCutoff;      // MASK: covered where alpha >= alphaCutoff
+    uint emissiveTexture;   // index into BUF_TEXTURES (multiplies `emissive`), NO_TEXTURE when none
+    uint emissiveTexCoord;  // its coordinate set, as texCoord (no texture transform)
+    uint pad0;
+    uint pad1;
 };
 
 // One texture: its levels in BUF_TEXELS and its sampler. Level k is max(1, width >> k) x
@@ -307,7 +314,7 @@ struct TessSource {
 #if defined(__cplusplus)
 static_assert(sizeof(TessSource) == 16, "TessSource must match std430");
 static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 36 * 4, "RasterParams must match std140");
-static_assert(sizeof(GpuMaterial) == 64, "GpuMaterial must match std430");
+static_assert(sizeof(GpuMaterial) == 96, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
 #endif

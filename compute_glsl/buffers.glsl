@@ -175,6 +175,25 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
     return base * sampleTexture(t, uv, lambda);
 }
 
+// Emitted colour (linear: emissive factor x emissive texture) of triangle `id` at the surface point s;
+// zero without materials or with a zero factor (the texture is then not read).
+vec3 materialEmissive(uint id, uint i0, uint i1, uint i2, SurfacePoint s)
+{
+    if (params.materialCount == 0u) return vec3(0.0f);
+    GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
+    vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
+    if (m.emissiveTexture >= params.textureCount || e == vec3(0.0f)) return e;
+    bool second = m.emissiveTexCoord != 0u;
+    vec4 t0 = texcoords[i0], t1 = texcoords[i1], t2 = texcoords[i2];
+    vec2 dx, dy;
+    vec2 uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
+                        second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y),
+                        second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y), dx, dy);
+    GpuTexture t = textures[m.emissiveTexture];
+    vec4 texel = sampleTexture(t, uv, textureLambda(dx, dy, t.width, t.height));
+    return e * vec3(texel.x, texel.y, texel.z);
+}
+
 // Base colour (linear RGBA: vertex colour x material factor; points take no texture) of point primitive
 // `id`.
 vec4 pointBaseColor(uint id)

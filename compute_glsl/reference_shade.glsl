@@ -47,6 +47,7 @@ vec3 referenceShade(uint id)
     vec4 tcDx = dFdx(tc), tcDy = dFdy(tc);
     vec2 uv = vec2(0.0f);
     float lambda = -128.0f;  // materialBaseColor's value without a texture
+    vec3 emissive = vec3(0.0f);
     if (params.materialCount > 0u) {
         GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
         base = base * m.baseColorFactor;
@@ -74,8 +75,21 @@ vec3 referenceShade(uint id)
         // As the compute pipeline's visibility stages: a masked triangle covers no pixel whose alpha is
         // below the cutoff, so the cut-out shows in the id and depth images too.
         if ((triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u && base.w < m.alphaCutoff) discard;
+        // Emission, as materialEmissive: the factor times the emissive texture, sampled by the hardware
+        // like the base colour (its own coordinate set, no texture transform).
+        emissive = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
+        if (m.emissiveTexture < params.textureCount && emissive != vec3(0.0f)) {
+            bool second = m.emissiveTexCoord != 0u;
+            vec2 euv = second ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y);
+            vec2 dx = second ? vec2(tcDx.z, tcDx.w) : vec2(tcDx.x, tcDx.y);
+            vec2 dy = second ? vec2(tcDy.z, tcDy.w) : vec2(tcDy.x, tcDy.y);
+            vec4 texel = vec4(1.0f);
+            for (uint k = 0u; k < kTextureSlots; ++k)
+                if (k == m.emissiveTexture) texel = textureGrad(baseTextures[k], euv, dx, dy);
+            emissive = emissive * vec3(texel.x, texel.y, texel.z);
+        }
     }
-    return shadeSurface(params, id, s, base, uv, lambda);
+    return shadeSurface(params, id, s, base, emissive, uv, lambda);
 }
 
 #endif  // RASTER_REFERENCE_SHADE_GLSL

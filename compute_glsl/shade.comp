@@ -35,7 +35,7 @@ vec3 shadePrimitive(uint id, int x, int y)
     vec2 uv;
     float lambda;
     vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
-    return shadeSurface(params, id, s, base, uv, lambda);
+    return shadeSurface(params, id, s, base, materialEmissive(id, i0, i1, i2, s), uv, lambda);
 }
 
 void main()

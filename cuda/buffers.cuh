@@ -179,6 +179,26 @@ __device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffe
     return base * sampleTexture(params, b, t, uv, lambda);
 }
 
+// Emitted colour (linear: emissive factor x emissive texture) of triangle `id` at the surface point s;
+// zero without materials or with a zero factor (the texture is then not read).
+__device__ inline vec3 materialEmissive(const RasterParams& params, const Buffers& b, uint id, uint i0, uint i1,
+                                        uint i2, const SurfacePoint& s)
+{
+    if (params.materialCount == 0u) return vec3(0.0f);
+    GpuMaterial m = b.materials[min(b.triMaterials[id], params.materialCount - 1u)];
+    vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
+    if (m.emissiveTexture >= params.textureCount || (e.x == 0.0f && e.y == 0.0f && e.z == 0.0f)) return e;
+    bool second = m.emissiveTexCoord != 0u;
+    vec4 t0 = b.texcoords[i0], t1 = b.texcoords[i1], t2 = b.texcoords[i2];
+    vec2 dx, dy;
+    vec2 uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
+                        second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y), second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y),
+                        dx, dy);
+    GpuTexture t = b.textures[m.emissiveTexture];
+    vec4 texel = sampleTexture(params, b, t, uv, textureLambda(dx, dy, t.width, t.height));
+    return e * vec3(texel.x, texel.y, texel.z);
+}
+
 // Base colour (linear RGBA: vertex colour x material factor; points take no texture) of point primitive
 // `id`.
 __device__ inline vec4 pointBaseColor(const RasterParams& params, const Buffers& b, uint id)

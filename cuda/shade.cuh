@@ -26,7 +26,7 @@ __device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers&
     vec2 uv;
     float lambda;
     vec4 base = materialBaseColor(params, b, id, i0, i1, i2, s, uv, lambda);
-    return shadeSurface(params, id, s, base, uv, lambda);
+    return shadeSurface(params, id, s, base, materialEmissive(params, b, id, i0, i1, i2, s), uv, lambda);
 }
 
 // One build per sample count (RasterParams.sampleCount), so that a raster pixel's ids sit in registers

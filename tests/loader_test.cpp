@@ -544,7 +544,7 @@ TEST(GltfLoader, VertexColoursAndBaseColorFactorMaterials)
     ASSERT_EQ(scene->materials.size(), 3u);
     EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0, 1, 1, 2}));
     EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(0.5f, 1, 1, 1)));
-    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(1, 1, 1, 1)));
+    EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(glm::vec3(kDefaultAlbedo), 1)));
     EXPECT_TRUE(near(scene->materials[2].baseColorFactor, glm::vec4(0.2f, 0.4f, 0.6f, 1)));
     for (const SceneMaterial& m : scene->materials) {
         EXPECT_EQ(m.baseColorTexture, -1);
@@ -750,8 +750,10 @@ TEST(GltfLoader, LineModesBecomeSegments)
     EXPECT_EQ(loop->triangleCount(), 0u);
     ASSERT_EQ(loop->lineCount(), 3u);
     EXPECT_TRUE(segmentIs(*loop, 2, {0, 1, 3}, {0, 0, 0}));
-    EXPECT_TRUE(loop->materials.empty());
-    EXPECT_TRUE(loop->lineMaterials.empty());
+    // No material: the default one, for every segment.
+    ASSERT_EQ(loop->materials.size(), 1u);
+    EXPECT_EQ(loop->materials[0].name, "default");
+    EXPECT_EQ(loop->lineMaterials, (std::vector<uint32_t>{0, 0, 0}));
     EXPECT_TRUE(loop->colors.empty());
     EXPECT_TRUE(near(loop->boundsMax, glm::vec3(1, 1, 3)));
 
@@ -1463,11 +1465,11 @@ TEST(GltfTextures, BlendAndUnsupportedTexturesWarnOncePerFile)
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(occurrences(warnings, "warning: " + path + ": alphaMode BLEND drawn as opaque\n"), 1u)
         << warnings;
-    for (const char* name :
-         {"normalTexture", "occlusionTexture", "emissiveTexture", "metallicRoughnessTexture"})
+    for (const char* name : {"normalTexture", "occlusionTexture", "metallicRoughnessTexture"})
         EXPECT_EQ(occurrences(warnings, std::string(name) + " ignored (only base colour is supported)"), 1u)
             << name << ": " << warnings;
-    // Images are decoded only for base colour textures: the missing file is never mentioned.
+    // Images are decoded only for base colour textures and the emissive textures of emissive materials
+    // (this one's emissiveFactor is glTF's default 0): the missing file is never mentioned.
     EXPECT_EQ(warnings.find("never_loaded"), std::string::npos) << warnings;
     ASSERT_EQ(scene->materials.size(), 2u);  // alpha 0.5 in the factor: not the default material
     EXPECT_EQ(scene->materials[0].alphaMode, ALPHA_OPAQUE);
@@ -2003,7 +2005,7 @@ TEST(ObjLoader, MaterialsTexturesAndFlippedV)
     ASSERT_EQ(scene->materials.size(), 5u);
     EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0, 1, 1, 2, 3, 4}));
     EXPECT_EQ(scene->materials[0].baseColorTexture, -1);
-    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(1, 1, 1, 1)));
+    EXPECT_TRUE(near(scene->materials[0].baseColorFactor, glm::vec4(glm::vec3(kDefaultAlbedo), 1)));
     EXPECT_EQ(scene->materials[1].name, "wood");
     EXPECT_TRUE(near(scene->materials[1].baseColorFactor, glm::vec4(0.5f, 0.5f, 0.5f, 1)));
     EXPECT_TRUE(near(scene->materials[2].baseColorFactor, glm::vec4(1, 0, 0, 1)));
@@ -2029,7 +2031,7 @@ TEST(ObjLoader, MaterialsTexturesAndFlippedV)
     EXPECT_TRUE(near(uv(2, 2), glm::vec4(0.25f, 0.25f, 0, 0)));
 }
 
-TEST(ObjLoader, MissingMtlWarnsOnceAndLeavesNoMaterials)
+TEST(ObjLoader, MissingMtlWarnsOnceAndLeavesTheDefaultMaterial)
 {
     test::ScratchDir dir("sr_loader");
     std::string path = dir.file("nomtl.obj");
@@ -2042,8 +2044,10 @@ TEST(ObjLoader, MissingMtlWarnsOnceAndLeavesNoMaterials)
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     EXPECT_EQ(occurrences(warnings, "warning: "), 1u) << warnings;
     EXPECT_NE(warnings.find("absent.mtl"), std::string::npos) << warnings;
-    EXPECT_TRUE(scene->materials.empty());
-    EXPECT_TRUE(scene->triMaterials.empty());
+    // `usemtl x` names nothing: the face gets the default material.
+    ASSERT_EQ(scene->materials.size(), 1u);
+    EXPECT_EQ(scene->materials[0].name, "default");
+    EXPECT_EQ(scene->triMaterials, (std::vector<uint32_t>{0}));
     EXPECT_TRUE(scene->texcoords.empty());
 }
 
@@ -2119,9 +2123,9 @@ TEST(ObjLoader, BadPointsAreDropped)
     EXPECT_TRUE(near(glm::vec3(scene->positions[scene->points[1]]), glm::vec3(1, 1, 1)));
     ASSERT_EQ(scene->lineCount(), 1u);
     EXPECT_TRUE(segmentIs(*scene, 0, {0, 0, 0}, {1, 1, 1}));
-    EXPECT_TRUE(scene->materials.empty());
-    EXPECT_TRUE(scene->pointMaterials.empty());
-    EXPECT_TRUE(scene->lineMaterials.empty());
+    ASSERT_EQ(scene->materials.size(), 1u);  // the default one
+    EXPECT_EQ(scene->pointMaterials, (std::vector<uint32_t>{0, 0}));
+    EXPECT_EQ(scene->lineMaterials, (std::vector<uint32_t>{0}));
     EXPECT_TRUE(near(scene->boundsMax, glm::vec3(1, 1, 1)));
 }
 

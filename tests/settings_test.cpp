@@ -193,6 +193,7 @@ TEST(SettingsSchema, RenderArgumentsParseBackToTheSameSettings)
         {"light-dir", "1,0.5,-0.25"},
         {"light-color", "2,1,0"},
         {"ambient", "0.5"},
+        {"specular", "0.75"},
         {"background", "0.1,0.2,0.3"},
         {"texture-filter", "nearest"},
         {"uv-interpolation", "affine"},

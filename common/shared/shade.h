@@ -109,18 +109,24 @@ SR_FN vec3 idColor(uint id)
 }
 
 // Lambert, Phong and Blinn-Phong with one directional light plus ambient, in view space.
-// n: unit normal facing the viewer; v: unit vector towards the eye; l: unit vector towards the light.
-SR_FN vec3 shadeLight(uint mode, vec3 albedo, vec3 n, vec3 v, vec3 l, vec4 lightColor, float specPower)
+// n: unit normal facing the viewer; v: unit vector towards the eye; l: unit vector towards the light;
+// lightColor: rgb the light, a the ambient intensity. The colour is
+//   albedo (ambient + max(n.l, 0) light) + specStrength light lobe,
+// the lobe pow(r.v, specPower) (Phong) or pow(n.h, specPower) (Blinn-Phong), at most 1. A white surface
+// (albedo 1) therefore peaks at ambient + light (1 + specStrength): the default lighting
+// (render_settings.h) keeps that at 1, the display's white, so a lit surface never clips.
+SR_FN vec3 shadeLight(uint mode, vec3 albedo, vec3 n, vec3 v, vec3 l, vec4 lightColor, float specPower,
+                      float specStrength)
 {
     vec3 light = vec3(lightColor.x, lightColor.y, lightColor.z);
     float ndotl = max(dot(n, l), 0.0f);
     vec3 color = albedo * (lightColor.w + ndotl * light);
     if (ndotl > 0.0f && mode == SHADING_PHONG) {
         vec3 r = 2.0f * dot(n, l) * n - l;
-        color += light * pow(max(dot(r, v), 0.0f), specPower) * 0.5f;
+        color += light * pow(max(dot(r, v), 0.0f), specPower) * specStrength;
     } else if (ndotl > 0.0f && mode == SHADING_BLINN_PHONG) {
         vec3 h = normalize(l + v);
-        color += light * pow(max(dot(n, h), 0.0f), specPower) * 0.5f;
+        color += light * pow(max(dot(n, h), 0.0f), specPower) * specStrength;
     }
     return color;
 }
@@ -146,8 +152,9 @@ SR_FN vec3 shadePixel(RasterParams params, uint triId, vec3 viewPos, vec3 viewNo
         return vec3(s * s);
     }
     vec3 l = vec3(params.lightDirView.x, params.lightDirView.y, params.lightDirView.z);
-    if (mode == SHADING_FLAT) return shadeLight(SHADING_LAMBERT, albedo, fn, v, l, params.lightColor, 1.0f);
-    return shadeLight(mode, albedo, n, v, l, params.lightColor, params.shadeExtra.x);
+    if (mode == SHADING_FLAT)
+        return shadeLight(SHADING_LAMBERT, albedo, fn, v, l, params.lightColor, 1.0f, 0.0f);
+    return shadeLight(mode, albedo, n, v, l, params.lightColor, params.shadeExtra.x, params.shadeExtra.w);
 }
 
 // SHADING_HIT_COUNT: background where nothing covered the pixel, green for exactly one triangle (what a
@@ -242,14 +249,20 @@ SR_FN vec4 surfaceColor(SurfacePoint s, vec4 col0, vec4 col1, vec4 col2)
 }
 
 // Colour of the surface point with base colour `baseColor` (linear: material factor x texture x vertex
-// colour). `uv` and `lambda` feed the SHADING_TEXCOORD and SHADING_MIP debug views.
-SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 baseColor, vec2 uv,
-                        float lambda)
+// colour) and emitted colour `emissive` (linear: emissive factor x emissive texture), which the lit
+// modes add to the reflected light, as glTF's emission is added to the BRDF's. `uv` and `lambda` feed
+// the SHADING_TEXCOORD and SHADING_MIP debug views; the other debug views show no emission.
+SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 baseColor, vec3 emissive,
+                        vec2 uv, float lambda)
 {
-    if (params.shadingMode == SHADING_TEXCOORD) return vec3(fract(uv.x), fract(uv.y), 0.0f);
-    if (params.shadingMode == SHADING_MIP) return mipColor(lambda);
-    return shadePixel(params, triId, s.viewPos, s.viewNormal, s.faceNormal,
-                      vec3(baseColor.x, baseColor.y, baseColor.z));
+    uint mode = params.shadingMode;
+    if (mode == SHADING_TEXCOORD) return vec3(fract(uv.x), fract(uv.y), 0.0f);
+    if (mode == SHADING_MIP) return mipColor(lambda);
+    vec3 color = shadePixel(params, triId, s.viewPos, s.viewNormal, s.faceNormal,
+                            vec3(baseColor.x, baseColor.y, baseColor.z));
+    bool lit = mode == SHADING_LAMBERT || mode == SHADING_PHONG || mode == SHADING_BLINN_PHONG ||
+               mode == SHADING_FLAT;
+    return lit ? color + emissive : color;
 }
 
 // Parameter u (0 at the first vertex, 1 at the second) along the line segment with world-space ends

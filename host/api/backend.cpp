@@ -27,10 +27,16 @@ Result<RenderOutput> renderGraphics(const Scene& scene, const CameraMatrices& ca
 {
     if (s.tessellate == TESS_OFF) return renderVulkanGraphics(scene, camera, s, device);
     SR_TRY(checkRenderInputs(scene, s));
-    const TessSources sources = tessSources(scene);
-    TessellatedScene t = tessellateOnHost(scene, sources, frameParams(scene, camera, s, {}, {}));
     RenderSettings plain = s;
     plain.tessellate = TESS_OFF;
+    if (scene.display) {
+        TessellatedDisplay t = tessellatedDisplay(scene, camera, s);
+        auto out = renderVulkanGraphics(t.scene, camera, plain, device);
+        if (out) finishTessellatedDisplay(t, *out);
+        return out;
+    }
+    const TessSources sources = tessSources(scene);
+    TessellatedScene t = tessellateOnHost(scene, sources, frameParams(scene, camera, s, {}, {}));
     auto out = renderVulkanGraphics(t.scene, camera, plain, device);
     if (!out) return out;
     const auto sceneTriangles = uint32_t(scene.triangleCount());

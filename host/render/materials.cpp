@@ -18,6 +18,9 @@ std::vector<GpuMaterial> gpuMaterials(const Scene& scene)
         g.texCoord = m.texCoord;
         g.alphaMode = m.alphaMode;
         g.alphaCutoff = m.alphaCutoff;
+        g.emissive = glm::vec4(m.emissive, 0.0f);
+        g.emissiveTexture = m.emissiveTexture < 0 ? NO_TEXTURE : uint32_t(m.emissiveTexture);
+        g.emissiveTexCoord = m.emissiveTexCoord;
         out.push_back(g);
     }
     return out;

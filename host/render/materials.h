@@ -14,7 +14,8 @@
 namespace sr {
 
 // One GpuMaterial per scene material, in order. The KHR_texture_transform matrix becomes its first two
-// rows (uvTransformU, uvTransformV: u' = x u + y v + z); a material without a texture gets NO_TEXTURE.
+// rows (uvTransformU, uvTransformV: u' = x u + y v + z); a material without a texture (base colour or
+// emissive) gets NO_TEXTURE there.
 std::vector<GpuMaterial> gpuMaterials(const Scene& scene);
 
 // One GpuTexture per scene texture, in order, with every texture's texels (all levels) appended to

@@ -157,7 +157,7 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.lightDirView = glm::vec4(l, 0.0f);
     p.lightColor = glm::vec4(s.lightColor, s.ambient);
     p.background = glm::vec4(s.background, 1.0f);
-    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, 0.0f);
+    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, s.specular);
     // The raster grid: the output resolution times the SSAA factor per side.
     p.width = s.width * s.ssaa;
     p.height = s.height * s.ssaa;
@@ -374,6 +374,53 @@ Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, cons
     return session->render(camera, settings);
 }
 
+TessellatedDisplay tessellatedDisplay(const Scene& display, const CameraMatrices& camera,
+                                      const RenderSettings& settings)
+{
+    const DisplayForm& form = *display.display;
+    RenderSettings s = settings;
+    s.cullMode = CULL_NONE;
+    TessellatedScene mesh =
+        tessellateOnHost(form.source, tessSources(form.source), frameParams(form.source, camera, s, {}, {}));
+    TessellatedDisplay t;
+    t.sourceTriangles = uint32_t(form.source.triangleCount());
+    t.tessVertices = mesh.scene.vertexCount() - form.source.vertexCount();
+    t.tessTriangles = mesh.scene.triangleCount();
+    t.tessCulled = mesh.culled;
+    t.sourceIds = std::move(mesh.sourceIds);
+    t.scene = displayScene(std::move(mesh.scene), form.mode, form.wireframe);
+    t.scene.display.reset();
+    return t;
+}
+
+void finishTessellatedDisplay(const TessellatedDisplay& t, RenderOutput& out)
+{
+    if (t.scene.triangleCount() > 0) {
+        mapToSourceIds(out.aov.id, t.sourceIds, t.sourceTriangles);
+        mapToSourceIds(out.samples.id, t.sourceIds, t.sourceTriangles);
+    }
+    out.stats.tessVertices = t.tessVertices;
+    out.stats.tessTriangles = t.tessTriangles;
+    out.stats.tessCulled = t.tessCulled;
+}
+
+Result<RenderOutput> RenderSession::renderTessellatedDisplay(const CameraMatrices& camera,
+                                                             const RenderSettings& settings)
+{
+    TessellatedDisplay t = tessellatedDisplay(*scene_, camera, settings);
+    RenderSettings plain = settings;
+    plain.tessellate = TESS_OFF;
+    // The other session overwrites the device's buffers: this one forgets what it sized and uploaded.
+    uploaded_ = false;
+    sizes_.assign(BUF_COUNT, SIZE_MAX);
+    tessPrepared_ = false;
+    trianglesReplaced_ = false;
+    tessVertexCapacity_ = tessTriangleCapacity_ = 0;
+    auto out = renderScene(*device_, t.scene, camera, plain);
+    if (out) finishTessellatedDisplay(t, *out);
+    return out;
+}
+
 // The state one render() call passes from step to step.
 struct RenderSession::FrameState {
     uint64_t pixels = 0;        // output pixels
@@ -410,6 +457,11 @@ struct RenderSession::FrameState {
 Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const RenderSettings& settings)
 {
     SR_TRY(checkRenderInputs(*scene_, settings));
+    if (settings.tessellate != TESS_OFF && scene_->display) return renderTessellatedDisplay(camera, settings);
+    if (!uploaded_) {
+        SR_TRY(upload());
+        uploaded_ = true;
+    }
     FrameState f;
     f.out.device = device_->info();
     f.out.camera = camera;

@@ -143,6 +143,10 @@ public:
 private:
     RenderSession(ComputeDevice& device, const Scene& scene) : device_(&device), scene_(&scene) {}
     Status upload();
+    // A tessellated frame of a display scene (tessellatedDisplay), drawn by a session of its own on this
+    // device, after which this session's buffers are uploaded again before its next frame.
+    Result<RenderOutput> renderTessellatedDisplay(const CameraMatrices& camera,
+                                                  const RenderSettings& settings);
     // Resizes `buffer` unless this session already gave it exactly `bytes` (a CUDA resize reallocates).
     Status ensureSize(uint32_t buffer, size_t bytes);
     Status allocateLists();
@@ -175,12 +179,33 @@ private:
     TessSources tessSources_;
     bool trianglesReplaced_ = false;  // BUF_INDICES etc. hold generated triangles, not the scene's
     uint64_t tessVertexCapacity_ = 0, tessTriangleCapacity_ = 0;
+    bool uploaded_ = true;  // the device's buffers hold this session's scene
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline
 // `settings.warmup + settings.repeat` times and returns the last frame.
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings);
+
+// A frame of a display scene (Scene::display: lines or points mode, the wireframe overlay) with
+// tessellation on. The display form is taken from the tessellated mesh, so that lines mode draws the
+// generated triangles' edges and the overlay lies exactly on the curved surface: the source scene is
+// tessellated on the host (tessellateOnHost, bit for bit the devices' mesh) for the frame's camera and
+// settings, but with culling off, since lines and points show the back of the mesh too (the overlay's
+// back faces are still culled where they are drawn), and displayScene is applied to the result. `scene`
+// is drawn with tessellation off.
+struct TessellatedDisplay {
+    Scene scene;
+    std::vector<uint32_t> sourceIds;  // per generated triangle: its source scene triangle
+    uint32_t sourceTriangles = 0;     // triangles of the source scene
+    uint64_t tessVertices = 0, tessTriangles = 0, tessCulled = 0;
+};
+TessellatedDisplay tessellatedDisplay(const Scene& display, const CameraMatrices& camera,
+                                      const RenderSettings& settings);
+// A frame of `t.scene` as a frame of the display scene: where triangles were drawn (the overlay), their
+// ids mapped to the source's triangles and the overlay's segments shifted to follow them
+// (mapToSourceIds); lines and points keep the ids of what was drawn. The tessellation statistics filled.
+void finishTessellatedDisplay(const TessellatedDisplay& t, RenderOutput& out);
 
 // The per-frame constants every backend uses for this scene, camera and settings, with the compute
 // pipeline's list capacities and the group counts of its list-walking stages.

@@ -166,9 +166,13 @@ Result<PrimitiveMode> parsePrimitiveMode(const std::string& name)
 
 Scene displayScene(Scene scene, PrimitiveMode mode, bool wireframe)
 {
+    if (mode == PrimitiveMode::Triangles && !wireframe) return scene;
+    scene.display.reset();
+    auto form = std::make_shared<DisplayForm>(DisplayForm{scene, mode, wireframe});
     if (wireframe) scene = withWireframe(std::move(scene));
-    if (mode == PrimitiveMode::Lines) return meshAsLines(std::move(scene));
-    if (mode == PrimitiveMode::Points) return meshAsPoints(std::move(scene));
+    if (mode == PrimitiveMode::Lines) scene = meshAsLines(std::move(scene));
+    if (mode == PrimitiveMode::Points) scene = meshAsPoints(std::move(scene));
+    scene.display = std::move(form);
     return scene;
 }
 

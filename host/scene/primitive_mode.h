@@ -35,10 +35,20 @@ const char* primitiveModeName(PrimitiveMode mode);
 // The mode of that name; any other name is a one-line usage error.
 Result<PrimitiveMode> parsePrimitiveMode(const std::string& name);
 
+// How displayScene derived a scene (Scene::display): from `source`, in `mode`, with or without the
+// overlay.
+struct DisplayForm {
+    Scene source;
+    PrimitiveMode mode = PrimitiveMode::Triangles;
+    bool wireframe = false;
+};
+
 // The scene as `raster render --primitive-mode MODE [--wireframe]` draws it: with the wireframe
 // overlay, whose edges are taken before a display mode replaces the triangles (so `lines` with the
 // overlay keeps both the mesh's edges and the black overlay on them), then as points or lines. The
-// overlay also needs RenderSettings::lineDepthBias = kWireframeDepthBias to show.
+// overlay also needs RenderSettings::lineDepthBias = kWireframeDepthBias to show. A derived scene
+// records its DisplayForm in Scene::display: tessellation changes the triangles per frame, and a
+// tessellated frame derives its lines, points and overlay from the tessellated mesh.
 Scene displayScene(Scene scene, PrimitiveMode mode, bool wireframe);
 
 }  // namespace sr

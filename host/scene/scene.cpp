@@ -68,14 +68,19 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
             (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) >= scene.textures.size()))
             return makeError(ExitCode::Usage, "{}: material {} uses texture {}, but there are {} textures",
                              errorPrefix, i, m.baseColorTexture, scene.textures.size());
-        if (m.texCoord > 1)
+        if (m.emissiveTexture < -1 ||
+            (m.emissiveTexture >= 0 && size_t(m.emissiveTexture) >= scene.textures.size()))
+            return makeError(ExitCode::Usage,
+                             "{}: material {} uses emissive texture {}, but there are {} textures",
+                             errorPrefix, i, m.emissiveTexture, scene.textures.size());
+        if (m.texCoord > 1 || m.emissiveTexCoord > 1)
             return makeError(ExitCode::Usage,
                              "{}: material {} uses texture coordinate set {} (0 or 1 expected)", errorPrefix,
-                             i, m.texCoord);
+                             i, std::max(m.texCoord, m.emissiveTexCoord));
         if (m.alphaMode != ALPHA_OPAQUE && m.alphaMode != ALPHA_MASK)
             return makeError(ExitCode::Usage, "{}: material {} has unknown alpha mode {}", errorPrefix, i,
                              m.alphaMode);
-        anyTexture = anyTexture || m.baseColorTexture >= 0;
+        anyTexture = anyTexture || m.baseColorTexture >= 0 || m.emissiveTexture >= 0;
     }
     // One material index per triangle, per segment and per point when there are materials, none
     // otherwise.
@@ -118,16 +123,17 @@ Status checkMaterials(const Scene& scene, size_t triangles, const std::string& e
     return okStatus();
 }
 
-// Scene's emptiness rules: no materials when none changes anything (white, untextured, opaque), no
+// Scene's emptiness rules: no materials when none changes anything (white, untextured, opaque, not
+// emissive), no
 // texture coordinates and no textures when no material is textured, so that such a scene costs the
 // pipeline nothing for them.
 void dropUnusedMaterials(Scene& scene)
 {
     bool anyTexture = false, allDefault = true;
     for (const SceneMaterial& m : scene.materials) {
-        anyTexture = anyTexture || m.baseColorTexture >= 0;
+        anyTexture = anyTexture || m.baseColorTexture >= 0 || m.emissiveTexture >= 0;
         allDefault = allDefault && m.baseColorFactor == glm::vec4(1.0f) && m.baseColorTexture < 0 &&
-                     m.alphaMode == ALPHA_OPAQUE;
+                     m.alphaMode == ALPHA_OPAQUE && m.emissive == glm::vec3(0.0f) && m.emissiveTexture < 0;
     }
     if (allDefault) {
         scene.materials.clear();
@@ -323,6 +329,14 @@ Result<Scene> loadScene(const std::string& path)
                          kSceneExtensions);
     return makeError(ExitCode::Usage, "cannot load '{}': unknown file extension '{}' (expected {})", path,
                      ext, kSceneExtensions);
+}
+
+SceneMaterial defaultMaterial()
+{
+    SceneMaterial m;
+    m.name = "default";
+    m.baseColorFactor = glm::vec4(glm::vec3(kDefaultAlbedo), 1.0f);
+    return m;
 }
 
 Status finalizeScene(Scene& scene, const std::string& what)

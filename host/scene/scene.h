@@ -9,6 +9,7 @@
 #define RASTER_SCENE_H
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,8 @@ struct SceneTexture {
     TextureSampler sampler;
 };
 
-// A material as the pipeline uses it (glTF metallic-roughness base colour, alpha mode; OBJ Kd/map_Kd).
+// A material as the pipeline uses it (glTF metallic-roughness base colour, alpha mode and emission;
+// OBJ Kd/map_Kd and Ke/map_Ke).
 struct SceneMaterial {
     std::string name;
     glm::vec4 baseColorFactor{1.0f};  // linear RGBA
@@ -62,7 +64,23 @@ struct SceneMaterial {
     glm::mat3 uvTransform{1.0f};      // KHR_texture_transform T * R * S (column-major, last row 0 0 1)
     uint32_t alphaMode = ALPHA_OPAQUE;
     float alphaCutoff = 0.5f;
+    glm::vec3 emissive{0.0f};       // linear emitted colour (glTF emissiveFactor x emissive strength, OBJ Ke)
+    int32_t emissiveTexture = -1;   // index into Scene::textures (multiplies `emissive`), -1: none
+    uint32_t emissiveTexCoord = 0;  // 0 or 1, as texCoord; the emissive texture has no transform
 };
+
+// The albedo of a surface whose file gives it no material (OBJ faces without `usemtl` or .mtl, glTF
+// primitives without a material, PLY and STL meshes): a neutral grey of 0.8, the reflectance of matte
+// white paint or plaster rather than an ideal reflector of 1. Under the default light
+// (render_settings.h) it leaves a lit surface's brightest point at 83% of the display's white, so the
+// shape reads from its shading instead of clipping to a flat white silhouette.
+constexpr float kDefaultAlbedo = 0.8f;
+
+// The material of those surfaces: named "default", base colour kDefaultAlbedo, opaque, no emission.
+// Vertex colours multiply it, as they multiply any base colour factor.
+SceneMaterial defaultMaterial();
+
+struct DisplayForm;  // scene/primitive_mode.h
 
 struct Scene {
     std::vector<glm::vec4> positions;  // world space, w = 1
@@ -94,6 +112,10 @@ struct Scene {
     uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
     uint64_t droppedLines = 0;                   // segments dropped by the loader (warned about once)
     uint64_t droppedPoints = 0;                  // points dropped by the loader (warned about once)
+    // Set on a scene displayScene derived (lines or points mode, the wireframe overlay): the scene it
+    // came from and how, so that a tessellated frame draws the display form of the tessellated mesh
+    // (tessellatedDisplay, render/renderer.h) rather than that of the scene's own triangles.
+    std::shared_ptr<const DisplayForm> display;
 
     size_t vertexCount() const { return positions.size(); }
     size_t triangleCount() const { return indices.size() / 3; }

@@ -12,9 +12,11 @@
 // tinygltf's own file functions, and the JSON's nesting depth is bounded before tinygltf parses it.
 // The rules of the specification that tinygltf does not enforce are checked first (gltf_spec.h).
 //
-// Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode
-// and double-sidedness. Images are decoded only when a used material needs them; an image that cannot
-// be read or decoded is a warning (the material keeps its factor), one over the size limit an error.
+// Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode,
+// double-sidedness and emission (emissiveFactor, emissiveTexture without a transform,
+// KHR_materials_emissive_strength); a primitive without a material gets defaultMaterial(). Images are decoded
+// only when a used material needs them; an image that cannot be read or decoded is a warning (the material
+// keeps its factor), one over the size limit an error.
 #include <tiny_gltf.h>
 
 #include <sys/stat.h>
@@ -497,6 +499,7 @@ private:
     void pushVertex(const glm::vec3& p, const glm::vec3& n, const glm::vec4& c, const glm::vec4& uv);
     Result<uint32_t> useMaterial(int gltfMaterial);
     Result<int32_t> useTexture(int gltfTexture, const std::string& material);
+    Status readEmission(const tinygltf::Material& src, SceneMaterial& m);
     bool imageBytes(int index, const uint8_t*& bytes, size_t& size, std::string& why) const;
     void warnOnce(bool& done, const std::string& message);
 
@@ -515,7 +518,8 @@ private:
     int32_t defaultMaterial_ = -1;
     std::vector<bool> texCoordWarned_;  // per scene material: missing texture coordinate set reported
     bool blendWarned_ = false;
-    std::array<bool, 4> ignoredTextureWarned_{};
+    std::array<bool, 3> ignoredTextureWarned_{};
+    bool emissiveTransformWarned_ = false;
 };
 
 void GltfFlattener::warnOnce(bool& done, const std::string& message)
@@ -614,15 +618,45 @@ Result<int32_t> GltfFlattener::useTexture(int gltfTexture, const std::string& ma
     return int32_t(-1);
 }
 
+// The material's emission: emissiveFactor times KHR_materials_emissive_strength's emissiveStrength (a
+// multiplier that lets the factor exceed 1), and emissiveTexture (sRGB like the base colour, read with
+// its own coordinate set; a KHR_texture_transform on it is ignored with one warning).
+Status GltfFlattener::readEmission(const tinygltf::Material& src, SceneMaterial& m)
+{
+    float strength = 1.0f;
+    auto ext = src.extensions.find("KHR_materials_emissive_strength");
+    if (ext != src.extensions.end() && ext->second.IsObject() && ext->second.Has("emissiveStrength") &&
+        ext->second.Get("emissiveStrength").IsNumber())
+        strength = float(ext->second.Get("emissiveStrength").GetNumberAsDouble());
+    const std::vector<double>& factor = src.emissiveFactor;
+    if (factor.size() == 3)
+        m.emissive = glm::vec3(float(factor[0]), float(factor[1]), float(factor[2])) * strength;
+    const tinygltf::TextureInfo& info = src.emissiveTexture;
+    if (info.index < 0 || m.emissive == glm::vec3(0.0f)) return okStatus();
+    int texCoord = info.texCoord;
+    if (textureTransform(info, texCoord) != glm::mat3(1.0f))
+        warnOnce(emissiveTransformWarned_, "KHR_texture_transform of emissiveTexture ignored");
+    Result<int32_t> texture = useTexture(info.index, m.name);
+    if (!texture) return texture.error();
+    if (*texture >= 0 && (texCoord < 0 || texCoord > 1)) {
+        fmt::print(stderr,
+                   "warning: {}: material '{}' uses TEXCOORD_{} for emission (only sets 0 and 1 are "
+                   "supported); drawn without its emissive texture\n",
+                   path_, m.name, texCoord);
+    } else {
+        m.emissiveTexture = *texture;
+        m.emissiveTexCoord = uint32_t(std::max(texCoord, 0));
+    }
+    return okStatus();
+}
+
 // Scene::materials index for a glTF material (-1: the default material), created on first use.
 Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
 {
     if (gltfMaterial < 0) {
         if (defaultMaterial_ < 0) {
             defaultMaterial_ = int32_t(scene_.materials.size());
-            SceneMaterial m;
-            m.name = "default";
-            scene_.materials.push_back(m);
+            scene_.materials.push_back(defaultMaterial());
             texCoordWarned_.push_back(false);
         }
         return uint32_t(defaultMaterial_);
@@ -643,12 +677,10 @@ Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
         warnOnce(blendWarned_, "alphaMode BLEND drawn as opaque");
     }
 
-    const char* kIgnored[4] = {"metallicRoughnessTexture", "normalTexture", "occlusionTexture",
-                               "emissiveTexture"};
-    const int ignoredIndex[4] = {src.pbrMetallicRoughness.metallicRoughnessTexture.index,
-                                 src.normalTexture.index, src.occlusionTexture.index,
-                                 src.emissiveTexture.index};
-    for (size_t i = 0; i < 4; ++i) {
+    const char* kIgnored[3] = {"metallicRoughnessTexture", "normalTexture", "occlusionTexture"};
+    const int ignoredIndex[3] = {src.pbrMetallicRoughness.metallicRoughnessTexture.index,
+                                 src.normalTexture.index, src.occlusionTexture.index};
+    for (size_t i = 0; i < 3; ++i) {
         if (ignoredIndex[i] >= 0)
             warnOnce(ignoredTextureWarned_[i],
                      fmt::format("{} ignored (only base colour is supported)", kIgnored[i]));
@@ -670,6 +702,7 @@ Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
             m.texCoord = uint32_t(std::max(texCoord, 0));
         }
     }
+    SR_TRY(readEmission(src, m));
     materialIndex_[index] = int32_t(scene_.materials.size());
     scene_.materials.push_back(m);
     texCoordWarned_.push_back(false);
@@ -873,6 +906,13 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
                        path_, material.name, material.texCoord, where);
         texCoordWarned_[*materialId] = true;
         material.baseColorTexture = -1;
+    }
+    if (material.emissiveTexture >= 0 && !hasUv[material.emissiveTexCoord]) {
+        fmt::print(stderr,
+                   "warning: {}: material '{}' uses TEXCOORD_{} for emission, which {} does not have; drawn "
+                   "without its emissive texture\n",
+                   path_, material.name, material.emissiveTexCoord, where);
+        material.emissiveTexture = -1;
     }
     // The base colour factor stays in the material (the shading stage multiplies it in), so the vertex
     // colours are COLOR_0 alone.

@@ -356,6 +356,10 @@ Result<Scene> loadWithAssimp(const std::string& path, const char* format)
         }
     }
     if (!anyColor) scene.colors.clear();
+    // PLY and STL carry no material: every primitive gets the default one.
+    scene.materials.push_back(defaultMaterial());
+    scene.triMaterials.assign(scene.indices.size() / 3, 0u);
+    scene.pointMaterials.assign(scene.points.size(), 0u);
     if (shortFaces > 0)
         fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
     if (fannedPolygons > 0)

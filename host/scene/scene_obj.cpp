@@ -14,7 +14,9 @@
 // point per vertex, as assimp does.
 //
 // Materials come from the .mtl files: Kd is the base colour factor, map_Kd the base colour texture
-// (sRGB, repeat, trilinear), resolved relative to the folder of the .mtl that names it. A missing .mtl
+// (sRGB, repeat, trilinear), Ke the emitted colour and map_Ke its texture (map_Ke counts only with a
+// non-zero Ke, as glTF multiplies the two), images resolved relative to the folder of the .mtl that
+// names them. Faces without a material get defaultMaterial(). A missing .mtl
 // or texture image is a warning; the faces keep their geometry.
 //
 // tinyobjloader is handed streams, never paths: the .obj, each .mtl and each image are read through
@@ -355,9 +357,7 @@ Result<Scene> loadObj(const std::string& path)
         if (id < 0 || size_t(id) >= materials.size()) {
             if (defaultMaterial < 0) {
                 defaultMaterial = int32_t(scene.materials.size());
-                SceneMaterial m;
-                m.name = "default";
-                scene.materials.push_back(m);
+                scene.materials.push_back(sr::defaultMaterial());
             }
             return uint32_t(defaultMaterial);
         }
@@ -368,26 +368,38 @@ Result<Scene> loadObj(const std::string& path)
         // Kd is used as linear as it stands; d / Tr (dissolve) are not an alpha mode we draw.
         m.baseColorFactor =
             glm::vec4(float(src.diffuse[0]), float(src.diffuse[1]), float(src.diffuse[2]), 1.0f);
-        if (!src.diffuse_texname.empty()) {
-            std::string folder =
-                size_t(id) < mtlReader.folders.size() ? mtlReader.folders[size_t(id)] : folderOf(path);
-            std::string file = texturePath(folder, src.diffuse_texname);
+        // Ke / map_Ke: the emitted colour (linear, as Kd) and its texture (sRGB, as map_Kd).
+        m.emissive = glm::vec3(float(src.emission[0]), float(src.emission[1]), float(src.emission[2]));
+        std::string folder =
+            size_t(id) < mtlReader.folders.size() ? mtlReader.folders[size_t(id)] : folderOf(path);
+        // Scene::textures index of the image `name` names (-1 when it cannot be read: a warning).
+        auto useTexture = [&](const std::string& name, const char* without) -> Result<int32_t> {
+            std::string file = texturePath(folder, name);
             auto it = textureIndex.find(file);
-            if (it == textureIndex.end()) {
-                Result<SceneTexture> texture = loadTextureFile(file, true, TextureSampler{});
-                int32_t index = -1;
-                if (texture) {
-                    index = int32_t(scene.textures.size());
-                    scene.textures.push_back(std::move(*texture));
-                } else if (isTextureSizeError(texture.error())) {
-                    return makeError(ExitCode::Usage, "cannot load '{}': {}", path, texture.error().message);
-                } else {
-                    fmt::print(stderr, "warning: {}: material '{}': {}; drawn with its Kd colour only\n",
-                               path, src.name, texture.error().message);
-                }
-                it = textureIndex.emplace(file, index).first;
+            if (it != textureIndex.end()) return it->second;
+            Result<SceneTexture> texture = loadTextureFile(file, true, TextureSampler{});
+            int32_t index = -1;
+            if (texture) {
+                index = int32_t(scene.textures.size());
+                scene.textures.push_back(std::move(*texture));
+            } else if (isTextureSizeError(texture.error())) {
+                return makeError(ExitCode::Usage, "cannot load '{}': {}", path, texture.error().message);
+            } else {
+                fmt::print(stderr, "warning: {}: material '{}': {}; drawn without its {}\n", path, src.name,
+                           texture.error().message, without);
             }
-            m.baseColorTexture = it->second;
+            textureIndex.emplace(file, index);
+            return index;
+        };
+        if (!src.diffuse_texname.empty()) {
+            Result<int32_t> texture = useTexture(src.diffuse_texname, "map_Kd");
+            if (!texture) return texture.error();
+            m.baseColorTexture = *texture;
+        }
+        if (!src.emissive_texname.empty() && m.emissive != glm::vec3(0.0f)) {
+            Result<int32_t> texture = useTexture(src.emissive_texname, "map_Ke");
+            if (!texture) return texture.error();
+            m.emissiveTexture = *texture;
         }
         materialIndex[size_t(id)] = int32_t(scene.materials.size());
         scene.materials.push_back(m);

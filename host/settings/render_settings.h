@@ -39,8 +39,15 @@ struct RenderSettings {
     uint32_t cullMode = CULL_BACK;                 // CULL_*
     uint32_t shadingMode = SHADING_BLINN_PHONG;    // SHADING_*
     glm::vec3 lightDirView{-0.35f, 0.55f, 0.75f};  // towards the light, view space (+z to the eye)
-    glm::vec3 lightColor{1.0f, 1.0f, 1.0f};
-    float ambient = 0.15f;
+    // The light budget (shade.h's shadeLight): a white surface (albedo 1) peaks at
+    // ambient + light (1 + specular) = 0.1 + 0.75 x 1.2 = 1, the display's white, where it faces the
+    // light with the highlight on top; everything else stays below, so a lit surface is never clipped
+    // flat. Ambient 0.1 keeps the unlit side readable (0.08 linear, sRGB 79 at the default albedo 0.8)
+    // against the 0.75 of direct light; the highlight's 0.15 is what tells Phong and Blinn-Phong from
+    // Lambert.
+    glm::vec3 lightColor{0.75f, 0.75f, 0.75f};
+    float ambient = 0.1f;
+    float specular = 0.2f;  // specular strength: the highlight's peak as a fraction of the light colour
     glm::vec3 background{0.02f, 0.02f, 0.025f};  // linear RGB
     float specularPower = 32.0f;
     uint32_t warmup = 1;                  // untimed runs before the timed ones

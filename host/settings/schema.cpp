@@ -147,6 +147,9 @@ std::vector<Setting> makeSchema()
         vec3Setting("shading", "light-color", &RenderSettings::lightColor, "R,G,B linear light colour"));
     t.push_back(
         floatSetting("shading", "ambient", &RenderSettings::ambient, 0.0, 100.0, 0.0, "ambient intensity"));
+    t.push_back(floatSetting("shading", "specular", &RenderSettings::specular, 0.0, 100.0, 0.0,
+                             "specular strength: the phong and blinn-phong highlight's peak as a fraction "
+                             "of the light colour"));
     t.push_back(
         vec3Setting("shading", "background", &RenderSettings::background, "R,G,B linear background colour"));
     // textures

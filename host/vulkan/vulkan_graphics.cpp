@@ -177,7 +177,8 @@ Status checkInputs(const Scene& scene, const RenderSettings& settings)
     }
     const bool textured =
         std::any_of(scene.materials.begin(), scene.materials.end(), [&](const SceneMaterial& m) {
-            return m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size();
+            return (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size()) ||
+                   (m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < scene.textures.size());
         });
     if ((textured || !scene.texcoords.empty()) && scene.texcoords.size() != scene.vertexCount())
         return makeError(ExitCode::Usage, "the scene has {} texture coordinates for {} vertices",

@@ -96,8 +96,9 @@ class Renderer:
         shading: Literal['lambert', 'phong', 'blinn-phong', 'flat', 'normals', 'depth', 'id', 'hits', 'texcoord', 'mip'] = 'blinn-phong',  # the shading model; hits (debug): triangles covering each pi
         cull: Literal['back', 'front', 'none'] = 'back',  # which faces are culled (glTF doubleSided materials never are)
         light_dir: Tuple[float, float, float] = (-0.35, 0.55, 0.75),  # X,Y,Z towards the light, view space (+z to the eye)
-        light_color: Tuple[float, float, float] = (1.0, 1.0, 1.0),  # R,G,B linear light colour
-        ambient: float = 0.15,  # ambient intensity
+        light_color: Tuple[float, float, float] = (0.75, 0.75, 0.75),  # R,G,B linear light colour
+        ambient: float = 0.1,  # ambient intensity
+        specular: float = 0.2,  # specular strength: the phong and blinn-phong highlight's peak as a fraction of the light colour
         background: Tuple[float, float, float] = (0.02, 0.02, 0.025),  # R,G,B linear background colour
         texture_filter: Literal['auto', 'nearest', 'bilinear', 'trilinear'] = 'auto',  # auto follows each texture's glTF sampler; bilinear reads level 0, trilinear the two nearest mip levels
         uv_interpolation: Literal['perspective', 'affine'] = 'perspective',  # perspective-correct, or affine (screen-linear, to show the difference)
