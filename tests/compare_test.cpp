@@ -1,9 +1,12 @@
 // compare_test.cpp - `raster compare` statistics against hand-computed values, and its exit codes.
 #include <cmath>
+#include <filesystem>
+#include <utility>
 
 #include <gtest/gtest.h>
 
 #include "io/compare.h"
+#include "io/image_io.h"
 #include "test_util.h"
 
 namespace sr::test {
@@ -187,23 +190,36 @@ TEST(Compare, ToolAppliesThePairsDocumentedToleranceAndSaysWhich)
     EXPECT_EQ(runTool("compare " + pair + " --max-fraction 2").exitCode, 2);
 }
 
-// A golden (no metadata of its own) is known as CUDA's by its provenance JSON: against a Vulkan render
-// of its arguments the goldens' criterion applies.
-TEST(Compare, GoldensAreKnownByTheirProvenance)
+// A golden names CUDA in its own metadata; a copy without metadata (a golden from before it was
+// written) is known as CUDA's by the provenance JSON beside it. Against a Vulkan render of its
+// arguments the goldens' criterion applies either way.
+TEST(Compare, GoldensAreKnownByTheirMetadataOrProvenance)
 {
     ScratchDir dir("sr_compare");
     const std::string golden = std::string(SR_SOURCE_DIR) + "/tests/golden/builtin";
     ToolRun r = runTool("render builtin --width 256 --height 192 --msaa 1 -q --backend vulkan -o " +
                         dir.file("b.png") + " --aov " + dir.file("b.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+    // The bare copy: pixels and channels alone, the provenance JSON under the same stem.
+    auto png = readPng(golden + ".png");
+    ASSERT_TRUE(png.ok()) << png.error().message;
+    ASSERT_TRUE(writePng(dir.file("bare.png"), *png).ok());
+    auto exr = readAovExr(golden + ".exr");
+    ASSERT_TRUE(exr.ok()) << exr.error().message;
+    ASSERT_TRUE(writeAovExr(dir.file("bare.exr"), *exr).ok());
+    std::filesystem::copy_file(golden + ".json", dir.file("bare.json"));
     for (const std::string ext : {".png", ".exr"}) {
-        ToolRun c = runTool("compare " + golden + ext + " " + dir.file("b" + ext));
-        EXPECT_EQ(c.exitCode, 0) << c.stdoutText;
-        EXPECT_NE(c.stdoutText.find("cuda on NVIDIA"), std::string::npos) << c.stdoutText;
-        EXPECT_NE(c.stdoutText.find("builtin.json"), std::string::npos) << c.stdoutText;
-        EXPECT_NE(c.stdoutText.find("cuda vs vulkan: ids, coverage and depth exact, colour within 1/255"),
-                  std::string::npos)
-            << c.stdoutText;
+        for (const auto& [file, origin] :
+             {std::pair<std::string, std::string>{golden + ext, "(from its metadata)"},
+              {dir.file("bare" + ext), "bare.json"}}) {
+            ToolRun c = runTool("compare " + file + " " + dir.file("b" + ext));
+            EXPECT_EQ(c.exitCode, 0) << c.stdoutText;
+            EXPECT_NE(c.stdoutText.find("cuda on NVIDIA"), std::string::npos) << c.stdoutText;
+            EXPECT_NE(c.stdoutText.find(origin), std::string::npos) << c.stdoutText;
+            EXPECT_NE(c.stdoutText.find("cuda vs vulkan: ids, coverage and depth exact, colour within 1/255"),
+                      std::string::npos)
+                << c.stdoutText;
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -25,7 +26,7 @@ namespace sr::test {
 namespace {
 
 // ci/setup installs glmark2-data, which ships this model (an OBJ without a material).
-const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
+const std::string kBunny = glmark2Model("bunny.obj");
 
 CameraMatrices cameraFor(const Scene& scene, const std::string& spec, uint32_t width, uint32_t height)
 {
@@ -227,8 +228,11 @@ TEST_P(LooksTest, GltfEmissionIsAddedToTheShadedColour)
 // show that text, and the compute backend agrees with the reference.
 TEST_P(LooksTest, ClearCoatLabelsAreEmissive)
 {
-    const char* path = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " absent (assimp-testmodels)";
+    // SR_ASSIMP_MODELS: the folder ci/gpu-bundle carries to the GPU machine.
+    const char* root = std::getenv("SR_ASSIMP_MODELS");
+    const std::string path =
+        std::string(root ? root : "/usr/share/assimp/models") + "/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    ASSERT_TRUE(std::filesystem::exists(path)) << path << " is missing: ci/setup installs assimp-testmodels";
     auto scene = loadScene(path);
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     uint32_t label = UINT32_MAX;

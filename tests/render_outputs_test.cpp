@@ -39,7 +39,7 @@ size_t count(const std::string& text, const std::string& what)
 }
 
 // The bunny of the README's batch example (Debian's glmark2-data), where installed.
-const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
+const std::string kBunny = glmark2Model("bunny.obj");
 
 TEST(RenderOutputs, AnAovAloneWritesNoPng)
 {
@@ -209,7 +209,7 @@ TEST(RenderWarnings, CameraInsideTheModel)
     EXPECT_EQ(outside.stderrText, "");
 
     // The README's batch example before its fix: the bunny at orbit:30,20,0.4 (scene units), once per job.
-    if (!exists(kBunny)) GTEST_SKIP() << kBunny << " absent (Debian's glmark2-data)";
+    ASSERT_TRUE(exists(kBunny)) << kBunny << " is missing: ci/setup installs glmark2-data";
     std::ofstream(dir.file("m.jsonl"))
         << "{\"defaults\": {\"width\": 24, \"height\": 16, \"msaa\": 1}}\n"
         << "{\"scene\": \"" << kBunny << "\", \"camera\": \"orbit:30,20,0.4\", \"output\": \""

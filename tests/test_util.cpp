@@ -298,6 +298,12 @@ std::string readFile(const std::string& path)
 }
 }  // namespace
 
+std::string glmark2Model(const std::string& name)
+{
+    const char* root = std::getenv("SR_GLMARK2_MODELS");
+    return std::string(root ? root : "/usr/share/glmark2/models") + "/" + name;
+}
+
 ToolRun runTool(const std::string& args, const std::string& workDir, const std::string& wrapper)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.

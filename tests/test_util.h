@@ -206,6 +206,10 @@ RenderSettings outputModeSettings(const OutputMode& mode, uint32_t width, uint32
 size_t countId(const AovImage& aov, uint32_t id);
 
 // Command line of the `raster` tool built next to the tests, with its exit code and stderr.
+// A model of Debian's glmark2-data (/usr/share/glmark2/models/NAME); SR_GLMARK2_MODELS names another
+// folder (the GPU machine has no Debian packages: ci/gpu-bundle carries the bunny).
+std::string glmark2Model(const std::string& name);
+
 struct ToolRun {
     int exitCode = -1;
     std::string stdoutText;
