@@ -187,15 +187,23 @@ TEST_P(AovTest, OffByDefault)
     EXPECT_FALSE(out.aov.hasNormal());
 }
 
+// One triangle with a different w at each corner (kSlantedNdc, kSlantedW), at depth 0.5.
+constexpr glm::vec2 kSlantedNdc[3] = {{-0.9f, -0.9f}, {0.9f, -0.6f}, {-0.3f, 0.9f}};
+constexpr float kSlantedW[3] = {1.0f, 4.0f, 2.0f};
+
+Scene perspectiveTriangle()
+{
+    std::vector<glm::vec4> corners;
+    for (int k = 0; k < 3; ++k)
+        corners.emplace_back(kSlantedNdc[k] * kSlantedW[k], 0.5f * kSlantedW[k], kSlantedW[k]);
+    return clipSpaceScene(corners);
+}
+
 // One triangle with a different w at each corner: the barycentrics are the screen-space ones divided
 // by each corner's w, renormalised (perspective-correct), not the screen-space ones.
 TEST_P(AovTest, BarycentricsArePerspectiveCorrect)
 {
-    const glm::vec2 ndc[3] = {{-0.9f, -0.9f}, {0.9f, -0.6f}, {-0.3f, 0.9f}};
-    const float w[3] = {1.0f, 4.0f, 2.0f};
-    std::vector<glm::vec4> corners;
-    for (int k = 0; k < 3; ++k) corners.emplace_back(ndc[k] * w[k], 0.5f * w[k], w[k]);
-    const Scene scene = clipSpaceScene(corners);
+    const Scene scene = perspectiveTriangle();
     const uint32_t size = 32;
     RenderOutput out = render(scene, size, size);
     ASSERT_TRUE(out.aov.hasBary());
@@ -207,8 +215,9 @@ TEST_P(AovTest, BarycentricsArePerspectiveCorrect)
             if (out.aov.id[i] == EMPTY_ID) continue;
             ++covered;
             EXPECT_EQ(out.aov.uvU[i], 0.0f) << "a scene without materials has no texture coordinates";
-            const glm::vec3 s = screenBary(pixelNdc(px, py, size, size), ndc[0], ndc[1], ndc[2]);
-            glm::vec3 b = s / glm::vec3(w[0], w[1], w[2]);
+            const glm::vec3 s =
+                screenBary(pixelNdc(px, py, size, size), kSlantedNdc[0], kSlantedNdc[1], kSlantedNdc[2]);
+            glm::vec3 b = s / glm::vec3(kSlantedW[0], kSlantedW[1], kSlantedW[2]);
             b /= b.x + b.y + b.z;
             EXPECT_NEAR(out.aov.baryU[i], b.y, kEps) << px << ", " << py;
             EXPECT_NEAR(out.aov.baryV[i], b.z, kEps) << px << ", " << py;
@@ -235,11 +244,7 @@ glm::vec2 standardSampleZero(uint32_t count)
 // triangle, not extrapolated to the output pixel's centre (which the triangle need not cover).
 TEST_P(AovTest, BarycentricsDescribeTheSampleOfTheId)
 {
-    const glm::vec2 ndc[3] = {{-0.9f, -0.9f}, {0.9f, -0.6f}, {-0.3f, 0.9f}};
-    const float w[3] = {1.0f, 4.0f, 2.0f};
-    std::vector<glm::vec4> corners;
-    for (int k = 0; k < 3; ++k) corners.emplace_back(ndc[k] * w[k], 0.5f * w[k], w[k]);
-    const Scene scene = clipSpaceScene(corners);
+    const Scene scene = perspectiveTriangle();
     const uint32_t size = 24;
     for (const auto& [msaa, ssaa] :
          std::vector<std::pair<uint32_t, uint32_t>>{{4, 1}, {8, 1}, {1, 2}, {4, 2}}) {
@@ -263,7 +268,8 @@ TEST_P(AovTest, BarycentricsDescribeTheSampleOfTheId)
                 const glm::vec2 at =
                     glm::vec2(float(px), float(py)) + (glm::vec2(float(ssaa / 2)) + sample) / float(ssaa);
                 const glm::vec2 p = at * 2.0f / float(size) - 1.0f;
-                glm::vec3 b = screenBary(p, ndc[0], ndc[1], ndc[2]) / glm::vec3(w[0], w[1], w[2]);
+                glm::vec3 b = screenBary(p, kSlantedNdc[0], kSlantedNdc[1], kSlantedNdc[2]) /
+                              glm::vec3(kSlantedW[0], kSlantedW[1], kSlantedW[2]);
                 b /= b.x + b.y + b.z;
                 const float u = aov.baryU[i], v = aov.baryV[i];
                 if (u < 0.0f || v < 0.0f || u + v > 1.0f + 1e-6f) ++outside;
