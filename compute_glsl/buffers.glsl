@@ -161,13 +161,8 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
     GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
     base = base * m.baseColorFactor;
     if (m.baseColorTexture >= params.textureCount) return base;
-    bool second = m.texCoord != 0u;
-    vec4 t0 = texcoords[i0], t1 = texcoords[i1], t2 = texcoords[i2];
     vec2 dx, dy;
-    vec2 uv0 = second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y);
-    vec2 uv1 = second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y);
-    vec2 uv2 = second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y);
-    uv = surfaceUv(s, uv0, uv1, uv2, dx, dy);
+    uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.texCoord, dx, dy);
     uv = materialTransformUv(m, uv);
     GpuTexture t = textures[m.baseColorTexture];
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
@@ -183,12 +178,8 @@ vec3 materialEmissive(uint id, uint i0, uint i1, uint i2, SurfacePoint s)
     GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
     vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
     if (m.emissiveTexture >= params.textureCount || e == vec3(0.0f)) return e;
-    bool second = m.emissiveTexCoord != 0u;
-    vec4 t0 = texcoords[i0], t1 = texcoords[i1], t2 = texcoords[i2];
     vec2 dx, dy;
-    vec2 uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
-                        second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y),
-                        second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y), dx, dy);
+    vec2 uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.emissiveTexCoord, dx, dy);
     GpuTexture t = textures[m.emissiveTexture];
     vec4 texel = sampleTexture(t, uv, textureLambda(dx, dy, t.width, t.height));
     return e * vec3(texel.x, texel.y, texel.z);

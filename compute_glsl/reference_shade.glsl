@@ -52,10 +52,9 @@ vec3 referenceShade(uint id)
         GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
         base = base * m.baseColorFactor;
         if (m.baseColorTexture < params.textureCount) {
-            bool second = m.texCoord != 0u;
-            uv = materialTransformUv(m, second ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y));
-            vec2 dx = materialTransformDerivative(m, second ? vec2(tcDx.z, tcDx.w) : vec2(tcDx.x, tcDx.y));
-            vec2 dy = materialTransformDerivative(m, second ? vec2(tcDy.z, tcDy.w) : vec2(tcDy.x, tcDy.y));
+            uv = materialTransformUv(m, texcoordSet(tc, m.texCoord));
+            vec2 dx = materialTransformDerivative(m, texcoordSet(tcDx, m.texCoord));
+            vec2 dy = materialTransformDerivative(m, texcoordSet(tcDy, m.texCoord));
             // Triangles of one draw use different textures, and indexing a sampler array with a value
             // that varies within a draw needs a device feature (shaderSampledImageArrayNonUniformIndexing)
             // that not every device has (llvmpipe of LLVM 15 lacks it). The loop index is uniform, so
@@ -79,10 +78,9 @@ vec3 referenceShade(uint id)
         // like the base colour (its own coordinate set, no texture transform).
         emissive = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
         if (m.emissiveTexture < params.textureCount && emissive != vec3(0.0f)) {
-            bool second = m.emissiveTexCoord != 0u;
-            vec2 euv = second ? vec2(tc.z, tc.w) : vec2(tc.x, tc.y);
-            vec2 dx = second ? vec2(tcDx.z, tcDx.w) : vec2(tcDx.x, tcDx.y);
-            vec2 dy = second ? vec2(tcDy.z, tcDy.w) : vec2(tcDy.x, tcDy.y);
+            vec2 euv = texcoordSet(tc, m.emissiveTexCoord);
+            vec2 dx = texcoordSet(tcDx, m.emissiveTexCoord);
+            vec2 dy = texcoordSet(tcDy, m.emissiveTexCoord);
             vec4 texel = vec4(1.0f);
             for (uint k = 0u; k < kTextureSlots; ++k)
                 if (k == m.emissiveTexture) texel = textureGrad(baseTextures[k], euv, dx, dy);

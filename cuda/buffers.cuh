@@ -166,12 +166,8 @@ __device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffe
     GpuMaterial m = b.materials[min(b.triMaterials[id], params.materialCount - 1u)];
     base = base * m.baseColorFactor;
     if (m.baseColorTexture >= params.textureCount) return base;
-    bool second = m.texCoord != 0u;
-    vec4 t0 = b.texcoords[i0], t1 = b.texcoords[i1], t2 = b.texcoords[i2];
     vec2 dx, dy;
-    uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
-                   second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y), second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y),
-                   dx, dy);
+    uv = surfaceUvOfSet(s, b.texcoords[i0], b.texcoords[i1], b.texcoords[i2], m.texCoord, dx, dy);
     uv = materialTransformUv(m, uv);
     GpuTexture t = b.textures[m.baseColorTexture];
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
@@ -188,12 +184,8 @@ __device__ inline vec3 materialEmissive(const RasterParams& params, const Buffer
     GpuMaterial m = b.materials[min(b.triMaterials[id], params.materialCount - 1u)];
     vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
     if (m.emissiveTexture >= params.textureCount || (e.x == 0.0f && e.y == 0.0f && e.z == 0.0f)) return e;
-    bool second = m.emissiveTexCoord != 0u;
-    vec4 t0 = b.texcoords[i0], t1 = b.texcoords[i1], t2 = b.texcoords[i2];
     vec2 dx, dy;
-    vec2 uv = surfaceUv(s, second ? vec2(t0.z, t0.w) : vec2(t0.x, t0.y),
-                        second ? vec2(t1.z, t1.w) : vec2(t1.x, t1.y), second ? vec2(t2.z, t2.w) : vec2(t2.x, t2.y),
-                        dx, dy);
+    vec2 uv = surfaceUvOfSet(s, b.texcoords[i0], b.texcoords[i1], b.texcoords[i2], m.emissiveTexCoord, dx, dy);
     GpuTexture t = b.textures[m.emissiveTexture];
     vec4 texel = sampleTexture(params, b, t, uv, textureLambda(dx, dy, t.width, t.height));
     return e * vec3(texel.x, texel.y, texel.z);

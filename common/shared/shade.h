@@ -240,6 +240,20 @@ SR_FN vec2 surfaceUv(SurfacePoint s, vec2 tc0, vec2 tc1, vec2 tc2, SR_OUT(vec2) 
     return uv;
 }
 
+// Coordinate set `set` (0 or 1) of a vertex's packed texture coordinates t, as the scene's texcoords
+// buffer stores them: set 0 in (x, y), set 1 in (z, w).
+SR_FN vec2 texcoordSet(vec4 t, uint set)
+{
+    return set != 0u ? vec2(t.z, t.w) : vec2(t.x, t.y);
+}
+
+// surfaceUv of coordinate set `set`, from the three vertices' packed texture coordinates.
+SR_FN vec2 surfaceUvOfSet(SurfacePoint s, vec4 t0, vec4 t1, vec4 t2, uint set, SR_OUT(vec2) dUvDx,
+                          SR_OUT(vec2) dUvDy)
+{
+    return surfaceUv(s, texcoordSet(t0, set), texcoordSet(t1, set), texcoordSet(t2, set), dUvDx, dUvDy);
+}
+
 // Interpolated vertex colour (linear RGBA) at the surface point.
 SR_FN vec4 surfaceColor(SurfacePoint s, vec4 col0, vec4 col1, vec4 col2)
 {

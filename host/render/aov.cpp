@@ -63,13 +63,9 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
         if (haveUv) {
             const GpuMaterial& m = materials[std::min<size_t>(scene.triMaterials[id], materials.size() - 1)];
             if (m.baseColorTexture < textureCount) {
-                const bool second = m.texCoord != 0u;
-                auto set = [&](uint32_t v) {
-                    const glm::vec4& t = scene.texcoords[v];
-                    return second ? vec2(t.z, t.w) : vec2(t.x, t.y);
-                };
                 vec2 dx, dy;
-                vec2 uv = surfaceUv(s, set(i0), set(i1), set(i2), dx, dy);
+                vec2 uv = surfaceUvOfSet(s, scene.texcoords[i0], scene.texcoords[i1], scene.texcoords[i2],
+                                         m.texCoord, dx, dy);
                 uv = materialTransformUv(m, uv);
                 aov.uvU[i] = uv.x;
                 aov.uvV[i] = uv.y;
