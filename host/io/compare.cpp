@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <utility>
@@ -264,10 +265,7 @@ Result<FileOrigin> fileOrigin(const std::string& path)
     if (!own) return own.error();
     if (!own->backend.empty()) return FileOrigin{*own, "its metadata"};
     // A JSON of the same stem that names a backend: the goldens' provenance, --stats or a viewer save.
-    const size_t dot = path.find_last_of('.');
-    const size_t slash = path.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return FileOrigin{};
-    const std::string sidecar = path.substr(0, dot) + ".json";
+    const std::string sidecar = std::filesystem::path(path).replace_extension(".json").string();
     std::ifstream in(sidecar);
     if (!in) return FileOrigin{};
     const nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
@@ -288,10 +286,10 @@ bool isExrPath(const std::string& path)
 
 Result<CompareReport> compareFiles(const std::string& a, const std::string& b, const CompareTolerance& tol)
 {
-    if (endsWith(a, ".exr") != endsWith(b, ".exr"))
+    if (isExrPath(a) != isExrPath(b))
         return makeError(ExitCode::Usage, "cannot compare '{}' with '{}': one is an EXR AOV, one is not", a,
                          b);
-    if (endsWith(a, ".exr")) {
+    if (isExrPath(a)) {
         auto ia = readAovExr(a);
         if (!ia) return ia.error();
         auto ib = readAovExr(b);
