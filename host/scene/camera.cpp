@@ -262,10 +262,8 @@ glm::mat4 orthographicVulkan(float xmag, float ymag, float znear, float zfar)
 CameraMatrices withModel(const CameraMatrices& camera, const ModelTransform& model, const glm::vec3& center)
 {
     if (model.isIdentity()) return camera;
-    CameraMatrices m = camera;
-    m.viewFromWorld = camera.viewFromWorld * worldFromModel(model, center);
-    m.clipFromWorld = camera.clipFromView * m.viewFromWorld;  // as finish() multiplies
-    return m;
+    return finish(camera.viewFromWorld * worldFromModel(model, center), camera.clipFromView, camera.znear,
+                  camera.zfar);
 }
 
 OrbitPose orbitPoseOf(const CameraSpec& spec, const BoundingSphere& sphere)
