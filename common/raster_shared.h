@@ -164,6 +164,18 @@ SR_NAMESPACE_BEGIN
 // Specialization constant of shade (Vulkan): false builds only the one-sample-per-pixel path, the build
 // a frame without MSAA and SSAA runs (a CPU device would otherwise run the resolve loops too, masked).
 #define SPEC_RESOLVE 3
+// Specialization constants of shade's CPU build (compute_glsl/shade.comp, SHADE_CPU): the frame's
+// shading mode (SHADING_*) and the SHADE_USES_* bits of what its scene has. A CPU device runs both sides
+// of every branch on each SIMD bundle of pixels, so this build compiles out what the frame cannot reach.
+#define SPEC_SHADE_MODE 4
+#define SPEC_SHADE_USES 5
+#define SHADE_USES_MATERIALS 1u          // RasterParams.materialCount > 0
+#define SHADE_USES_BASE_TEXTURES 2u      // a material has a base colour texture
+#define SHADE_USES_EMISSIVE_TEXTURES 4u  // a material has an emissive texture
+#define SHADE_USES_COLORS 8u             // RasterParams.hasColors
+#define SHADE_USES_LINES_POINTS 16u      // RasterParams.lineCount + pointCount > 0
+#define SHADE_USES_AFFINE_UV 32u         // RasterParams.uvInterpolation == UV_AFFINE
+#define SHADE_USES_ALL 63u
 // Raster methods (--raster-method; a build selector like SPEC_MATERIALS: GLSL preprocessor definition
 // RASTER_METHOD of setup, bin_count, bin_fill and raster_tiles, CUDA template argument). Plain integers,
 // so that the GLSL preprocessor can compare them. common/shared/methods.h has the three alternatives.

@@ -8,7 +8,21 @@
 
 #include "method.glsl"
 
+#ifndef SHADE_CPU
+#define SHADE_CPU 0
+#endif
+#if SHADE_CPU
+// shade's CPU build (compute_glsl/shade.comp): the frame's shading mode and what its scene uses are
+// specialization constants, and `params` is the frame's block with them folded in (shade's main sets
+// it), so that every test of params.shadingMode, materialCount, hasColors, ... below and in the shared
+// headers is decided when the pipeline is built and the code behind a false one is never run.
+layout(constant_id = SPEC_SHADE_MODE) const uint SHADE_MODE = SHADING_LAMBERT;
+layout(constant_id = SPEC_SHADE_USES) const uint SHADE_USES = SHADE_USES_ALL;
+layout(std140, set = 0, binding = BUF_PARAMS) uniform ParamsBlock { RasterParams frameParams; };
+RasterParams params;
+#else
 layout(std140, set = 0, binding = BUF_PARAMS) uniform ParamsBlock { RasterParams params; };
+#endif
 layout(std430, set = 0, binding = BUF_POSITIONS) readonly buffer PositionsBlock { vec4 positions[]; };
 layout(std430, set = 0, binding = BUF_NORMALS) readonly buffer NormalsBlock { vec4 normals[]; };
 layout(std430, set = 0, binding = BUF_COLORS) readonly buffer ColorsBlock { vec4 colors[]; };
@@ -160,6 +174,9 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
     if (params.materialCount == 0u) return base;
     GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
     base = base * m.baseColorFactor;
+#if SHADE_CPU
+    if ((SHADE_USES & SHADE_USES_BASE_TEXTURES) == 0u) return base;
+#endif
     if (m.baseColorTexture >= params.textureCount) return base;
     vec2 dx, dy;
     uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.texCoord, dx, dy);
@@ -177,6 +194,9 @@ vec3 materialEmissive(uint id, uint i0, uint i1, uint i2, SurfacePoint s)
     if (params.materialCount == 0u) return vec3(0.0f);
     GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
     vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
+#if SHADE_CPU
+    if ((SHADE_USES & SHADE_USES_EMISSIVE_TEXTURES) == 0u) return e;
+#endif
     if (m.emissiveTexture >= params.textureCount || e == vec3(0.0f)) return e;
     vec2 dx, dy;
     vec2 uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.emissiveTexCoord, dx, dy);

@@ -81,6 +81,42 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             }
         }
         barrier();
+#if RASTER_TILES_CHUNKED
+        // A CPU device: triangle by triangle, each read from shared memory once for all the invocation's
+        // pixels (a read at an index the compiler cannot prove uniform costs one scalar load per SIMD
+        // lane there, and a TriSetup is 12 of them); the same tests as the GPU loop below.
+        for (uint k = 0u; k < count; ++k) {
+            TriSetup tri = tris[k];
+            uint triMinDepth = minDepth[k];
+            bool triMasked = MATERIALS && masked[k] != 0u;
+            uint id = setupTriId(tri);
+            if (triMinDepth == 0xFFFFFFFFu) continue;
+            for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
+                if (px[j] < 0 || (!countHits && farthest[j] < triMinDepth)) continue;
+                if (SAMPLES == 1u) {
+                    if (methodPixel(tri, px[j], py[j], depth[0]) && (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
+                        key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
+                        farthest[j] = uint(key[j * SAMPLES] >> 32);
+                        ++hits[j * SAMPLES];
+                    }
+                    continue;
+                }
+                if (!methodTouchesPixels(tri, px[j], py[j], px[j], py[j], params.sampleBounds)) continue;
+                uint mask = 0u;
+                for (uint s = 0u; s < SAMPLES; ++s)
+                    if (methodSample(tri, samplePosition(SAMPLES, s, px[j], py[j]), depth[s])) mask |= 1u << s;
+                if (mask == 0u || (triMasked && !alphaMaskCovers(id, px[j], py[j]))) continue;
+                farthest[j] = 0u;
+                for (uint s = 0u; s < SAMPLES; ++s) {
+                    if ((mask & (1u << s)) != 0u) {
+                        key[j * SAMPLES + s] = min(key[j * SAMPLES + s], packVisibility(depth[s], id));
+                        ++hits[j * SAMPLES + s];
+                    }
+                    farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
+                }
+            }
+        }
+#else
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
             if (px[j] < 0) continue;
             for (uint k = 0u; k < count; ++k) {
@@ -117,6 +153,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 }
             }
         }
+#endif
         barrier();
     }
     for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {

@@ -5,6 +5,10 @@
 // applying its material (base colour factor, texture with analytic derivatives); average the samples'
 // colours, clamped to the displayable range, in linear space (a box filter) and store RGBA8 (sRGB).
 // One invocation per output pixel; groups = ceil(outputPixels / GROUP_SIZE).
+// SHADE_CPU (a preprocessor definition, 0 or 1): the build for CPU devices (CMakeLists.txt compiles this
+// shader twice). A CPU device runs every invocation as a SIMD lane, both sides of each branch, so this
+// build takes the frame's shading mode and scene features as specialization constants (buffers.glsl)
+// and encodes sRGB without pow (srgbEncode8); the GPU build is unchanged by it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -21,7 +25,11 @@ layout(constant_id = SPEC_RESOLVE) const bool RESOLVE = false;
 // segment's or point's unlit base colour.
 vec3 shadePrimitive(uint id, int x, int y)
 {
+#if SHADE_CPU
+    if ((SHADE_USES & SHADE_USES_LINES_POINTS) != 0u && id >= params.triangleCount) {
+#else
     if (id >= params.triangleCount) {
+#endif
         uint k = id - params.triangleCount;
         if (k >= params.lineCount) return shadeUnlit(params, id, pointBaseColor(id));
         float u = lineParameter(params, x, y, positions[lines[2u * k]], positions[lines[2u * k + 1u]]);
@@ -38,8 +46,23 @@ vec3 shadePrimitive(uint id, int x, int y)
     return shadeSurface(params, id, s, base, materialEmissive(id, i0, i1, i2, s), uv, lambda);
 }
 
+// A pixel's stored colour, RGBA8 sRGB-encoded: packRgba8, or on a CPU device the same code without pow.
+#if SHADE_CPU
+#define encodeColor packRgba8NoPow
+#else
+#define encodeColor packRgba8
+#endif
+
 void main()
 {
+#if SHADE_CPU
+    params = frameParams;
+    params.shadingMode = SHADE_MODE;
+    params.sampleCount = SAMPLES;
+    if ((SHADE_USES & SHADE_USES_MATERIALS) == 0u) params.materialCount = 0u;
+    if ((SHADE_USES & SHADE_USES_COLORS) == 0u) params.hasColors = 0u;
+    params.uvInterpolation = (SHADE_USES & SHADE_USES_AFFINE_UV) != 0u ? UV_AFFINE : UV_PERSPECTIVE;
+#endif
     uint i = gl_GlobalInvocationID.x;
     vec3 background = vec3(params.background.x, params.background.y, params.background.z);
     uint n = params.ssaa;
@@ -51,7 +74,7 @@ void main()
             color = hitCountColor(hitCount[i], color);
         else if (id != EMPTY_ID)
             color = shadePrimitive(id, int(i % params.width), int(i / params.width));
-        framebuffer[i] = packRgba8(color);
+        framebuffer[i] = encodeColor(color);
         return;
     }
     uint outWidth = params.width / n;
@@ -87,5 +110,5 @@ void main()
             }
         }
     }
-    framebuffer[i] = packRgba8(sum * sampleWeight(n * n * SAMPLES));
+    framebuffer[i] = encodeColor(sum * sampleWeight(n * n * SAMPLES));
 }

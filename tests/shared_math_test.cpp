@@ -267,6 +267,82 @@ TEST(SharedMath, SrgbEncodingEndpoints)
     EXPECT_EQ(packRgba8(vec3(0.5f, 0.0f, 0.0f)) & 0xffu, 188u);
 }
 
+// The CPU builds' reciprocal: quotient47NoDivide gives floor(2^47 / m), recipDet's quotient, for every one
+// of the 2^23 mantissas; floorQuotient47 corrects any estimate within 2, whatever the device's division.
+TEST(SharedMath, QuotientWithoutDivisionIsExactForEveryMantissa)
+{
+    uint32_t wrong = 0, wrongFromEstimate = 0;
+    for (uint32_t m = 1u << 23; m < (1u << 24); ++m) {
+        uint32_t exact = uint32_t((uint64_t(1) << 47) / m);
+        if (quotient47NoDivide(m) != exact) ++wrong;
+        if (m % 61u != 0u) continue;
+        for (int d = -2; d <= 2; ++d)
+            if (floorQuotient47(m, uint32_t(int64_t(exact) + d)) != exact) ++wrongFromEstimate;
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(wrongFromEstimate, 0u);
+}
+
+// wrapTexel's floored remainder without division (the CPU builds) against the integer one, over the whole
+// range of texel indices textureTexelCoords gives, for periods of 1 to 2^15.
+TEST(SharedMath, FloorModWithoutDivisionMatchesIntegerRemainder)
+{
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> index(-(1 << 22) - 1, (1 << 22) + 1);
+    uint32_t wrong = 0;
+    for (int period : {1, 2, 3, 7, 64, 255, 256, 1000, 4096, 32768}) {
+        auto check = [&](int i) {
+            int expected = ((i % period) + period) % period;
+            if (floorModNoDivide(i, period) != expected) ++wrong;
+        };
+        for (int k = 0; k < 200000; ++k) check(index(rng));
+        for (int i :
+             {-(1 << 22) - 1, -(1 << 22), -period, -1, 0, 1, period - 1, period, (1 << 22), (1 << 22) + 1})
+            check(i);
+    }
+    EXPECT_EQ(wrong, 0u);
+}
+
+// srgbEncode8 (shade's CPU build) against linearToSrgb in double precision, correctly rounded: never more
+// than 1 level off, and off only where the exact value lies within 5e-5 of a rounding boundary (where
+// single-precision pow on two devices disagrees too). Every 16th float of [2^-12, 1] plus the boundaries.
+TEST(SharedMath, SrgbEncodingWithoutPowMatchesDoublePrecision)
+{
+    auto exact = [](float c) {
+        double d = c <= 0.0031308f ? 12.92 * double(c) : 1.055 * std::pow(double(c), 1.0 / 2.4) - 0.055;
+        return d * 255.0 + 0.5;
+    };
+    uint32_t off = 0, farOff = 0, offAwayFromBoundary = 0, tested = 0;
+    auto check = [&](float c) {
+        double e = exact(c);
+        int expected = int(std::floor(e));
+        int got = int(srgbEncode8(c));
+        ++tested;
+        if (got == expected) return;
+        ++off;
+        if (std::abs(got - expected) > 1) ++farOff;
+        if (std::abs(e - std::round(e)) > 5e-5) ++offAwayFromBoundary;
+    };
+    for (uint32_t bits = floatBitsToUint(1.0f / 4096.0f); bits <= floatBitsToUint(1.0f); bits += 16)
+        check(uintBitsToFloat(bits));
+    for (int k = 0; k < 256; ++k) {
+        // The linear value whose sRGB code is exactly k - 0.5, and its float neighbours.
+        double s = (k - 0.5) / 255.0;
+        double c = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+        float f = float(c);
+        for (int d = -3; d <= 3; ++d) check(uintBitsToFloat(uint32_t(int32_t(floatBitsToUint(f)) + d)));
+    }
+    EXPECT_GT(tested, 1000000u);
+    EXPECT_EQ(farOff, 0u);
+    EXPECT_EQ(offAwayFromBoundary, 0u);
+    EXPECT_EQ(srgbEncode8(0.0f), 0u);
+    EXPECT_EQ(srgbEncode8(1.0f), 255u);
+    EXPECT_EQ(srgbEncode8(2.0f), 255u);
+    EXPECT_EQ(srgbEncode8(-1.0f), 0u);
+    EXPECT_EQ(packRgba8NoPow(vec3(0.5f, 0.0f, 1.0f)), packRgba8(vec3(0.5f, 0.0f, 1.0f)));
+    RecordProperty("off_by_one_at_boundaries", int(off));
+}
+
 }  // namespace
 // raster_tiles skips a triangle at a pixel whose key is already nearer than triangleMinDepthBits: the
 // bound must hold at every covered pixel, or the early depth test would drop a visible fragment. Random

@@ -9,11 +9,55 @@
 
 SR_NAMESPACE_BEGIN
 
+// floor(2^47 / m) for a 24-bit mantissa m (2^23 <= m < 2^24), from an estimate q within 2 of it: the
+// exact remainder r = 2^47 - q m (a 32 x 32-bit product, which SIMD units multiply natively) moves q
+// down while r < 0 and up while r >= m.
+SR_FN uint floorQuotient47(uint m, uint q)
+{
+    int64_t r = int64_t(uint64_t(1) << 47) - int64_t(uint64_t(q) * uint64_t(m));
+    for (int step = 0; step < 2; ++step) {
+        if (r < int64_t(0)) {
+            q = q - 1u;
+            r = r + int64_t(m);
+        }
+        if (r >= int64_t(m)) {
+            q = q + 1u;
+            r = r - int64_t(m);
+        }
+    }
+    return q;
+}
+
+// floor(2^47 / m) estimated by a float division (the quotient lies in (2^23, 2^24], where floats are
+// integers, and even a division 2.5 ulp off lands within 2 of it) and made exact by floorQuotient47.
+SR_FN uint quotient47NoDivide(uint m)
+{
+    return floorQuotient47(m, uint(140737488355328.0f / float(m)));  // 2^47 / m
+}
+
 // Deterministic reciprocal. Vulkan only promises 2.5 ulp for OpFDiv while CUDA divides correctly
 // rounded, so a plain '/' would let the backends disagree on snapped vertices and depth. This builds
 // 1/b from integer operations on the float's bits, which every backend executes identically:
 // b = m * 2^(E-150) with a 24-bit mantissa m, so 1/b = floor(2^47 / m) * 2^(103-E) up to < 1 ulp.
 // Returns +-0 for |b| >= 2^126 and +-inf for zero or denormal b.
+//
+// A CPU device runs a vector of 64-bit divisions as one scalar division per lane, so the CPU builds of
+// the GLSL stages (SR_CPU_BUILD, a preprocessor definition) take the quotient from quotient47NoDivide
+// instead: the same bits (tests/shared_math_test.cpp checks every mantissa) from 32-bit operations and a
+// multiply-only 64-bit remainder.
+#if defined(SR_CPU_BUILD)
+SR_FN float recipDet(float b)
+{
+    uint bits = floatBitsToUint(b);
+    uint sign = bits & 0x80000000u;
+    uint e = (bits >> 23) & 0xffu;
+    if (e == 0u) return uintBitsToFloat(sign | 0x7f800000u);
+    if (e >= 253u) return uintBitsToFloat(sign);
+    uint q = quotient47NoDivide((bits & 0x7fffffu) | 0x800000u);
+    if (q == (1u << 24)) return uintBitsToFloat(sign | ((254u - e) << 23));
+    return uintBitsToFloat(sign | ((253u - e) << 23) | (q & 0x7fffffu));
+}
+#else
 SR_FN float recipDet(float b)
 {
     uint bits = floatBitsToUint(b);
@@ -26,6 +70,7 @@ SR_FN float recipDet(float b)
     if (q == (uint64_t(1) << 24)) return uintBitsToFloat(sign | ((254u - e) << 23));
     return uintBitsToFloat(sign | ((253u - e) << 23) | (uint(q) & 0x7fffffu));
 }
+#endif
 
 SR_FN float divDet(float a, float b)
 {

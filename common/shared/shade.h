@@ -88,6 +88,39 @@ SR_FN uint packRgba8(vec3 linearRgb)
     return r | (g << 8) | (b << 16) | (255u << 24);
 }
 
+// linearToSrgb(c) * 255 rounded, as packRgba8 stores it, without pow: for the CPU build of shade, where
+// pow is a long polynomial on every lane. y = c^(1/2.4) is the root of y^12 = c^5; the start, three
+// square roots weighted by a relative least-squares fit over the curve's pow part [0.0031308, 1], is
+// within 0.4% of it, and two Newton steps y += (c^5 / y^11 - y) / 12 bring that to float precision
+// (quadratic convergence: 4e-3 -> 9e-5 -> 1e-7). The code then differs from a correctly rounded pow only
+// where 255 sRGB(c) + 0.5 lies within a few 1e-5 of an integer, where single-precision pow on two devices
+// disagrees as well: by at most 1 level (tests/shared_math_test.cpp measures it in double precision).
+SR_FN uint srgbEncode8(float c)
+{
+    c = clamp(c, 0.0f, 1.0f);
+    float s1 = sqrt(c);
+    float s2 = sqrt(s1);
+    float s3 = sqrt(s2);
+    float y = 0.65072639f * s1 + 0.47230837f * s2 - 0.11925504f * s3;
+    float c2 = c * c;
+    float c5 = c2 * c2 * c;
+    for (int step = 0; step < 2; ++step) {
+        float y2 = y * y;
+        float y4 = y2 * y2;
+        float y11 = y4 * y4 * y2 * y;
+        y = y + (c5 / y11 - y) * (1.0f / 12.0f);
+    }
+    float srgb = c <= 0.0031308f ? 12.92f * c : 1.055f * y - 0.055f;
+    return uint(srgb * 255.0f + 0.5f);
+}
+
+// packRgba8 through srgbEncode8.
+SR_FN uint packRgba8NoPow(vec3 linearRgb)
+{
+    return srgbEncode8(linearRgb.x) | (srgbEncode8(linearRgb.y) << 8) | (srgbEncode8(linearRgb.z) << 16) |
+           (255u << 24);
+}
+
 // 1 / count, the weight of one of `count` samples in a pixel's mean: exact for a power of two (built
 // from the exponent bits, no division), else the deterministic reciprocal.
 SR_FN float sampleWeight(uint count)

@@ -18,16 +18,37 @@
 
 SR_NAMESPACE_BEGIN
 
+// i - floor(i / period) period for |i| <= 2^22 + 1 and period >= 1, without an integer division: float(i)
+// is exact, so a float quotient even 2.5 ulp off is within 1.25 of the real one and its floor within 2
+// of the right one, which two corrections by the remainder's range take out.
+SR_FN int floorModNoDivide(int i, int period)
+{
+    int q = int(floor(float(i) / float(period)));
+    int m = i - q * period;
+    for (int step = 0; step < 2; ++step) {
+        if (m < 0) m = m + period;
+        if (m >= period) m = m - period;
+    }
+    return m;
+}
+
 // Texel index i wrapped into [0, size) by `mode` (WRAP_*). REPEAT and MIRRORED_REPEAT take floored
 // remainders, so u < 0 repeats the way it does for u > 1. GLSL leaves % of a negative operand
 // undefined (NVIDIA and C++ disagree), so i is first moved up by a multiple of the period: i stays
 // within +-(2^22 + 1) (textureTexelCoords), hence i + k * period is positive and below 2^31.
+//
+// A CPU device runs a vector of integer divisions as one scalar division per lane, so the CPU builds
+// (SR_CPU_BUILD) take the floored remainder from floorModNoDivide instead, the same value.
 SR_FN int wrapTexel(int i, int size, uint mode)
 {
     if (mode == WRAP_CLAMP_TO_EDGE) return clamp(i, 0, size - 1);
     int period = mode == WRAP_MIRRORED_REPEAT ? 2 * size : size;
+#if defined(SR_CPU_BUILD)
+    int m = floorModNoDivide(i, period);
+#else
     int shifted = i + (4194306 / period + 1) * period;
     int m = shifted % period;
+#endif
     if (mode == WRAP_MIRRORED_REPEAT) return m < size ? m : period - 1 - m;
     return m;
 }

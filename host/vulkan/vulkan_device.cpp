@@ -36,6 +36,7 @@ namespace {
 #include "stage_spirv.h"
 #include "setup_lines_points.spv.h"
 #include "raster_tiles_chunked.spv.h"
+#include "shade_cpu.spv.h"
 #include "bin_count_fixed4.spv.h"
 #include "bin_fill_fixed4.spv.h"
 #include "raster_tiles_fixed4.spv.h"
@@ -163,12 +164,17 @@ private:
         bool resolve = false;
         bool linesPoints = false;
         uint32_t method = RASTER_FIXED8;  // RASTER_*: the modules of setup, bin_count, bin_fill, raster_tiles
+        uint32_t shadeMode = 0;           // shade on a CPU device: SPEC_SHADE_MODE, the frame's SHADING_*
+        uint32_t shadeUses = 0;           // and SPEC_SHADE_USES, its SHADE_USES_* (0 elsewhere)
         bool operator<(const Build& o) const
         {
-            return std::tie(materials, samples, resolve, linesPoints, method) <
-                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method);
+            return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses) <
+                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method, o.shadeMode,
+                            o.shadeUses);
         }
     };
+    // SHADE_USES_* of a frame with `params` on this device's buffers.
+    uint32_t shadeUses(const RasterParams& params) const;
     Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
     // The pipeline dispatch `d` runs in a frame with `params`, created (through pipelineCache_) the first
     // time a frame asks for it: a run compiles only the stages and builds its frames use.
@@ -183,6 +189,8 @@ private:
     Status downloadBuffer(uint32_t buffer, void* data, size_t bytes);
     Status runDispatches(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                          std::vector<double>& gpuMs);
+    // Records stage clear as buffer fills (CPU devices): what compute_glsl/clear.comp writes.
+    void fillForClear(VkCommandBuffer cmd, const RasterParams& params) const;
 
     // Declared first, so destroyed last: everything below is created through it.
     VulkanContext context_;
@@ -201,6 +209,8 @@ private:
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
     bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
+    // SHADE_USES_BASE_TEXTURES and SHADE_USES_EMISSIVE_TEXTURES of the materials last uploaded.
+    uint32_t materialTextureUses_ = 0;
 };
 
 VulkanDevice::~VulkanDevice()
@@ -244,18 +254,28 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. setup's line and
     // point paths are a second module (kSetupLinesPointsSpirv): NVIDIA's compiler slowed the triangle
     // path by 35-95% with the point code in the same module (compute_glsl/setup.comp).
+    // On a CPU device shade is a second module (kSpv_shade_cpu) with SPEC_SHADE_MODE and SPEC_SHADE_USES:
+    // the frame's shading mode and scene features, so that it holds only the code the frame can reach.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
         uint32_t samples;
         VkBool32 resolve;
+        uint32_t shadeMode;
+        uint32_t shadeUses;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
-                   build.materials ? VK_TRUE : VK_FALSE, build.samples, build.resolve ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry entries[4] = {
+                   build.materials ? VK_TRUE : VK_FALSE,
+                   build.samples,
+                   build.resolve ? VK_TRUE : VK_FALSE,
+                   build.shadeMode,
+                   build.shadeUses};
+    const VkSpecializationMapEntry entries[6] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
-        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)}};
+        {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)},
+        {SPEC_SHADE_MODE, offsetof(Constants, shadeMode), sizeof(uint32_t)},
+        {SPEC_SHADE_USES, offsetof(Constants, shadeUses), sizeof(uint32_t)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     const MethodSpirv& m = kMethodSpirv[build.method];
     StageSpirv spirv = kStageSpirv[stage];
@@ -263,10 +283,11 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     if (stage == STAGE_BIN_COUNT) spirv = m.binCount;
     if (stage == STAGE_BIN_FILL) spirv = m.binFill;
     if (stage == STAGE_RASTER_TILES) spirv = info_.isCpu ? m.rasterTilesChunked : m.rasterTiles;
+    if (stage == STAGE_SHADE && info_.isCpu) spirv = StageSpirv{kSpv_shade_cpu, sizeof kSpv_shade_cpu};
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 4;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 6;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
@@ -310,9 +331,14 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
     build.linesPoints = d.stage == STAGE_SETUP && params.lineCount + params.pointCount > 0;
     build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
+    if (d.stage == STAGE_SHADE && info_.isCpu) {
+        build.shadeMode = params.shadingMode;
+        build.shadeUses = shadeUses(params);
+    }
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
-    if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8) {
+    if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8 &&
+        build.shadeUses == 0 && build.shadeMode == 0) {
         VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
         if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
         return p;
@@ -382,9 +408,31 @@ Status VulkanDevice::resizeBuffer(uint32_t buffer, size_t bytes)
     return okStatus();
 }
 
+uint32_t VulkanDevice::shadeUses(const RasterParams& params) const
+{
+    uint32_t uses = 0;
+    if (params.materialCount > 0) uses |= SHADE_USES_MATERIALS;
+    if (params.materialCount > 0 && params.textureCount > 0) uses |= materialTextureUses_;
+    if (params.hasColors != 0) uses |= SHADE_USES_COLORS;
+    if (params.lineCount + params.pointCount > 0) uses |= SHADE_USES_LINES_POINTS;
+    if (params.uvInterpolation == UV_AFFINE) uses |= SHADE_USES_AFFINE_UV;
+    return uses;
+}
+
 Status VulkanDevice::uploadBuffer(uint32_t buffer, const void* data, size_t bytes)
 {
     SR_TRY(checkTransfer("upload", buffer, bytes));
+    if (buffer == BUF_MATERIALS) {
+        // Which texture lookups shade's CPU build needs (shadeUses): an index at or beyond the frame's
+        // textureCount is no texture, so any index counts here.
+        materialTextureUses_ = 0;
+        const auto* materials = static_cast<const GpuMaterial*>(data);
+        for (size_t k = 0; k < bytes / sizeof(GpuMaterial); ++k) {
+            if (materials[k].baseColorTexture != NO_TEXTURE) materialTextureUses_ |= SHADE_USES_BASE_TEXTURES;
+            if (materials[k].emissiveTexture != NO_TEXTURE)
+                materialTextureUses_ |= SHADE_USES_EMISSIVE_TEXTURES;
+        }
+    }
     if (bytes == 0) return okStatus();
     // The next run's stages and transfers see the data.
     return context_.upload(buffers_[buffer].buffer, data, bytes, kBufferUserStages, kBufferUserAccess);
@@ -395,6 +443,20 @@ Status VulkanDevice::downloadBuffer(uint32_t buffer, void* data, size_t bytes)
     SR_TRY(checkTransfer("download", buffer, bytes));
     if (bytes == 0) return okStatus();
     return context_.download(buffers_[buffer].buffer, data, bytes);
+}
+
+void VulkanDevice::fillForClear(VkCommandBuffer cmd, const RasterParams& params) const
+{
+    // Fills the first `bytes` of `buffer` (at most its logical size) with the 32-bit word `word`.
+    auto fill = [&](uint32_t buffer, size_t bytes, uint32_t word) {
+        bytes = std::min(bytes, sizes_[buffer]) & ~size_t(3);
+        if (bytes > 0) vkCmdFillBuffer(cmd, buffers_[buffer].buffer, 0, bytes, word);
+    };
+    size_t samples = size_t(params.samplePlane) * params.sampleCount;
+    fill(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t), 0u);
+    fill(BUF_TILE_BINS, size_t(params.tilesX) * params.tilesY * sizeof(uint32_t), 0u);
+    fill(BUF_VISIBILITY, samples * sizeof(uint64_t), 0xFFFFFFFFu);
+    if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) fill(BUF_HIT_COUNT, samples * sizeof(uint32_t), 0u);
 }
 
 Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector<Dispatch>& dispatches,
@@ -437,6 +499,15 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
         const uint32_t first = static_cast<uint32_t>(2 * i);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound[i]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
+        if (d.stage == STAGE_CLEAR && info_.isCpu) {
+            // On a CPU device the clear stage's stores run one scalar store per SIMD lane; the driver's
+            // fill writes the same values (compute_glsl/clear.comp) at memset speed.
+            fillForClear(cmd, params);
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool, first + 1);
+            memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          kBufferUserStages, kBufferUserAccess);
+            continue;
+        }
         // An empty stage still gets its two timestamps, so gpuMs keeps one entry per dispatch.
         // More groups than the device takes in one dispatch (lavapipe: 65,535) run as several
         // dispatches with a base group: gl_WorkGroupID, and so gl_GlobalInvocationID, counts on
