@@ -169,13 +169,17 @@ SR_NAMESPACE_BEGIN
 // of every branch on each SIMD bundle of pixels, so this build compiles out what the frame cannot reach.
 #define SPEC_SHADE_MODE 4
 #define SPEC_SHADE_USES 5
+#define SPEC_SHADE_SSAA 6  // RasterParams.ssaa: the resolve loops get constant trip counts
 #define SHADE_USES_MATERIALS 1u          // RasterParams.materialCount > 0
 #define SHADE_USES_BASE_TEXTURES 2u      // a material has a base colour texture
 #define SHADE_USES_EMISSIVE_TEXTURES 4u  // a material has an emissive texture
 #define SHADE_USES_COLORS 8u             // RasterParams.hasColors
 #define SHADE_USES_LINES_POINTS 16u      // RasterParams.lineCount + pointCount > 0
 #define SHADE_USES_AFFINE_UV 32u         // RasterParams.uvInterpolation == UV_AFFINE
-#define SHADE_USES_ALL 63u
+#define SHADE_USES_NEAREST_FILTER 64u    // a lookup may filter NEAREST (a sampler's or --texture-filter)
+#define SHADE_USES_LINEAR_FILTER 128u    // a lookup may filter LINEAR
+#define SHADE_USES_MIP_BLEND 256u        // a lookup may blend two levels (MIPMAP_LINEAR)
+#define SHADE_USES_ALL 511u
 // Raster methods (--raster-method; a build selector like SPEC_MATERIALS: GLSL preprocessor definition
 // RASTER_METHOD of setup, bin_count, bin_fill and raster_tiles, CUDA template argument). Plain integers,
 // so that the GLSL preprocessor can compare them. common/shared/methods.h has the three alternatives.

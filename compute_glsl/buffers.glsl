@@ -18,6 +18,7 @@
 // headers is decided when the pipeline is built and the code behind a false one is never run.
 layout(constant_id = SPEC_SHADE_MODE) const uint SHADE_MODE = SHADING_LAMBERT;
 layout(constant_id = SPEC_SHADE_USES) const uint SHADE_USES = SHADE_USES_ALL;
+layout(constant_id = SPEC_SHADE_SSAA) const uint SHADE_SSAA = 1u;
 layout(std140, set = 0, binding = BUF_PARAMS) uniform ParamsBlock { RasterParams frameParams; };
 RasterParams params;
 #else
@@ -151,6 +152,11 @@ vec4 sampleLevel(GpuTexture t, uint level, uint filterMode, vec2 st)
 vec4 sampleTexture(GpuTexture t, vec2 st, float lambda)
 {
     TextureLookup look = textureSelect(t, lambda, params.textureFilter);
+#if SHADE_CPU
+    if ((SHADE_USES & SHADE_USES_NEAREST_FILTER) == 0u) look.filterMode = FILTER_LINEAR;
+    if ((SHADE_USES & SHADE_USES_LINEAR_FILTER) == 0u) look.filterMode = FILTER_NEAREST;
+    if ((SHADE_USES & SHADE_USES_MIP_BLEND) == 0u) look.blend = 0.0f;
+#endif
     vec4 c = sampleLevel(t, look.level0, look.filterMode, st);
     if (look.blend > 0.0f) {
         vec4 c1 = sampleLevel(t, look.level1, look.filterMode, st);

@@ -59,6 +59,9 @@ void main()
     params = frameParams;
     params.shadingMode = SHADE_MODE;
     params.sampleCount = SAMPLES;
+    // A loop whose trip count is only known at run time costs a CPU device one more turn, all lanes
+    // masked off, to find that every lane has left it; constant counts unroll.
+    params.ssaa = SHADE_SSAA;
     if ((SHADE_USES & SHADE_USES_MATERIALS) == 0u) params.materialCount = 0u;
     if ((SHADE_USES & SHADE_USES_COLORS) == 0u) params.hasColors = 0u;
     params.uvInterpolation = (SHADE_USES & SHADE_USES_AFFINE_UV) != 0u ? UV_AFFINE : UV_PERSPECTIVE;
@@ -93,6 +96,30 @@ void main()
             uint id[SAMPLES];
             for (uint s = 0u; s < SAMPLES; ++s)
                 id[s] = visibilityId(visibility[s * params.samplePlane + pixel]);
+#if SHADE_CPU
+            // A CPU device would run the loop below's shading once per sample, each turn masked to the
+            // pixels whose sample is a first. Here each turn shades the lowest sample not yet shaded,
+            // weighted by all its samples, so a SIMD bundle of pixels takes as many turns as its pixel with
+            // the most distinct triangles (one inside a triangle); the same colours summed in the same order.
+            // A do-while: llvmpipe tests for live lanes at the end of a loop's body, so a test at the top
+            // would cost one more turn, with every lane masked off.
+            uint pending = (1u << SAMPLES) - 1u;
+            do {
+                // The lowest pending sample's id, picked with constant indices: indexing id[] by a varying
+                // index here gave wrong colours at 5% of the pixels on llvmpipe 22.3 (Mesa 22.3.6).
+                uint first = EMPTY_ID;
+                for (uint o = SAMPLES; o > 0u; --o)
+                    if ((pending & (1u << (o - 1u))) != 0u) first = id[o - 1u];
+                uint owned = 0u;
+                for (uint o = 0u; o < SAMPLES; ++o) {
+                    if ((pending & (1u << o)) == 0u || id[o] != first) continue;
+                    pending &= ~(1u << o);
+                    ++owned;
+                }
+                vec3 color = first == EMPTY_ID ? background : shadePrimitive(first, x, y);
+                sum = sum + clamp(color, vec3(0.0f), vec3(1.0f)) * float(owned);
+            } while (pending != 0u);
+#else
             for (uint s = 0u; s < SAMPLES; ++s) {
                 // Shade each triangle of the pixel once, at its first sample, weighted by its samples.
                 uint owned = 0u;
@@ -108,6 +135,7 @@ void main()
                 // the mean: a highlight far above 1 must not bleed over the pixel's other samples.
                 sum = sum + clamp(color, vec3(0.0f), vec3(1.0f)) * float(owned);
             }
+#endif
         }
     }
     framebuffer[i] = encodeColor(sum * sampleWeight(n * n * SAMPLES));

@@ -9,8 +9,10 @@
 // Every (scene, resolution, sample count) is run on every backend back to back, so their ratios come from the
 // same machine in the same minute. Reported per run: min/median/max of each stage's GPU time over the timed
 // repeats, total GPU ms, visibility ms (the frame less deferred shading; for vulkan-graphics its depth + id
-// pass, the hardware baseline), triangles/s, pixels/s, peak and working device memory (peak less the scene's
-// own buffers) against 40 B/triangle + 8 B/pixel + 8 B/sample.
+// pass, the hardware baseline), frame ms (the whole shaded frame: the compute backends' total, and for
+// vulkan-graphics a second run that shades in its fragment shader, so that both sides shade alike),
+// triangles/s, pixels/s, peak and working device memory (peak less the scene's own buffers) against
+// 40 B/triangle + 8 B/pixel + 8 B/sample.
 #ifndef RASTER_BENCH_H
 #define RASTER_BENCH_H
 

@@ -165,12 +165,13 @@ private:
         bool linesPoints = false;
         uint32_t method = RASTER_FIXED8;  // RASTER_*: the modules of setup, bin_count, bin_fill, raster_tiles
         uint32_t shadeMode = 0;           // shade on a CPU device: SPEC_SHADE_MODE, the frame's SHADING_*
-        uint32_t shadeUses = 0;           // and SPEC_SHADE_USES, its SHADE_USES_* (0 elsewhere)
+        uint32_t shadeUses = 0;           // SPEC_SHADE_USES, its SHADE_USES_* (0 elsewhere)
+        uint32_t shadeSsaa = 0;           // and SPEC_SHADE_SSAA, its SSAA factor
         bool operator<(const Build& o) const
         {
-            return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses) <
-                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method, o.shadeMode,
-                            o.shadeUses);
+            return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses,
+                            shadeSsaa) < std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method,
+                                                  o.shadeMode, o.shadeUses, o.shadeSsaa);
         }
     };
     // SHADE_USES_* of a frame with `params` on this device's buffers.
@@ -209,8 +210,10 @@ private:
     GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
     size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
     bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
-    // SHADE_USES_BASE_TEXTURES and SHADE_USES_EMISSIVE_TEXTURES of the materials last uploaded.
+    // SHADE_USES_BASE_TEXTURES and SHADE_USES_EMISSIVE_TEXTURES of the materials last uploaded, and the
+    // SHADE_USES_*_FILTER and SHADE_USES_MIP_BLEND bits of the textures' samplers.
     uint32_t materialTextureUses_ = 0;
+    uint32_t samplerUses_ = 0;
 };
 
 VulkanDevice::~VulkanDevice()
@@ -254,8 +257,9 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // anti-aliasing loops, which a CPU device would otherwise run masked at every pixel. setup's line and
     // point paths are a second module (kSetupLinesPointsSpirv): NVIDIA's compiler slowed the triangle
     // path by 35-95% with the point code in the same module (compute_glsl/setup.comp).
-    // On a CPU device shade is a second module (kSpv_shade_cpu) with SPEC_SHADE_MODE and SPEC_SHADE_USES:
-    // the frame's shading mode and scene features, so that it holds only the code the frame can reach.
+    // On a CPU device shade is a second module (kSpv_shade_cpu) with SPEC_SHADE_MODE, SPEC_SHADE_USES and
+    // SPEC_SHADE_SSAA: the frame's shading mode, scene features and SSAA factor, so that it holds only the
+    // code the frame can reach and its resolve loops unroll.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
@@ -263,19 +267,22 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         VkBool32 resolve;
         uint32_t shadeMode;
         uint32_t shadeUses;
+        uint32_t shadeSsaa;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
                    build.materials ? VK_TRUE : VK_FALSE,
                    build.samples,
                    build.resolve ? VK_TRUE : VK_FALSE,
                    build.shadeMode,
-                   build.shadeUses};
-    const VkSpecializationMapEntry entries[6] = {
+                   build.shadeUses,
+                   build.shadeSsaa};
+    const VkSpecializationMapEntry entries[7] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
         {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)},
         {SPEC_SHADE_MODE, offsetof(Constants, shadeMode), sizeof(uint32_t)},
-        {SPEC_SHADE_USES, offsetof(Constants, shadeUses), sizeof(uint32_t)}};
+        {SPEC_SHADE_USES, offsetof(Constants, shadeUses), sizeof(uint32_t)},
+        {SPEC_SHADE_SSAA, offsetof(Constants, shadeSsaa), sizeof(uint32_t)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     const MethodSpirv& m = kMethodSpirv[build.method];
     StageSpirv spirv = kStageSpirv[stage];
@@ -287,7 +294,7 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 6;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 7;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
@@ -334,11 +341,12 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     if (d.stage == STAGE_SHADE && info_.isCpu) {
         build.shadeMode = params.shadingMode;
         build.shadeUses = shadeUses(params);
+        build.shadeSsaa = params.ssaa;
     }
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
     if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8 &&
-        build.shadeUses == 0 && build.shadeMode == 0) {
+        build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0) {
         VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
         if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
         return p;
@@ -412,7 +420,16 @@ uint32_t VulkanDevice::shadeUses(const RasterParams& params) const
 {
     uint32_t uses = 0;
     if (params.materialCount > 0) uses |= SHADE_USES_MATERIALS;
-    if (params.materialCount > 0 && params.textureCount > 0) uses |= materialTextureUses_;
+    if (params.materialCount > 0 && params.textureCount > 0) {
+        uses |= materialTextureUses_;
+        // The --texture-filter override replaces every sampler's filters (textureSelect).
+        switch (params.textureFilter) {
+        case TEXTURE_FILTER_NEAREST: uses |= SHADE_USES_NEAREST_FILTER; break;
+        case TEXTURE_FILTER_BILINEAR: uses |= SHADE_USES_LINEAR_FILTER; break;
+        case TEXTURE_FILTER_TRILINEAR: uses |= SHADE_USES_LINEAR_FILTER | SHADE_USES_MIP_BLEND; break;
+        default: uses |= samplerUses_;
+        }
+    }
     if (params.hasColors != 0) uses |= SHADE_USES_COLORS;
     if (params.lineCount + params.pointCount > 0) uses |= SHADE_USES_LINES_POINTS;
     if (params.uvInterpolation == UV_AFFINE) uses |= SHADE_USES_AFFINE_UV;
@@ -431,6 +448,17 @@ Status VulkanDevice::uploadBuffer(uint32_t buffer, const void* data, size_t byte
             if (materials[k].baseColorTexture != NO_TEXTURE) materialTextureUses_ |= SHADE_USES_BASE_TEXTURES;
             if (materials[k].emissiveTexture != NO_TEXTURE)
                 materialTextureUses_ |= SHADE_USES_EMISSIVE_TEXTURES;
+        }
+    }
+    if (buffer == BUF_TEXTURES) {
+        samplerUses_ = 0;
+        const auto* textures = static_cast<const GpuTexture*>(data);
+        for (size_t k = 0; k < bytes / sizeof(GpuTexture); ++k) {
+            uint32_t mag = textures[k].filters & 255u, min = (textures[k].filters >> 8) & 255u;
+            for (uint32_t filter : {mag, min})
+                samplerUses_ |=
+                    filter == FILTER_NEAREST ? SHADE_USES_NEAREST_FILTER : SHADE_USES_LINEAR_FILTER;
+            if (((textures[k].filters >> 16) & 255u) == MIPMAP_LINEAR) samplerUses_ |= SHADE_USES_MIP_BLEND;
         }
     }
     if (bytes == 0) return okStatus();
