@@ -67,7 +67,17 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         }
         if (!mine) px[j] = -1;
     }
+#if RASTER_TILES_CHUNKED
+    // Loops test at the end on a CPU device: llvmpipe checks for live lanes at the end of a loop's body,
+    // so a test at the top costs one more turn of the whole body with every lane masked off. The caller
+    // passes begin < end.
+    uint nextBase = begin;
+    do {
+        uint base = nextBase;
+        nextBase += LANES;
+#else
     for (uint base = begin; base < end; base += LANES) {
+#endif
         uint count = min(end - base, LANES);
         if (lane < count) {
             TriSetup t;
@@ -85,7 +95,9 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         // A CPU device: triangle by triangle, each read from shared memory once for all the invocation's
         // pixels (a read at an index the compiler cannot prove uniform costs one scalar load per SIMD
         // lane there, and a TriSetup is 12 of them); the same tests as the GPU loop below.
-        for (uint k = 0u; k < count; ++k) {
+        uint nextK = 0u;
+        do {  // count >= 1
+            uint k = nextK++;
             TriSetup tri = tris[k];
             uint triMinDepth = minDepth[k];
             bool triMasked = MATERIALS && masked[k] != 0u;
@@ -115,7 +127,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                     farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
                 }
             }
-        }
+        } while (nextK < count);
 #else
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
             if (px[j] < 0) continue;
@@ -155,7 +167,11 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         }
 #endif
         barrier();
+#if RASTER_TILES_CHUNKED
+    } while (nextBase < end);
+#else
     }
+#endif
     for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
         if (px[j] < 0) continue;
         uint pixel = uint(py[j]) * params.width + uint(px[j]);
@@ -179,14 +195,17 @@ void main()
     uint activeCount = counters[COUNTER_ACTIVE_TILES];
 #if RASTER_TILES_CHUNKED
     uint chunks = rasterChunksPerTile(params.rasterChunk, counters[COUNTER_MAX_BIN]);
-    for (uint item = gl_WorkGroupID.x; item < activeCount * chunks; item += params.rasterGroups) {
+    uint items = activeCount * chunks;
+    uint item = gl_WorkGroupID.x;
+    if (item < items) do {  // tested at the end, as rasterTile's loops
         uint tile = activeTiles[item / chunks];
         uint begin = tile == 0u ? 0u : min(binEnd(tile - 1u), params.binCapacity);
         uint end = min(binEnd(tile), params.binCapacity);
         begin = min(end, begin + (item % chunks) * params.rasterChunk);
         end = min(end, begin + params.rasterChunk);
         if (begin < end) rasterTile(tile, lane, begin, end, chunks > 1u);
-    }
+        item += params.rasterGroups;
+    } while (item < items);
 #else
     for (uint index = gl_WorkGroupID.x; index < activeCount; index += params.rasterGroups) {
         uint tile = activeTiles[index];
