@@ -106,7 +106,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
                 if (px[j] < 0 || (!countHits && farthest[j] < triMinDepth)) continue;
                 if (SAMPLES == 1u) {
-                    if (methodPixel(tri, px[j], py[j], depth[0]) && (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
+                    if (methodPixel(tri, px[j], py[j], depth[0]) &&
+                        (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
                         key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
                         farthest[j] = uint(key[j * SAMPLES] >> 32);
                         ++hits[j * SAMPLES];
@@ -116,7 +117,8 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 if (!methodTouchesPixels(tri, px[j], py[j], px[j], py[j], params.sampleBounds)) continue;
                 uint mask = 0u;
                 for (uint s = 0u; s < SAMPLES; ++s)
-                    if (methodSample(tri, samplePosition(SAMPLES, s, px[j], py[j]), depth[s])) mask |= 1u << s;
+                    if (methodSample(tri, samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
+                        mask |= 1u << s;
                 if (mask == 0u || (triMasked && !alphaMaskCovers(id, px[j], py[j]))) continue;
                 farthest[j] = 0u;
                 for (uint s = 0u; s < SAMPLES; ++s) {
