@@ -45,19 +45,6 @@ SR_FN uint quotient47NoDivide(uint m)
 // the GLSL stages (SR_CPU_BUILD, a preprocessor definition) take the quotient from quotient47NoDivide
 // instead: the same bits (tests/shared_math_test.cpp checks every mantissa) from 32-bit operations and a
 // multiply-only 64-bit remainder.
-#if defined(SR_CPU_BUILD)
-SR_FN float recipDet(float b)
-{
-    uint bits = floatBitsToUint(b);
-    uint sign = bits & 0x80000000u;
-    uint e = (bits >> 23) & 0xffu;
-    if (e == 0u) return uintBitsToFloat(sign | 0x7f800000u);
-    if (e >= 253u) return uintBitsToFloat(sign);
-    uint q = quotient47NoDivide((bits & 0x7fffffu) | 0x800000u);
-    if (q == (1u << 24)) return uintBitsToFloat(sign | ((254u - e) << 23));
-    return uintBitsToFloat(sign | ((253u - e) << 23) | (q & 0x7fffffu));
-}
-#else
 SR_FN float recipDet(float b)
 {
     uint bits = floatBitsToUint(b);
@@ -66,11 +53,14 @@ SR_FN float recipDet(float b)
     if (e == 0u) return uintBitsToFloat(sign | 0x7f800000u);
     if (e >= 253u) return uintBitsToFloat(sign);
     uint64_t m = uint64_t((bits & 0x7fffffu) | 0x800000u);
+#if defined(SR_CPU_BUILD)
+    uint64_t q = uint64_t(quotient47NoDivide(uint(m)));
+#else
     uint64_t q = (uint64_t(1) << 47) / m;  // in (2^23, 2^24]
+#endif
     if (q == (uint64_t(1) << 24)) return uintBitsToFloat(sign | ((254u - e) << 23));
     return uintBitsToFloat(sign | ((253u - e) << 23) | (uint(q) & 0x7fffffu));
 }
-#endif
 
 SR_FN float divDet(float a, float b)
 {
