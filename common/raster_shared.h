@@ -70,6 +70,24 @@ SR_NAMESPACE_BEGIN
 #define BUF_TESS_IDS 28        // uint per generated triangle: its scene triangle (the id AOV maps through it)
 #define BUF_TESS_MATERIALS 29  // uint per scene primitive: its material (only when materialCount > 0)
 #define BUF_COUNT 30
+// CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
+// them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
+// loop with a branch per lane and component), but fetches texels of a buffer view with vector gathers;
+// the CPU builds of the stages (SR_CPU_BUILD) read their hot data through these.
+#define VIEW_SETUP_TRIS 30     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
+#define VIEW_BIN_ENTRIES 31    // BUF_BIN_ENTRIES as R32UI
+#define VIEW_VISIBILITY 32     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
+#define VIEW_INDICES 33        // BUF_INDICES as R32UI
+#define VIEW_POSITIONS 34      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
+#define VIEW_NORMALS 35        // BUF_NORMALS as RGBA32UI
+#define VIEW_COLORS 36         // BUF_COLORS as RGBA32UI
+#define VIEW_TEXCOORDS 37      // BUF_TEXCOORDS as RGBA32UI
+#define VIEW_TRI_MATERIALS 38  // BUF_TRI_MATERIALS as R32UI
+#define VIEW_MATERIALS 39      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
+#define VIEW_TEXTURES 40       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
+#define VIEW_TEXELS 41         // BUF_TEXELS as R32UI
+#define VIEW_SRGB_TABLE 42     // BUF_SRGB_TABLE as R32UI (float bits)
+#define VIEW_COUNT 13
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.

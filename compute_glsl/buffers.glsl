@@ -51,6 +51,73 @@ layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock
 layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
 layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
 
+// Shade's reads by triangle, vertex and texel index. In shade's CPU build they go through the texel views
+// (VIEW_*, raster_shared.h), which llvmpipe gathers as vectors, where a storage-buffer load at an index
+// it cannot prove uniform is a loop over the SIMD lanes with a branch per lane and component.
+#if SHADE_CPU
+layout(set = 0, binding = VIEW_VISIBILITY) uniform usamplerBuffer visibilityView;
+layout(set = 0, binding = VIEW_INDICES) uniform usamplerBuffer indicesView;
+layout(set = 0, binding = VIEW_POSITIONS) uniform usamplerBuffer positionsView;
+layout(set = 0, binding = VIEW_NORMALS) uniform usamplerBuffer normalsView;
+layout(set = 0, binding = VIEW_COLORS) uniform usamplerBuffer colorsView;
+layout(set = 0, binding = VIEW_TEXCOORDS) uniform usamplerBuffer texcoordsView;
+layout(set = 0, binding = VIEW_TRI_MATERIALS) uniform usamplerBuffer triMaterialsView;
+layout(set = 0, binding = VIEW_MATERIALS) uniform usamplerBuffer materialsView;
+layout(set = 0, binding = VIEW_TEXTURES) uniform usamplerBuffer texturesView;
+layout(set = 0, binding = VIEW_TEXELS) uniform usamplerBuffer texelsView;
+layout(set = 0, binding = VIEW_SRGB_TABLE) uniform usamplerBuffer srgbTableView;
+
+GpuMaterial fetchMaterial(uint k)
+{
+    int t = int(6u * k);
+    GpuMaterial m;
+    m.baseColorFactor = uintBitsToFloat(texelFetch(materialsView, t));
+    m.uvTransformU = uintBitsToFloat(texelFetch(materialsView, t + 1));
+    m.uvTransformV = uintBitsToFloat(texelFetch(materialsView, t + 2));
+    m.emissive = uintBitsToFloat(texelFetch(materialsView, t + 3));
+    uvec4 a = texelFetch(materialsView, t + 4), b = texelFetch(materialsView, t + 5);
+    m.baseColorTexture = a.x;
+    m.texCoord = a.y;
+    m.alphaMode = a.z;
+    m.alphaCutoff = uintBitsToFloat(a.w);
+    m.emissiveTexture = b.x;
+    m.emissiveTexCoord = b.y;
+    m.pad0 = b.z;
+    m.pad1 = b.w;
+    return m;
+}
+
+GpuTexture fetchTexture(uint k)
+{
+    uvec4 a = texelFetch(texturesView, int(2u * k)), b = texelFetch(texturesView, int(2u * k + 1u));
+    return GpuTexture(a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w);
+}
+
+#define LOAD_KEY_ID(i) texelFetch(visibilityView, int(i)).x
+#define LOAD_INDEX(i) texelFetch(indicesView, int(i)).x
+#define LOAD_POSITION(i) uintBitsToFloat(texelFetch(positionsView, int(i)))
+#define LOAD_NORMAL(i) uintBitsToFloat(texelFetch(normalsView, int(i)))
+#define LOAD_COLOR(i) uintBitsToFloat(texelFetch(colorsView, int(i)))
+#define LOAD_TEXCOORD(i) uintBitsToFloat(texelFetch(texcoordsView, int(i)))
+#define LOAD_TRI_MATERIAL(i) texelFetch(triMaterialsView, int(i)).x
+#define LOAD_MATERIAL(k) fetchMaterial(k)
+#define LOAD_TEXTURE(k) fetchTexture(k)
+#define LOAD_TEXEL(i) texelFetch(texelsView, int(i)).x
+#define LOAD_SRGB(i) uintBitsToFloat(texelFetch(srgbTableView, int(i)).x)
+#else
+#define LOAD_KEY_ID(i) visibilityId(visibility[i])
+#define LOAD_INDEX(i) indices[i]
+#define LOAD_POSITION(i) positions[i]
+#define LOAD_NORMAL(i) normals[i]
+#define LOAD_COLOR(i) colors[i]
+#define LOAD_TEXCOORD(i) texcoords[i]
+#define LOAD_TRI_MATERIAL(i) triMaterials[i]
+#define LOAD_MATERIAL(k) materials[k]
+#define LOAD_TEXTURE(k) textures[k]
+#define LOAD_TEXEL(i) texels[i]
+#define LOAD_SRGB(i) srgbTable[i]
+#endif
+
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),
 // plus the debug hit count. Used by setup for small triangles; raster_tiles owns its pixels and writes
 // them plainly.
@@ -123,12 +190,12 @@ uint binEnd(uint tile)
 // One texel as linear RGBA: sRGB colour channels through the decode table, the rest as unorm.
 vec4 fetchTexel(GpuTexture t, uint index)
 {
-    uint texel = texels[index];
+    uint texel = LOAD_TEXEL(index);
     vec4 c = textureUnorm(texel);
     if (t.srgb != 0u) {
-        c.x = srgbTable[texel & 255u];
-        c.y = srgbTable[(texel >> 8) & 255u];
-        c.z = srgbTable[(texel >> 16) & 255u];
+        c.x = LOAD_SRGB(texel & 255u);
+        c.y = LOAD_SRGB((texel >> 8) & 255u);
+        c.z = LOAD_SRGB((texel >> 16) & 255u);
     }
     return c;
 }
@@ -173,21 +240,21 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
 {
     vec4 white = vec4(1.0f);
     bool hasColors = params.hasColors != 0u;
-    vec4 base = surfaceColor(s, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,
-                             hasColors ? colors[i2] : white);
+    vec4 base = surfaceColor(s, hasColors ? LOAD_COLOR(i0) : white, hasColors ? LOAD_COLOR(i1) : white,
+                             hasColors ? LOAD_COLOR(i2) : white);
     uv = vec2(0.0f);
     lambda = -128.0f;
     if (params.materialCount == 0u) return base;
-    GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
+    GpuMaterial m = LOAD_MATERIAL(min(LOAD_TRI_MATERIAL(id), params.materialCount - 1u));
     base = base * m.baseColorFactor;
 #if SHADE_CPU
     if ((SHADE_USES & SHADE_USES_BASE_TEXTURES) == 0u) return base;
 #endif
     if (m.baseColorTexture >= params.textureCount) return base;
     vec2 dx, dy;
-    uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.texCoord, dx, dy);
+    uv = surfaceUvOfSet(s, LOAD_TEXCOORD(i0), LOAD_TEXCOORD(i1), LOAD_TEXCOORD(i2), m.texCoord, dx, dy);
     uv = materialTransformUv(m, uv);
-    GpuTexture t = textures[m.baseColorTexture];
+    GpuTexture t = LOAD_TEXTURE(m.baseColorTexture);
     lambda = textureLambda(materialTransformDerivative(m, dx), materialTransformDerivative(m, dy), t.width,
                            t.height);
     return base * sampleTexture(t, uv, lambda);
@@ -198,15 +265,16 @@ vec4 materialBaseColor(uint id, uint i0, uint i1, uint i2, SurfacePoint s, out v
 vec3 materialEmissive(uint id, uint i0, uint i1, uint i2, SurfacePoint s)
 {
     if (params.materialCount == 0u) return vec3(0.0f);
-    GpuMaterial m = materials[min(triMaterials[id], params.materialCount - 1u)];
+    GpuMaterial m = LOAD_MATERIAL(min(LOAD_TRI_MATERIAL(id), params.materialCount - 1u));
     vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
 #if SHADE_CPU
     if ((SHADE_USES & SHADE_USES_EMISSIVE_TEXTURES) == 0u) return e;
 #endif
     if (m.emissiveTexture >= params.textureCount || e == vec3(0.0f)) return e;
     vec2 dx, dy;
-    vec2 uv = surfaceUvOfSet(s, texcoords[i0], texcoords[i1], texcoords[i2], m.emissiveTexCoord, dx, dy);
-    GpuTexture t = textures[m.emissiveTexture];
+    vec2 uv = surfaceUvOfSet(s, LOAD_TEXCOORD(i0), LOAD_TEXCOORD(i1), LOAD_TEXCOORD(i2), m.emissiveTexCoord,
+                             dx, dy);
+    GpuTexture t = LOAD_TEXTURE(m.emissiveTexture);
     vec4 texel = sampleTexture(t, uv, textureLambda(dx, dy, t.width, t.height));
     return e * vec3(texel.x, texel.y, texel.z);
 }

@@ -16,6 +16,11 @@
 // llvmpipe's loop limiter (65,535 loop iterations per invocation, after which every loop silently
 // ends); the chunks of one tile merge their keys with 64-bit atomicMin, and the host draws a frame
 // again if it had more work items than groups. Group g takes the items g, g + rasterGroups, ...
+// The CPU build shares nothing between its invocations: every invocation walks the whole chunk, entry
+// by entry, fetching each triangle's record (setup's CPU build stores every big triangle) and the tile's
+// keys through texel views (VIEW_*), which llvmpipe gathers as vectors, where a storage-buffer or
+// shared-memory load at an index it cannot prove uniform is a loop over the SIMD lanes. So it needs no
+// shared memory and no barrier (each of which makes an invocation a coroutine there).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -33,9 +38,32 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 #define LANES gl_WorkGroupSize.x
 #define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
+#if RASTER_TILES_CHUNKED
+layout(set = 0, binding = VIEW_SETUP_TRIS) uniform usamplerBuffer setupTrisView;
+layout(set = 0, binding = VIEW_BIN_ENTRIES) uniform usamplerBuffer binEntriesView;
+layout(set = 0, binding = VIEW_VISIBILITY) uniform usamplerBuffer visibilityView;
+
+// setupTris[slot] through its view.
+TriSetup fetchSetupRecord(uint slot)
+{
+    TriSetup t;
+    t.xy01 = ivec4(texelFetch(setupTrisView, int(3u * slot)));
+    t.xy2Id = ivec4(texelFetch(setupTrisView, int(3u * slot + 1u)));
+    t.depthPlane = uintBitsToFloat(texelFetch(setupTrisView, int(3u * slot + 2u)));
+    return t;
+}
+
+// visibility[index] through its view.
+uint64_t fetchKey(uint index)
+{
+    uvec2 words = texelFetch(visibilityView, int(index)).xy;
+    return (uint64_t(words.y) << 32) | uint64_t(words.x);
+}
+#else
 shared TriSetup tris[TILE_SIZE * TILE_SIZE];
 shared uint minDepth[TILE_SIZE * TILE_SIZE];
 shared uint masked[TILE_SIZE * TILE_SIZE];  // TRI_FLAG_ALPHA_MASK of each: coverage needs the alpha test
+#endif
 
 // Resolves the bin entries [begin, end) of one screen tile into its pixels' SAMPLES samples each.
 // Uniform across the group. Sample s of the invocation's j-th pixel has its key at j * SAMPLES + s.
@@ -61,23 +89,101 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         uint pixel = mine ? uint(py[j]) * params.width + uint(px[j]) : 0u;
         farthest[j] = 0u;
         for (uint s = 0u; s < SAMPLES; ++s) {
+#if RASTER_TILES_CHUNKED
+            key[j * SAMPLES + s] = mine ? fetchKey(s * params.samplePlane + pixel) : ~uint64_t(0);
+#else
             key[j * SAMPLES + s] = mine ? visibility[s * params.samplePlane + pixel] : ~uint64_t(0);
+#endif
             farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
             hits[j * SAMPLES + s] = 0u;
         }
         if (!mine) px[j] = -1;
     }
 #if RASTER_TILES_CHUNKED
-    // Loops test at the end on a CPU device: llvmpipe checks for live lanes at the end of a loop's body,
-    // so a test at the top costs one more turn of the whole body with every lane masked off. The caller
-    // passes begin < end.
-    uint nextBase = begin;
+    // A CPU device: entry by entry, every invocation the same triangle. Loops test at the end there:
+    // llvmpipe checks for live lanes at the end of a loop's body, so a test at the top costs one more
+    // turn of the whole body with every lane masked off. The caller passes begin < end.
+    uint entry = begin;
     do {
-        uint base = nextBase;
-        nextBase += LANES;
+        uint ref = texelFetch(binEntriesView, int(entry)).x;
+        ++entry;
+        uint slot = ref & ~BIN_REF_RECORD;
+        bool ok = (ref & BIN_REF_RECORD) != 0u && slot < params.setupCapacity;
+        TriSetup tri = fetchSetupRecord(min(slot, params.setupCapacity - 1u));
+        uint triMinDepth = ok ? triangleMinDepthBits(tri) : 0xFFFFFFFFu;
+        uint id = setupTriId(tri);
+        // Lines have no alpha test (and no triangle flags).
+        bool triMasked = MATERIALS && ok && params.materialCount != 0u && id < params.triangleCount &&
+                         (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
+        if (triMinDepth == 0xFFFFFFFFu) continue;
+#if RASTER_METHOD == RASTER_FIXED8 || RASTER_METHOD == RASTER_FIXED4
+        if (SAMPLES == 1u) {
+            // The exact edge functions (rasterSample's) stepped from pixel to pixel by additions: the
+            // invocation's pixels lie in rows of TILE_SIZE / LANES, LANES apart (pixel j is p = lane +
+            // j LANES of the tile; LANES divides TILE_SIZE on a CPU device), and a pixel step of d
+            // changes the edge function a->b by SUBPIXEL_SCALE ((b.x - a.x) d.y - (b.y - a.y) d.x).
+            ivec2 v0 = setupV0(tri), v1 = setupV1(tri), v2 = setupV2(tri);
+            int64_t bias0 = edgeBias(v1, v2), bias1 = edgeBias(v2, v0), bias2 = edgeBias(v0, v1);
+            ivec2 first = samplePosition(1u, 0u, int(tile % params.tilesX) * TILE_SIZE + int(lane),
+                                         int(tile / params.tilesX) * TILE_SIZE);
+            int64_t row0 = edgeFunction(v1, v2, first), row1 = edgeFunction(v2, v0, first);
+            int64_t row2 = edgeFunction(v0, v1, first);
+            int64_t dx0 = int64_t(v1.y - v2.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
+            int64_t dx1 = int64_t(v2.y - v0.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
+            int64_t dx2 = int64_t(v0.y - v1.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
+            int64_t dy0 = int64_t(v2.x - v1.x) * int64_t(SUBPIXEL_SCALE);
+            int64_t dy1 = int64_t(v0.x - v2.x) * int64_t(SUBPIXEL_SCALE);
+            int64_t dy2 = int64_t(v1.x - v0.x) * int64_t(SUBPIXEL_SCALE);
+            for (uint row = 0u; row < uint(TILE_SIZE); ++row) {
+                int64_t e0 = row0, e1 = row1, e2 = row2;
+                for (uint c = 0u; c < uint(TILE_SIZE) / LANES; ++c) {
+                    uint j = row * (uint(TILE_SIZE) / LANES) + c;
+                    if (px[j] >= 0 && (countHits || farthest[j] >= triMinDepth) && e0 >= bias0 &&
+                        e1 >= bias1 && e2 >= bias2 && (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
+                        key[j] = min(key[j], packVisibility(depthFromEdges(tri, e1, e2), id));
+                        farthest[j] = uint(key[j] >> 32);
+                        ++hits[j];
+                    }
+                    e0 += dx0;
+                    e1 += dx1;
+                    e2 += dx2;
+                }
+                row0 += dy0;
+                row1 += dy1;
+                row2 += dy2;
+            }
+            continue;
+        }
+#endif
+        for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
+            if (px[j] < 0 || (!countHits && farthest[j] < triMinDepth)) continue;
+            if (SAMPLES == 1u) {
+                if (methodPixel(tri, px[j], py[j], depth[0]) &&
+                    (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
+                    key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
+                    farthest[j] = uint(key[j * SAMPLES] >> 32);
+                    ++hits[j * SAMPLES];
+                }
+                continue;
+            }
+            if (!methodTouchesPixels(tri, px[j], py[j], px[j], py[j], params.sampleBounds)) continue;
+            uint mask = 0u;
+            for (uint s = 0u; s < SAMPLES; ++s)
+                if (methodSample(tri, samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
+                    mask |= 1u << s;
+            if (mask == 0u || (triMasked && !alphaMaskCovers(id, px[j], py[j]))) continue;
+            farthest[j] = 0u;
+            for (uint s = 0u; s < SAMPLES; ++s) {
+                if ((mask & (1u << s)) != 0u) {
+                    key[j * SAMPLES + s] = min(key[j * SAMPLES + s], packVisibility(depth[s], id));
+                    ++hits[j * SAMPLES + s];
+                }
+                farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
+            }
+        }
+    } while (entry < end);
 #else
     for (uint base = begin; base < end; base += LANES) {
-#endif
         uint count = min(end - base, LANES);
         if (lane < count) {
             TriSetup t;
@@ -91,46 +197,6 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
             }
         }
         barrier();
-#if RASTER_TILES_CHUNKED
-        // A CPU device: triangle by triangle, each read from shared memory once for all the invocation's
-        // pixels (a read at an index the compiler cannot prove uniform costs one scalar load per SIMD
-        // lane there, and a TriSetup is 12 of them); the same tests as the GPU loop below.
-        uint nextK = 0u;
-        do {  // count >= 1
-            uint k = nextK++;
-            TriSetup tri = tris[k];
-            uint triMinDepth = minDepth[k];
-            bool triMasked = MATERIALS && masked[k] != 0u;
-            uint id = setupTriId(tri);
-            if (triMinDepth == 0xFFFFFFFFu) continue;
-            for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
-                if (px[j] < 0 || (!countHits && farthest[j] < triMinDepth)) continue;
-                if (SAMPLES == 1u) {
-                    if (methodPixel(tri, px[j], py[j], depth[0]) &&
-                        (!triMasked || alphaMaskCovers(id, px[j], py[j]))) {
-                        key[j * SAMPLES] = min(key[j * SAMPLES], packVisibility(depth[0], id));
-                        farthest[j] = uint(key[j * SAMPLES] >> 32);
-                        ++hits[j * SAMPLES];
-                    }
-                    continue;
-                }
-                if (!methodTouchesPixels(tri, px[j], py[j], px[j], py[j], params.sampleBounds)) continue;
-                uint mask = 0u;
-                for (uint s = 0u; s < SAMPLES; ++s)
-                    if (methodSample(tri, samplePosition(SAMPLES, s, px[j], py[j]), depth[s]))
-                        mask |= 1u << s;
-                if (mask == 0u || (triMasked && !alphaMaskCovers(id, px[j], py[j]))) continue;
-                farthest[j] = 0u;
-                for (uint s = 0u; s < SAMPLES; ++s) {
-                    if ((mask & (1u << s)) != 0u) {
-                        key[j * SAMPLES + s] = min(key[j * SAMPLES + s], packVisibility(depth[s], id));
-                        ++hits[j * SAMPLES + s];
-                    }
-                    farthest[j] = max(farthest[j], uint(key[j * SAMPLES + s] >> 32));
-                }
-            }
-        } while (nextK < count);
-#else
         for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {
             if (px[j] < 0) continue;
             for (uint k = 0u; k < count; ++k) {
@@ -167,11 +233,7 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
                 }
             }
         }
-#endif
         barrier();
-#if RASTER_TILES_CHUNKED
-    } while (nextBase < end);
-#else
     }
 #endif
     for (uint j = 0u; j < PIXELS_PER_LANE; ++j) {

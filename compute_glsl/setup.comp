@@ -27,8 +27,18 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 #ifndef SETUP_LINES_POINTS
 #define SETUP_LINES_POINTS 0
 #endif
+// Whether a big triangle is stored as a record. On a GPU only a clipped one is (the others cost no
+// memory and are set up again per tile); the CPU builds (SR_CPU_BUILD) store every big triangle, so that
+// raster_tiles' CPU build fetches each with three texel gathers (VIEW_SETUP_TRIS) instead of setting it
+// up from the scene in every tile, one lane at a time.
+#if defined(SR_CPU_BUILD)
+#define STORED_AS_RECORD(clipped) true
+#else
+#define STORED_AS_RECORD(clipped) (clipped)
+#endif
 
-// Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
+// Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces: a record
+// (BIN_REF_RECORD) when `clipped` (STORED_AS_RECORD: always in the CPU builds), else its input index. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
 void emitTriangle(TriSetup t, bool clipped)
@@ -192,7 +202,7 @@ void main()
         TriSetup t;
         if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
                                 params.height, params.sampleBounds, t)) {
-            emitTriangle(t, kind == PREPARE_CLIPPED);
+            emitTriangle(t, STORED_AS_RECORD(kind == PREPARE_CLIPPED));
             ++emitted;
         }
     }

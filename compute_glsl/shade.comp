@@ -35,11 +35,11 @@ vec3 shadePrimitive(uint id, int x, int y)
         float u = lineParameter(params, x, y, positions[lines[2u * k]], positions[lines[2u * k + 1u]]);
         return shadeUnlit(params, id, lineBaseColor(id, u));
     }
-    uint i0 = indices[3u * id];
-    uint i1 = indices[3u * id + 1u];
-    uint i2 = indices[3u * id + 2u];
-    SurfacePoint s = surfaceAt(params, x, y, positions[i0], positions[i1], positions[i2], normals[i0],
-                               normals[i1], normals[i2]);
+    uint i0 = LOAD_INDEX(3u * id);
+    uint i1 = LOAD_INDEX(3u * id + 1u);
+    uint i2 = LOAD_INDEX(3u * id + 2u);
+    SurfacePoint s = surfaceAt(params, x, y, LOAD_POSITION(i0), LOAD_POSITION(i1), LOAD_POSITION(i2),
+                               LOAD_NORMAL(i0), LOAD_NORMAL(i1), LOAD_NORMAL(i2));
     vec2 uv;
     float lambda;
     vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);
@@ -71,7 +71,7 @@ void main()
     uint n = params.ssaa;
     if (!RESOLVE) {  // one sample per pixel
         if (i >= params.width * params.height) return;
-        uint id = visibilityId(visibility[i]);
+        uint id = LOAD_KEY_ID(i);
         vec3 color = background;
         if (params.shadingMode == SHADING_HIT_COUNT)
             color = hitCountColor(hitCount[i], color);
@@ -95,7 +95,7 @@ void main()
             }
             uint id[SAMPLES];
             for (uint s = 0u; s < SAMPLES; ++s)
-                id[s] = visibilityId(visibility[s * params.samplePlane + pixel]);
+                id[s] = LOAD_KEY_ID(s * params.samplePlane + pixel);
 #if SHADE_CPU
             // A CPU device would run the loop below's shading once per sample, each turn masked to the
             // pixels whose sample is a first. Here each turn shades the lowest sample not yet shaded,

@@ -1,7 +1,8 @@
 // cpu_build_test.cpp - the stages' CPU builds (compute_glsl/shade.comp's SHADE_CPU, SR_CPU_BUILD): a
 // Vulkan device keeps one shade pipeline per frame variant (shading mode, scene features, texture filters,
-// SSAA), so one session switching between them must draw what a fresh device draws for each; and `raster
-// bench` reports whole shaded frames beside the graphics pipeline's. On a GPU device the same tests run
+// SSAA), so one session switching between them must draw what a fresh device draws for each; the texel
+// views the CPU builds read through follow every buffer a session replaces; and `raster bench` reports
+// whole shaded frames beside the graphics pipeline's. On a GPU device the same tests run
 // the GPU builds, where the images must agree just the same.
 #include <fstream>
 
@@ -79,6 +80,45 @@ TEST_P(CpuBuildTest, EveryFrameVariantDrawsWhatAFreshDeviceDraws)
     auto ra = session->render(*camera, a), rb = session->render(*camera, b);
     ASSERT_TRUE(ra.ok() && rb.ok());
     EXPECT_GT(differingPixels(ra->color, rb->color), 100);
+}
+
+// On a CPU device setup stores every big triangle as a record, and raster_tiles and shade read records,
+// bin entries, keys and the scene through texel views of the buffers, made again whenever a buffer is
+// replaced. A session whose lists start at one entry (each overflows, grows and redraws) and whose frame
+// then grows (new visibility and bin buffers) must draw the ids, depths and colours a fresh device draws
+// with lists sized from the scene; and on a CPU device the records are exactly the big triangles.
+TEST_P(CpuBuildTest, GrownListsAndBuffersDrawWhatAFreshDeviceDraws)
+{
+    FramedScene framed = framedBuiltin(64, 48);
+    auto session = RenderSession::create(*device_, framed.scene);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    const uint32_t sizes[][2] = {{64, 48}, {200, 150}, {96, 64}};
+    for (const auto& size : sizes) {
+        RenderSettings s = framed.settings;
+        s.width = size[0];
+        s.height = size[1];
+        auto camera = resolveCamera(*parseCameraSpec("auto"), framed.scene, s.width, s.height);
+        ASSERT_TRUE(camera.ok());
+        RenderSettings tiny = s;
+        tiny.initialListCapacity = 1;
+        auto grown = session->render(*camera, tiny);
+        ASSERT_TRUE(grown.ok()) << grown.error().message;
+        bool skip = false;
+        auto fresh = openBackend(GetParam(), skip);
+        ASSERT_TRUE(fresh);
+        auto alone = renderScene(*fresh, framed.scene, *camera, s);
+        ASSERT_TRUE(alone.ok()) << alone.error().message;
+        EXPECT_EQ(grown->aov.id, alone->aov.id) << s.width << "x" << s.height;
+        EXPECT_EQ(grown->aov.depth, alone->aov.depth) << s.width << "x" << s.height;
+        EXPECT_EQ(differingPixels(grown->color, alone->color), 0) << s.width << "x" << s.height;
+        EXPECT_GT(alone->stats.bigTris, 0u);
+        if (device_->info().isCpu) {
+            EXPECT_EQ(alone->stats.records, alone->stats.bigTris);
+        }
+        if (size[0] == 64) {
+            EXPECT_GT(grown->stats.redraws, 0u) << "the one-entry lists never overflowed";
+        }
+    }
 }
 
 // The MSAA resolve (on a CPU device: each distinct triangle of a pixel shaded once per turn, weighted by

@@ -74,6 +74,17 @@ SR_FN bool rasterSample(TriSetup t, ivec2 p, SR_OUT(float) depth)
     return true;
 }
 
+// rasterSample's depth from the edge values e1 and e2 (the weights of v1 and v2) of a covered sample, the
+// same float steps, for a caller that walks the edge functions itself: raster_tiles' CPU build steps
+// them from pixel to pixel by additions, which is exact (they are integers) and saves the products.
+SR_FN float depthFromEdges(TriSetup t, int64_t e1, int64_t e2)
+{
+    SR_PRECISE float b1 = float(e1) * t.depthPlane.w;
+    SR_PRECISE float b2 = float(e2) * t.depthPlane.w;
+    SR_PRECISE float z = t.depthPlane.x + b1 * t.depthPlane.y + b2 * t.depthPlane.z;
+    return z > 0.0f ? min(z, 1.0f) : 0.0f;
+}
+
 // The samples of pixel (px, py) the triangle covers, as a bit mask (bit s: sample s of the `count`-
 // sample pattern); the same edge tests as rasterSample, without the depth.
 SR_FN uint pixelCoverage(TriSetup t, uint count, int px, int py)

@@ -487,7 +487,8 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     f.tiles = uint64_t(grid.x) * grid.y;
     const uint64_t tris = scene.triangleCount() + 2 * scene.lineCount();  // a segment draws as two
     // Start small: one piece per eighth of the triangles (most of a mesh is culled or small, and small
-    // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64.
+    // triangles need no memory), four bin entries per piece, and records for one clipped triangle in 64
+    // (on a CPU device, where setup stores every big triangle as a record, one per piece).
     // A scene that needs more overflows once, in its first frame, and is grown and redrawn; nothing is
     // sized for the worst case. Later frames of the session start where the previous one ended.
     ListCapacities& capacity = capacities_;
@@ -496,7 +497,7 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     } else if (!drawn_) {
         capacity.pieces = uint32_t(tris / 8 + 1024);
         capacity.binEntries = uint32_t(std::min<uint64_t>(4 * uint64_t(capacity.pieces) + f.tiles, 1u << 30));
-        capacity.records = uint32_t(tris / 64 + 64);
+        capacity.records = device_->info().isCpu ? capacity.pieces : uint32_t(tris / 64 + 64);
     }
 
     // One key per sample: memory grows with the sample count asked for, and 1x has no sample buffers.

@@ -26,7 +26,7 @@ namespace sr {
 
 // Entries the compute pipeline's lists hold (RasterParams.setupCapacity, pieceCapacity, binCapacity).
 struct ListCapacities {
-    uint32_t records = 0;     // TriSetup records of clipped big sub-triangles
+    uint32_t records = 0;     // TriSetup records of clipped big sub-triangles (CPU devices: all big ones)
     uint32_t pieces = 0;      // pieces of big triangles
     uint32_t binEntries = 0;  // (big triangle, screen tile) bin entries
 };
@@ -66,7 +66,7 @@ struct RenderStats {
     uint64_t lines = 0;          // of which set up (the others culled, clipped away or invalid)
     uint64_t pointsIn = 0;       // points handed to the GPU
     uint64_t points = 0;         // of which rasterized (the others culled or invalid)
-    uint64_t records = 0;        // big sub-triangles of clipped triangles, stored as records
+    uint64_t records = 0;        // TriSetup records: clipped big sub-triangles (CPU devices: all big ones)
     uint64_t pieces = 0;         // pieces the big triangles were cut into
     uint64_t binEntries = 0;     // (big triangle, screen tile) bin entries
     uint64_t tessVertices = 0;   // vertices tessellation generated (0 without it)

@@ -547,19 +547,22 @@ Status VulkanContext::createDevice(QueueKind kind, const ExternalSharing* sharin
 
 Status VulkanContext::createDescriptorObjects()
 {
-    // Every shader declares every binding (compute_glsl/buffers.glsl), so one layout serves all.
-    VkDescriptorSetLayoutBinding bindings[BUF_COUNT];
-    for (uint32_t i = 0; i < BUF_COUNT; ++i) {
+    // Every shader declares every binding (compute_glsl/buffers.glsl), so one layout serves all; the
+    // CPU builds of the stages also read the VIEW_* texel views.
+    const uint32_t count = BUF_COUNT + (texelViews() ? VIEW_COUNT : 0);
+    VkDescriptorSetLayoutBinding bindings[BUF_COUNT + VIEW_COUNT];
+    for (uint32_t i = 0; i < count; ++i) {
         bindings[i] = VkDescriptorSetLayoutBinding{};
         bindings[i].binding = i;
-        bindings[i].descriptorType =
-            i == BUF_PARAMS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorType = i == BUF_PARAMS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                     : i < BUF_COUNT ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                     : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = kBindingStages;
     }
     VkDescriptorSetLayoutCreateInfo setInfo{};
     setInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    setInfo.bindingCount = BUF_COUNT;
+    setInfo.bindingCount = count;
     setInfo.pBindings = bindings;
     SR_VK_CHECK(vkCreateDescriptorSetLayout(device_, &setInfo, nullptr, &setLayout_));
 
@@ -569,9 +572,11 @@ Status VulkanContext::createDescriptorObjects()
     layoutInfo.pSetLayouts = &setLayout_;
     SR_VK_CHECK(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_));
 
-    VkDescriptorPoolSize poolSizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, BUF_COUNT - 1}};
-    return createSingleSet(device_, poolSizes, 2, setLayout_, descriptorPool_, descriptorSet_);
+    VkDescriptorPoolSize poolSizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, BUF_COUNT - 1},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VIEW_COUNT}};
+    return createSingleSet(device_, poolSizes, texelViews() ? 3 : 2, setLayout_, descriptorPool_,
+                           descriptorSet_);
 }
 
 Status VulkanContext::createCommandObjects()
@@ -909,22 +914,28 @@ Status VulkanContext::download(VkBuffer src, void* data, VkDeviceSize bytes)
     return okStatus();
 }
 
-void VulkanContext::writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT])
+void VulkanContext::writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT], const VkBufferView* views)
 {
     VkDescriptorBufferInfo infos[BUF_COUNT];
-    VkWriteDescriptorSet writes[BUF_COUNT];
-    for (uint32_t i = 0; i < BUF_COUNT; ++i) {
-        infos[i] = VkDescriptorBufferInfo{buffers[i], 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet writes[BUF_COUNT + VIEW_COUNT];
+    const uint32_t count = BUF_COUNT + (views != nullptr ? VIEW_COUNT : 0);
+    for (uint32_t i = 0; i < count; ++i) {
         writes[i] = VkWriteDescriptorSet{};
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         writes[i].dstSet = descriptorSet_;
         writes[i].dstBinding = i;
         writes[i].descriptorCount = 1;
+        if (i >= BUF_COUNT) {
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+            writes[i].pTexelBufferView = &views[i - BUF_COUNT];
+            continue;
+        }
+        infos[i] = VkDescriptorBufferInfo{buffers[i], 0, VK_WHOLE_SIZE};
         writes[i].descriptorType =
             i == BUF_PARAMS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &infos[i];
     }
-    vkUpdateDescriptorSets(device_, BUF_COUNT, writes, 0, nullptr);
+    vkUpdateDescriptorSets(device_, count, writes, 0, nullptr);
 }
 
 Result<VkShaderModule> VulkanContext::createShaderModule(const uint32_t* code, size_t bytes)

@@ -196,14 +196,18 @@ public:
     Status download(VkBuffer src, void* data, VkDeviceSize bytes);
 
     // Descriptor set 0 as compute_glsl/buffers.glsl declares it (binding BUF_PARAMS a uniform
-    // buffer, the others storage buffers), visible to the compute, vertex and fragment stages, and
-    // the pipeline layout of every pipeline of both backends.
+    // buffer, the others storage buffers; on a CPU device, texelViews(), also the VIEW_* uniform texel
+    // buffers after them), visible to the compute, vertex and fragment stages, and the pipeline layout
+    // of every pipeline of both backends.
     VkPipelineLayout pipelineLayout() const { return pipelineLayout_; }
     VkDescriptorSet descriptorSet() const { return descriptorSet_; }
     // The layout of that set, for a backend that builds a pipeline layout with further sets after it.
     VkDescriptorSetLayout setLayout() const { return setLayout_; }
-    // Points binding i at the whole of buffers[i]. No submitted work may still use the set.
-    void writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT]);
+    // Whether the set has the VIEW_* bindings: on CPU devices, whose stages' CPU builds read through them.
+    bool texelViews() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+    // Points binding i at the whole of buffers[i] and, given `views` (VIEW_COUNT of them, texelViews()
+    // only), binding VIEW_* at views[VIEW_* - BUF_COUNT]. No submitted work may still use the set.
+    void writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT], const VkBufferView* views = nullptr);
 
     // A module to build one pipeline from, destroyed by the caller once the pipeline exists.
     Result<VkShaderModule> createShaderModule(const uint32_t* code, size_t bytes);

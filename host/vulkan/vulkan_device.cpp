@@ -35,6 +35,8 @@ namespace {
 // module of every stage of the table (common/shared/stages.h), the others are the raster methods'.
 #include "stage_spirv.h"
 #include "setup_lines_points.spv.h"
+#include "setup_cpu.spv.h"
+#include "setup_lines_points_cpu.spv.h"
 #include "raster_tiles_chunked.spv.h"
 #include "shade_cpu.spv.h"
 #include "bin_count_fixed4.spv.h"
@@ -43,18 +45,24 @@ namespace {
 #include "raster_tiles_chunked_fixed4.spv.h"
 #include "setup_fixed4.spv.h"
 #include "setup_lines_points_fixed4.spv.h"
+#include "setup_cpu_fixed4.spv.h"
+#include "setup_lines_points_cpu_fixed4.spv.h"
 #include "bin_count_float.spv.h"
 #include "bin_fill_float.spv.h"
 #include "raster_tiles_float.spv.h"
 #include "raster_tiles_chunked_float.spv.h"
 #include "setup_float.spv.h"
 #include "setup_lines_points_float.spv.h"
+#include "setup_cpu_float.spv.h"
+#include "setup_lines_points_cpu_float.spv.h"
 #include "bin_count_scanline.spv.h"
 #include "bin_fill_scanline.spv.h"
 #include "raster_tiles_scanline.spv.h"
 #include "raster_tiles_chunked_scanline.spv.h"
 #include "setup_scanline.spv.h"
 #include "setup_lines_points_scanline.spv.h"
+#include "setup_cpu_scanline.spv.h"
+#include "setup_lines_points_cpu_scanline.spv.h"
 
 struct StageSpirv {
     const uint32_t* code;
@@ -74,30 +82,60 @@ const StageSpirv kStageSpirv[] = {SR_STAGE_TABLE(SR_STAGE_SPIRV)};
 static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one module per stage");
 
 // The modules of one raster method (RASTER_METHOD): setup without and with the line and point paths
-// (SETUP_LINES_POINTS, for scenes that have lines or points), bin_count, bin_fill, and raster_tiles
-// resolving whole bins (GPUs) and in chunks (RASTER_TILES_CHUNKED, CPU devices).
+// (SETUP_LINES_POINTS, for scenes that have lines or points), bin_count, bin_fill, raster_tiles
+// resolving whole bins (GPUs) and in chunks (RASTER_TILES_CHUNKED, CPU devices), and setup's CPU builds
+// (SR_CPU_BUILD: every big triangle stored as a record, which the chunked raster_tiles requires).
 struct MethodSpirv {
-    StageSpirv setup, setupLinesPoints, binCount, binFill, rasterTiles, rasterTilesChunked;
+    StageSpirv setup, setupLinesPoints, binCount, binFill, rasterTiles, rasterTilesChunked, setupCpu,
+        setupLinesPointsCpu;
 };
 // Indexed by RASTER_*.
 const MethodSpirv kMethodSpirv[] = {
     {SR_SPIRV(kSpv_setup), SR_SPIRV(kSpv_setup_lines_points), SR_SPIRV(kSpv_bin_count),
-     SR_SPIRV(kSpv_bin_fill), SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_raster_tiles_chunked)},
+     SR_SPIRV(kSpv_bin_fill), SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_raster_tiles_chunked),
+     SR_SPIRV(kSpv_setup_cpu), SR_SPIRV(kSpv_setup_lines_points_cpu)},
     {SR_SPIRV(kSpv_setup_fixed4), SR_SPIRV(kSpv_setup_lines_points_fixed4), SR_SPIRV(kSpv_bin_count_fixed4),
      SR_SPIRV(kSpv_bin_fill_fixed4), SR_SPIRV(kSpv_raster_tiles_fixed4),
-     SR_SPIRV(kSpv_raster_tiles_chunked_fixed4)},
+     SR_SPIRV(kSpv_raster_tiles_chunked_fixed4), SR_SPIRV(kSpv_setup_cpu_fixed4),
+     SR_SPIRV(kSpv_setup_lines_points_cpu_fixed4)},
     {SR_SPIRV(kSpv_setup_float), SR_SPIRV(kSpv_setup_lines_points_float), SR_SPIRV(kSpv_bin_count_float),
      SR_SPIRV(kSpv_bin_fill_float), SR_SPIRV(kSpv_raster_tiles_float),
-     SR_SPIRV(kSpv_raster_tiles_chunked_float)},
+     SR_SPIRV(kSpv_raster_tiles_chunked_float), SR_SPIRV(kSpv_setup_cpu_float),
+     SR_SPIRV(kSpv_setup_lines_points_cpu_float)},
     {SR_SPIRV(kSpv_setup_scanline), SR_SPIRV(kSpv_setup_lines_points_scanline),
      SR_SPIRV(kSpv_bin_count_scanline), SR_SPIRV(kSpv_bin_fill_scanline),
-     SR_SPIRV(kSpv_raster_tiles_scanline), SR_SPIRV(kSpv_raster_tiles_chunked_scanline)},
+     SR_SPIRV(kSpv_raster_tiles_scanline), SR_SPIRV(kSpv_raster_tiles_chunked_scanline),
+     SR_SPIRV(kSpv_setup_cpu_scanline), SR_SPIRV(kSpv_setup_lines_points_cpu_scanline)},
 };
 static_assert(sizeof kMethodSpirv / sizeof kMethodSpirv[0] == RASTER_METHOD_COUNT, "modules per method");
 #undef SR_SPIRV
 
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+// The texel views of CPU devices (VIEW_*, common/raster_shared.h), indexed by VIEW_* - BUF_COUNT: the
+// buffer each shows and its texel format.
+struct TexelView {
+    uint32_t buffer;
+    VkFormat format;
+    VkDeviceSize texelBytes;
+};
+constexpr TexelView kTexelViews[VIEW_COUNT] = {{BUF_SETUP_TRIS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_BIN_ENTRIES, VK_FORMAT_R32_UINT, 4},
+                                               {BUF_VISIBILITY, VK_FORMAT_R32G32_UINT, 8},
+                                               {BUF_INDICES, VK_FORMAT_R32_UINT, 4},
+                                               {BUF_POSITIONS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_NORMALS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_COLORS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_TEXCOORDS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_TRI_MATERIALS, VK_FORMAT_R32_UINT, 4},
+                                               {BUF_MATERIALS, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_TEXTURES, VK_FORMAT_R32G32B32A32_UINT, 16},
+                                               {BUF_TEXELS, VK_FORMAT_R32_UINT, 4},
+                                               {BUF_SRGB_TABLE, VK_FORMAT_R32_UINT, 4}};
+static_assert(VIEW_SETUP_TRIS == BUF_COUNT && VIEW_SRGB_TABLE == BUF_COUNT + VIEW_COUNT - 1,
+              "kTexelViews order");
+static_assert(sizeof(GpuMaterial) == 96 && sizeof(GpuTexture) == 32, "texels per record in buffers.glsl");
 
 // Everything a later submission may do with a buffer: compute stages read and write it, transfers
 // copy from and into it.
@@ -207,9 +245,16 @@ private:
     // setup, raster_tiles and shade for MSAA or SSAA, the line and point build of setup, and the builds of
     // the other raster methods, by stage and build; made when a frame first asks for them.
     std::map<std::pair<uint32_t, Build>, VkPipeline> sampledPipelines_;
-    GpuBuffer buffers_[BUF_COUNT];  // BUF_PARAMS is the uniform buffer, the rest storage buffers
-    size_t sizes_[BUF_COUNT] = {};  // logical sizes, as resize() was last asked
-    bool descriptorsDirty_ = true;  // a buffer was replaced since the descriptor set was written
+    // Usage of buffer i: storage and transfers, and on a CPU device a texel view's buffer also that.
+    VkBufferUsageFlags usage(uint32_t buffer) const;
+    // Replaces the texel views (CPU devices) by views of the current buffers.
+    Status createTexelViews();
+    void destroyTexelViews();
+
+    GpuBuffer buffers_[BUF_COUNT];         // BUF_PARAMS is the uniform buffer, the rest storage buffers
+    VkBufferView views_[VIEW_COUNT] = {};  // CPU devices: kTexelViews of buffers_, else null
+    size_t sizes_[BUF_COUNT] = {};         // logical sizes, as resize() was last asked
+    bool descriptorsDirty_ = true;         // a buffer was replaced since the descriptor set was written
     // SHADE_USES_BASE_TEXTURES and SHADE_USES_EMISSIVE_TEXTURES of the materials last uploaded, and the
     // SHADE_USES_*_FILTER and SHADE_USES_MIP_BLEND bits of the textures' samplers.
     uint32_t materialTextureUses_ = 0;
@@ -220,6 +265,7 @@ VulkanDevice::~VulkanDevice()
 {
     if (context_.device() == VK_NULL_HANDLE) return;
     context_.waitIdle();
+    destroyTexelViews();
     for (GpuBuffer& b : buffers_) context_.destroyBuffer(b);
     for (VkPipeline pipeline : pipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
     for (VkPipeline pipeline : materialPipelines_) vkDestroyPipeline(context_.device(), pipeline, nullptr);
@@ -259,7 +305,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // path by 35-95% with the point code in the same module (compute_glsl/setup.comp).
     // On a CPU device shade is a second module (kSpv_shade_cpu) with SPEC_SHADE_MODE, SPEC_SHADE_USES and
     // SPEC_SHADE_SSAA: the frame's shading mode, scene features and SSAA factor, so that it holds only the
-    // code the frame can reach and its resolve loops unroll.
+    // code the frame can reach and its resolve loops unroll. setup's CPU build stores every big triangle
+    // as a record (MethodSpirv), which raster_tiles' CPU build reads through a texel view.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
@@ -286,7 +333,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     const MethodSpirv& m = kMethodSpirv[build.method];
     StageSpirv spirv = kStageSpirv[stage];
-    if (stage == STAGE_SETUP) spirv = build.linesPoints ? m.setupLinesPoints : m.setup;
+    if (stage == STAGE_SETUP && info_.isCpu) spirv = build.linesPoints ? m.setupLinesPointsCpu : m.setupCpu;
+    if (stage == STAGE_SETUP && !info_.isCpu) spirv = build.linesPoints ? m.setupLinesPoints : m.setup;
     if (stage == STAGE_BIN_COUNT) spirv = m.binCount;
     if (stage == STAGE_BIN_FILL) spirv = m.binFill;
     if (stage == STAGE_RASTER_TILES) spirv = info_.isCpu ? m.rasterTilesChunked : m.rasterTiles;
@@ -365,16 +413,57 @@ Status VulkanDevice::ensureBindings()
         // the stages of this run touch it.
         context_.destroyBuffer(b);
         descriptorsDirty_ = true;
-        SR_TRY(context_.allocateBuffer(b, kMinBufferBytes, kStorageUsage,
-                                       {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+        SR_TRY(context_.allocateBuffer(b, kMinBufferBytes, usage(i), {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
     }
     if (!descriptorsDirty_) return okStatus();
     VkBuffer handles[BUF_COUNT];
     for (uint32_t i = 0; i < BUF_COUNT; ++i) handles[i] = buffers_[i].buffer;
-    // No submitted work uses the set any more (every call waits), so it can be updated in place.
-    context_.writeDescriptorSet(handles);
+    // No submitted work uses the set any more (every call waits), so it and the views can be replaced.
+    if (context_.texelViews()) {
+        SR_TRY(createTexelViews());
+        context_.writeDescriptorSet(handles, views_);
+    } else {
+        context_.writeDescriptorSet(handles);
+    }
     descriptorsDirty_ = false;
     return okStatus();
+}
+
+VkBufferUsageFlags VulkanDevice::usage(uint32_t buffer) const
+{
+    VkBufferUsageFlags flags = kStorageUsage;
+    if (context_.texelViews())
+        for (const TexelView& v : kTexelViews)
+            if (v.buffer == buffer) flags |= VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    return flags;
+}
+
+Status VulkanDevice::createTexelViews()
+{
+    destroyTexelViews();
+    const VkDeviceSize maxTexels = context_.properties().limits.maxTexelBufferElements;
+    for (uint32_t k = 0; k < VIEW_COUNT; ++k) {
+        const TexelView& v = kTexelViews[k];
+        // The whole buffer, in whole texels (capacities are multiples of kMinBufferBytes, 16), up to the
+        // device's limit; a fetch beyond a view's range reads zero.
+        VkDeviceSize texels = std::min(buffers_[v.buffer].capacity / v.texelBytes, maxTexels);
+        VkBufferViewCreateInfo info{};
+        info.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
+        info.buffer = buffers_[v.buffer].buffer;
+        info.format = v.format;
+        info.offset = 0;
+        info.range = texels * v.texelBytes;
+        SR_VK_CHECK(vkCreateBufferView(context_.device(), &info, nullptr, &views_[k]));
+    }
+    return okStatus();
+}
+
+void VulkanDevice::destroyTexelViews()
+{
+    for (VkBufferView& view : views_) {
+        if (view != VK_NULL_HANDLE) vkDestroyBufferView(context_.device(), view, nullptr);
+        view = VK_NULL_HANDLE;
+    }
 }
 
 Status VulkanDevice::checkTransfer(const char* what, uint32_t buffer, size_t bytes) const
@@ -407,11 +496,12 @@ Status VulkanDevice::resizeBuffer(uint32_t buffer, size_t bytes)
         return okStatus();
     }
     // Free first so that the old and new allocations never coexist; the contents are undefined
-    // anyway.
+    // anyway. The texel views go with it and are made again with the descriptor set.
+    destroyTexelViews();
     context_.destroyBuffer(b);
     sizes_[buffer] = 0;
     descriptorsDirty_ = true;
-    SR_TRY(context_.allocateBuffer(b, capacity, kStorageUsage, {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+    SR_TRY(context_.allocateBuffer(b, capacity, usage(buffer), {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
     sizes_[buffer] = bytes;
     return okStatus();
 }
