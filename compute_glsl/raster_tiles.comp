@@ -35,6 +35,10 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = SPEC_MATERIALS) const bool MATERIALS = true;
 // Samples per pixel (SPEC_SAMPLES, RasterParams.sampleCount): sizes each invocation's array of keys.
 layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
+#if RASTER_TILES_CHUNKED
+// Whether the frame counts hits (SPEC_COUNT_HITS: DEBUG_COUNT_HITS of RasterParams.debugFlags).
+layout(constant_id = SPEC_COUNT_HITS) const bool COUNT_HITS = false;
+#endif
 #define LANES gl_WorkGroupSize.x
 #define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
@@ -74,7 +78,11 @@ void rasterTile(uint tile, uint lane, uint begin, uint end, bool merge)
 void rasterTile(uint tile, uint lane, uint begin, uint end)
 #endif
 {
+#if RASTER_TILES_CHUNKED
+    bool countHits = COUNT_HITS;
+#else
     bool countHits = (params.debugFlags & DEBUG_COUNT_HITS) != 0u;
+#endif
     int px[MAX_PIXELS_PER_LANE], py[MAX_PIXELS_PER_LANE];
     uint64_t key[MAX_PIXELS_PER_LANE * SAMPLES];
     uint hits[MAX_PIXELS_PER_LANE * SAMPLES];

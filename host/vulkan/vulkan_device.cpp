@@ -205,11 +205,12 @@ private:
         uint32_t shadeMode = 0;           // shade on a CPU device: SPEC_SHADE_MODE, the frame's SHADING_*
         uint32_t shadeUses = 0;           // SPEC_SHADE_USES, its SHADE_USES_* (0 elsewhere)
         uint32_t shadeSsaa = 0;           // and SPEC_SHADE_SSAA, its SSAA factor
+        bool countHits = false;           // raster_tiles on a CPU device: SPEC_COUNT_HITS
         bool operator<(const Build& o) const
         {
-            return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses,
-                            shadeSsaa) < std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method,
-                                                  o.shadeMode, o.shadeUses, o.shadeSsaa);
+            return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses, shadeSsaa,
+                            countHits) < std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method,
+                                                  o.shadeMode, o.shadeUses, o.shadeSsaa, o.countHits);
         }
     };
     // SHADE_USES_* of a frame with `params` on this device's buffers.
@@ -306,7 +307,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // On a CPU device shade is a second module (kSpv_shade_cpu) with SPEC_SHADE_MODE, SPEC_SHADE_USES and
     // SPEC_SHADE_SSAA: the frame's shading mode, scene features and SSAA factor, so that it holds only the
     // code the frame can reach and its resolve loops unroll. setup's CPU build stores every big triangle
-    // as a record (MethodSpirv), which raster_tiles' CPU build reads through a texel view.
+    // as a record (MethodSpirv), which raster_tiles' CPU build reads through a texel view; that build
+    // takes SPEC_COUNT_HITS, so that a frame without the hit count holds none of its stores.
     struct Constants {
         uint32_t rasterLanes;
         VkBool32 materials;
@@ -315,21 +317,24 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         uint32_t shadeMode;
         uint32_t shadeUses;
         uint32_t shadeSsaa;
+        VkBool32 countHits;
     } constants = {info_.isCpu ? uint32_t(MIN_RASTER_LANES) : uint32_t(TILE_SIZE * TILE_SIZE),
                    build.materials ? VK_TRUE : VK_FALSE,
                    build.samples,
                    build.resolve ? VK_TRUE : VK_FALSE,
                    build.shadeMode,
                    build.shadeUses,
-                   build.shadeSsaa};
-    const VkSpecializationMapEntry entries[7] = {
+                   build.shadeSsaa,
+                   build.countHits ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[8] = {
         {0, offsetof(Constants, rasterLanes), sizeof(uint32_t)},
         {SPEC_MATERIALS, offsetof(Constants, materials), sizeof(VkBool32)},
         {SPEC_SAMPLES, offsetof(Constants, samples), sizeof(uint32_t)},
         {SPEC_RESOLVE, offsetof(Constants, resolve), sizeof(VkBool32)},
         {SPEC_SHADE_MODE, offsetof(Constants, shadeMode), sizeof(uint32_t)},
         {SPEC_SHADE_USES, offsetof(Constants, shadeUses), sizeof(uint32_t)},
-        {SPEC_SHADE_SSAA, offsetof(Constants, shadeSsaa), sizeof(uint32_t)}};
+        {SPEC_SHADE_SSAA, offsetof(Constants, shadeSsaa), sizeof(uint32_t)},
+        {SPEC_COUNT_HITS, offsetof(Constants, countHits), sizeof(VkBool32)}};
     bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
     const MethodSpirv& m = kMethodSpirv[build.method];
     StageSpirv spirv = kStageSpirv[stage];
@@ -342,7 +347,7 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 7;  // a shader ignores the constants it does not declare
+    specialization.mapEntryCount = 8;  // a shader ignores the constants it does not declare
     specialization.pMapEntries = entries;
     specialization.dataSize = sizeof(Constants);
     specialization.pData = &constants;
@@ -386,6 +391,8 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
     build.linesPoints = d.stage == STAGE_SETUP && params.lineCount + params.pointCount > 0;
     build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
+    build.countHits =
+        d.stage == STAGE_RASTER_TILES && info_.isCpu && (params.debugFlags & DEBUG_COUNT_HITS) != 0;
     if (d.stage == STAGE_SHADE && info_.isCpu) {
         build.shadeMode = params.shadingMode;
         build.shadeUses = shadeUses(params);
@@ -394,7 +401,7 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
     if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8 &&
-        build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0) {
+        build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0 && !build.countHits) {
         VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
         if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
         return p;
