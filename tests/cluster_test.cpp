@@ -1,0 +1,163 @@
+// cluster_test.cpp - the load-time clusters (host/scene/clusters.h): every scene triangle in exactly one
+// cluster, wound as in the scene; the size limits; bounding spheres that hold their vertices; and normal
+// cones that never call a cluster back-facing while one of its triangles faces the viewer (world space,
+// the triangle's geometric normal against the direction from the viewer to each of its corners).
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "scene/clusters.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+Scene sceneNamed(const std::string& name)
+{
+    auto scene = name.rfind("builtin", 0) == 0 ? builtinSceneNamed(name) : loadScene(glmark2Model(name));
+    EXPECT_TRUE(scene.ok()) << name << ": " << (scene.ok() ? "" : scene.error().message);
+    return scene.ok() ? std::move(*scene) : Scene{};
+}
+
+// The invariants of a scene's clusters, checked against the scene itself.
+void checkClusters(const Scene& scene, const ClusterSet& set, const std::string& name)
+{
+    const size_t triangles = scene.indices.size() / 3;
+    ASSERT_EQ(set.triangleIds.size(), triangles) << name;
+    ASSERT_EQ(set.localIndices.size(), 3 * triangles) << name;
+    std::vector<int> seen(triangles, 0);
+    size_t nextTriangle = 0, nextVertex = 0;
+    for (size_t k = 0; k < set.clusters.size(); ++k) {
+        const Cluster& c = set.clusters[k];
+        // Clusters tile the arrays in order, within the limits.
+        ASSERT_EQ(c.triangleOffset, nextTriangle) << name << " cluster " << k;
+        ASSERT_EQ(c.vertexOffset, nextVertex) << name << " cluster " << k;
+        ASSERT_GE(c.triangleCount, 1u);
+        ASSERT_LE(c.triangleCount, kClusterMaxTriangles);
+        ASSERT_GE(c.vertexCount, 1u);
+        ASSERT_LE(c.vertexCount, kClusterMaxVertices);
+        nextTriangle += c.triangleCount;
+        nextVertex += c.vertexCount;
+        for (uint32_t v = 0; v < c.vertexCount; ++v) {
+            const glm::vec3 p(scene.positions[set.vertices[c.vertexOffset + v]]);
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+            const float d = glm::length(p - glm::vec3(c.sphere));
+            EXPECT_LE(d, c.sphere.w * (1.0f + 1e-5f) + 1e-6f) << name << " cluster " << k << " vertex " << v;
+        }
+        for (uint32_t t = 0; t < c.triangleCount; ++t) {
+            const size_t slot = c.triangleOffset + t;
+            const uint32_t id = set.triangleIds[slot];
+            ASSERT_LT(id, triangles) << name << " cluster " << k;
+            ++seen[id];
+            for (int corner = 0; corner < 3; ++corner) {
+                const uint8_t local = set.localIndices[3 * slot + corner];
+                ASSERT_LT(local, c.vertexCount);
+                EXPECT_EQ(set.vertices[c.vertexOffset + local], scene.indices[3 * size_t(id) + corner])
+                    << name << " triangle " << id << " corner " << corner;
+            }
+        }
+    }
+    EXPECT_EQ(nextTriangle, triangles);
+    EXPECT_EQ(nextVertex, set.vertices.size());
+    for (size_t t = 0; t < triangles; ++t) ASSERT_EQ(seen[t], 1) << name << " triangle " << t;
+}
+
+TEST(Clusters, EveryTriangleInExactlyOneClusterWithinTheLimitsAndTheBounds)
+{
+    for (const char* name : {"builtin", "builtin:dense", "builtin:checker", "bunny.obj"}) {
+        Scene scene = sceneNamed(name);
+        ASSERT_GT(scene.indices.size(), 0u) << name;
+        ClusterSet set = buildClusters(scene);
+        ASSERT_FALSE(set.clusters.empty()) << name;
+        checkClusters(scene, set, name);
+        // Clusters are as full as the mesh allows, or the builder is not grouping neighbours: a cluster's
+        // 64 vertices hold about 64 T / V of its triangles (a closed welded mesh: 124, the limit; OBJ
+        // files, whose every face corner is its own vertex, as the bunny: 21).
+        const double triangles = double(scene.indices.size() / 3);
+        const double fits = std::min({double(kClusterMaxTriangles), triangles,
+                                      kClusterMaxVertices * triangles / double(scene.positions.size())});
+        EXPECT_GT(triangles / double(set.clusters.size()), 0.5 * fits) << name;
+    }
+}
+
+// A triangle faces away from a viewer at `eye` when its geometric normal points away from the viewer
+// at every corner (the corners lie in one plane, so one corner decides; all three guard rounding).
+bool triangleFacesAway(const Scene& scene, uint32_t id, const glm::vec3& eye)
+{
+    const glm::vec3 a(scene.positions[scene.indices[3 * size_t(id)]]);
+    const glm::vec3 b(scene.positions[scene.indices[3 * size_t(id) + 1]]);
+    const glm::vec3 c(scene.positions[scene.indices[3 * size_t(id) + 2]]);
+    const glm::dvec3 n = glm::cross(glm::dvec3(b - a), glm::dvec3(c - a));
+    for (const glm::vec3& p : {a, b, c})
+        if (glm::dot(n, glm::dvec3(p - eye)) < 0.0) return false;
+    return true;
+}
+
+TEST(Clusters, ConeCullingNeverCullsATriangleThatFacesTheViewer)
+{
+    for (const char* name : {"builtin", "builtin:dense", "bunny.obj"}) {
+        Scene scene = sceneNamed(name);
+        ClusterSet set = buildClusters(scene);
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        for (const glm::vec4& p : scene.positions) {
+            lo = glm::min(lo, glm::vec3(p));
+            hi = glm::max(hi, glm::vec3(p));
+        }
+        const glm::vec3 centre = 0.5f * (lo + hi);
+        const float extent = glm::length(hi - lo);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+        size_t culled = 0, tested = 0;
+        for (int e = 0; e < 64; ++e) {
+            // Viewers around the mesh, from close to far.
+            glm::vec3 dir(unit(rng), unit(rng), unit(rng));
+            if (glm::length(dir) < 1e-3f) continue;
+            const glm::vec3 eye = centre + glm::normalize(dir) * extent * (0.6f + 2.0f * float(e % 4));
+            for (const Cluster& c : set.clusters) {
+                ++tested;
+                if (!clusterConeBackFacing(c, eye)) continue;
+                ++culled;
+                for (uint32_t t = 0; t < c.triangleCount; ++t)
+                    ASSERT_TRUE(triangleFacesAway(scene, set.triangleIds[c.triangleOffset + t], eye))
+                        << name << ": a culled cluster has a triangle facing the viewer";
+            }
+        }
+        // The cones do cull: on the dense sphere (smooth, closed) a fifth or more of the clusters face away
+        // from a viewer outside it; the built-in scene's boxes and the unwelded bunny cull fewer.
+        EXPECT_GT(culled, std::string(name) == "builtin:dense" ? tested / 5 : size_t(0)) << name;
+    }
+}
+
+// Vertices that are not finite (the GPU drops their triangles), degenerate and repeated triangles, and
+// scenes without triangles.
+TEST(Clusters, NonFiniteVerticesNeverCullAndEmptyScenesHaveNoClusters)
+{
+    Scene scene = sceneNamed("builtin");
+    scene.positions[scene.indices[0]] = glm::vec4(NAN, 0.0f, 0.0f, 1.0f);
+    // Degenerate triangles (a repeated corner, or twice the same triangle) are clustered like any other.
+    for (uint32_t i : {0u, 0u, 1u, 5u, 6u, 7u, 5u, 6u, 7u}) scene.indices.push_back(i);
+    scene.triFlags.resize(scene.indices.size() / 3, 0u);
+    scene.triMaterials.resize(scene.triMaterials.empty() ? 0 : scene.indices.size() / 3, 0u);
+    ClusterSet set = buildClusters(scene);
+    checkClusters(scene, set, "builtin with a NaN vertex and degenerate triangles");
+    size_t withNan = 0;
+    for (const Cluster& c : set.clusters) {
+        bool hasNan = false;
+        for (uint32_t v = 0; v < c.vertexCount; ++v)
+            hasNan |= set.vertices[c.vertexOffset + v] == scene.indices[0];
+        if (!hasNan) continue;
+        ++withNan;
+        EXPECT_TRUE(std::isinf(c.sphere.w));
+        EXPECT_FALSE(clusterConeBackFacing(c, glm::vec3(0.0f, 0.0f, 100.0f)));
+        EXPECT_FALSE(clusterConeBackFacing(c, glm::vec3(0.0f, 0.0f, -100.0f)));
+    }
+    EXPECT_GE(withNan, 1u);
+    Scene empty;
+    EXPECT_TRUE(buildClusters(empty).clusters.empty());
+}
+
+}  // namespace
+}  // namespace sr::test
