@@ -8,8 +8,8 @@
 // triangle whose depth bound lies behind every sample's key of a pixel is skipped there without a
 // coverage test (early depth; off while counting hits, which must see every triangle).
 // LANES is specialization constant 0: TILE_SIZE^2 on a GPU (one pixel per invocation, as the CUDA
-// twin), the SIMD width on a CPU device, where every invocation of a group that synchronizes becomes a
-// coroutine and fewer, longer invocations cost far less.
+// twin), the SIMD width on a CPU device, where one group is one SIMD bundle of invocations, each owning
+// TILE_SIZE^2 / LANES pixels of the tile.
 // groups = RasterParams.rasterGroups: one per work item of the previous frame. On a GPU a work item is an
 // active tile. On a CPU device (RASTER_TILES_CHUNKED, a second module, RasterParams.rasterChunk) it is
 // a chunk of at most rasterChunk entries of an active tile's bin, so that no invocation runs into
@@ -20,7 +20,8 @@
 // by entry, fetching each triangle's record (setup's CPU build stores every big triangle) and the tile's
 // keys through texel views (VIEW_*), which llvmpipe gathers as vectors, where a storage-buffer or
 // shared-memory load at an index it cannot prove uniform is a loop over the SIMD lanes. So it needs no
-// shared memory and no barrier (each of which makes an invocation a coroutine there).
+// shared memory and no barrier (a barrier makes every invocation a coroutine there), and it steps the
+// exact edge functions from pixel to pixel by additions.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
