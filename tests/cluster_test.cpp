@@ -1,9 +1,11 @@
 // cluster_test.cpp - the load-time clusters (host/scene/clusters.h): every scene triangle in exactly one
-// cluster, wound as in the scene; the size limits; bounding spheres that hold their vertices; and normal
-// cones that never call a cluster back-facing while one of its triangles faces the viewer (world space,
-// the triangle's geometric normal against the direction from the viewer to each of its corners).
+// cluster, wound as in the scene (corners at the scene's positions); the size limits; bounding spheres that
+// hold their vertices; and normal cones that never call a cluster back-facing while one of its triangles
+// faces the viewer (world space, the triangle's geometric normal against the direction from the viewer to
+// each of its corners).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -20,6 +22,12 @@ Scene sceneNamed(const std::string& name)
     auto scene = name.rfind("builtin", 0) == 0 ? builtinSceneNamed(name) : loadScene(glmark2Model(name));
     EXPECT_TRUE(scene.ok()) << name << ": " << (scene.ok() ? "" : scene.error().message);
     return scene.ok() ? std::move(*scene) : Scene{};
+}
+
+// Whether vertices a and b are the same to visibility: positions bitwise equal.
+bool samePosition(const Scene& scene, uint32_t a, uint32_t b)
+{
+    return std::memcmp(&scene.positions[a], &scene.positions[b], sizeof(glm::vec4)) == 0;
 }
 
 // The invariants of a scene's clusters, checked against the scene itself.
@@ -55,7 +63,8 @@ void checkClusters(const Scene& scene, const ClusterSet& set, const std::string&
             for (int corner = 0; corner < 3; ++corner) {
                 const uint8_t local = set.localIndices[3 * slot + corner];
                 ASSERT_LT(local, c.vertexCount);
-                EXPECT_EQ(set.vertices[c.vertexOffset + local], scene.indices[3 * size_t(id) + corner])
+                EXPECT_TRUE(samePosition(scene, set.vertices[c.vertexOffset + local],
+                                         scene.indices[3 * size_t(id) + corner]))
                     << name << " triangle " << id << " corner " << corner;
             }
         }
@@ -73,13 +82,14 @@ TEST(Clusters, EveryTriangleInExactlyOneClusterWithinTheLimitsAndTheBounds)
         ClusterSet set = buildClusters(scene);
         ASSERT_FALSE(set.clusters.empty()) << name;
         checkClusters(scene, set, name);
-        // Clusters are as full as the mesh allows, or the builder is not grouping neighbours: a cluster's
-        // 64 vertices hold about 64 T / V of its triangles (a closed welded mesh: 124, the limit; OBJ
-        // files, whose every face corner is its own vertex, as the bunny: 21).
+        // Clusters are as full as the mesh allows, or the builder is not grouping neighbours: 64 vertices of
+        // a closed mesh hold about 128 triangles, so a mesh of many triangles fills its clusters to half
+        // the limit or more; the bunny too, though its OBJ gives every face corner its own vertex (those
+        // at one position are one vertex to the clusters).
         const double triangles = double(scene.indices.size() / 3);
-        const double fits = std::min({double(kClusterMaxTriangles), triangles,
-                                      kClusterMaxVertices * triangles / double(scene.positions.size())});
-        EXPECT_GT(triangles / double(set.clusters.size()), 0.5 * fits) << name;
+        if (triangles > 1000) {
+            EXPECT_GT(triangles / double(set.clusters.size()), 0.5 * kClusterMaxTriangles) << name;
+        }
     }
 }
 

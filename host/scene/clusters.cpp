@@ -77,15 +77,24 @@ ClusterSet buildClusters(const Scene& scene)
         positions[v] = finite[v] ? glm::vec3(scene.positions[v]) : glm::vec3(0.0f);
     }
 
+    // Vertices at one position (bitwise) are one vertex to the clusters, named by the first of them: the
+    // clusters feed visibility, which reads positions alone, and those transform and snap to the same
+    // bits. (OBJ gives every face corner its own vertex; shading reads the scene's own vertices by
+    // triangle id.) So 64 vertices of a closed mesh hold about twice their count in triangles.
+    std::vector<uint32_t> welded(indexCount);
+    const meshopt_Stream stream = {scene.positions.data(), sizeof(glm::vec4), sizeof(glm::vec4)};
+    meshopt_generateShadowIndexBufferMulti(welded.data(), scene.indices.data(), indexCount, vertexCount,
+                                           &stream, 1);
+
     const size_t bound = meshopt_buildMeshletsBound(indexCount, kClusterMaxVertices, kClusterMaxTriangles);
     std::vector<meshopt_Meshlet> meshlets(bound);
     std::vector<unsigned int> vertices(bound * kClusterMaxVertices);
     std::vector<unsigned char> triangles(bound * kClusterMaxTriangles * 3);
     const size_t count = meshopt_buildMeshlets(
-        meshlets.data(), vertices.data(), triangles.data(), scene.indices.data(), indexCount, &positions[0].x,
+        meshlets.data(), vertices.data(), triangles.data(), welded.data(), indexCount, &positions[0].x,
         vertexCount, sizeof(glm::vec3), kClusterMaxVertices, kClusterMaxTriangles, kConeWeight);
 
-    TriangleLookup lookup(scene.indices);
+    TriangleLookup lookup(welded);
     set.clusters.reserve(count);
     for (size_t k = 0; k < count; ++k) {
         const meshopt_Meshlet& m = meshlets[k];

@@ -6,7 +6,11 @@
 // index list a multiple of 4 bytes). Debian's meshoptimizer 0.18 builds them (meshopt_buildMeshlets,
 // which grows each cluster from its neighbours and weighs the normal spread for a tight cone) and their
 // bounds (meshopt_computeMeshletBounds). Clusters reorder the triangles, so each keeps the scene id of
-// every triangle it holds: the id AOV goes on naming the scene's triangles.
+// every triangle it holds: the id AOV goes on naming the scene's triangles. Clusters serve visibility,
+// which reads vertex positions alone: a cluster's vertices are scene vertices, and vertices at the same
+// position (bitwise; OBJ gives every face corner its own vertex) are one to the clusters, named by the
+// first of them, as they transform and snap to the same bits. Shading goes on reading the scene's own
+// vertices by triangle id.
 #ifndef RASTER_CLUSTERS_H
 #define RASTER_CLUSTERS_H
 
@@ -38,13 +42,14 @@ struct Cluster {
 
 struct ClusterSet {
     std::vector<Cluster> clusters;
-    std::vector<uint32_t> vertices;     // the scene vertex of each cluster-local vertex
+    std::vector<uint32_t> vertices;  // the scene vertex of each cluster-local vertex (first at its position)
     std::vector<uint8_t> localIndices;  // three per cluster triangle, indices into its cluster's vertices
     std::vector<uint32_t> triangleIds;  // the scene triangle of each cluster triangle, wound as in the scene
 };
 
 // The clusters of every triangle of the scene (lines and points are not clustered). Each scene triangle
-// lands in exactly one cluster with its three corners in the scene's order.
+// lands in exactly one cluster with its three corners in the scene's order (each corner the scene's
+// vertex or the first vertex at its position).
 ClusterSet buildClusters(const Scene& scene);
 
 // Whether every triangle of `c` faces away from a viewer at world position `eye` by the cluster's cone
