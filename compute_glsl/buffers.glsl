@@ -51,10 +51,13 @@ layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock
 layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
 layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
 
-// Shade's reads by triangle, vertex and texel index. In shade's CPU build they go through the texel views
-// (VIEW_*, raster_shared.h), which llvmpipe gathers as vectors, where a storage-buffer load at an index
-// it cannot prove uniform is a loop over the SIMD lanes with a branch per lane and component.
-#if SHADE_CPU
+// The CPU builds (SR_CPU_BUILD) read their hot data through the texel views (VIEW_*, raster_shared.h),
+// which llvmpipe gathers as vectors, where a storage-buffer load at an index it cannot prove uniform is a
+// loop over the SIMD lanes with a branch per lane and component: raster_tiles its records, bin entries and
+// keys, shade (through LOAD_*) what it reads by triangle, vertex and texel index.
+#if defined(SR_CPU_BUILD)
+layout(set = 0, binding = VIEW_SETUP_TRIS) uniform usamplerBuffer setupTrisView;
+layout(set = 0, binding = VIEW_BIN_ENTRIES) uniform usamplerBuffer binEntriesView;
 layout(set = 0, binding = VIEW_VISIBILITY) uniform usamplerBuffer visibilityView;
 layout(set = 0, binding = VIEW_INDICES) uniform usamplerBuffer indicesView;
 layout(set = 0, binding = VIEW_POSITIONS) uniform usamplerBuffer positionsView;
@@ -67,24 +70,31 @@ layout(set = 0, binding = VIEW_TEXTURES) uniform usamplerBuffer texturesView;
 layout(set = 0, binding = VIEW_TEXELS) uniform usamplerBuffer texelsView;
 layout(set = 0, binding = VIEW_SRGB_TABLE) uniform usamplerBuffer srgbTableView;
 
+// setupTris[slot] through its view.
+TriSetup fetchSetupRecord(uint slot)
+{
+    int t = int(3u * slot);
+    return TriSetup(ivec4(texelFetch(setupTrisView, t)), ivec4(texelFetch(setupTrisView, t + 1)),
+                    uintBitsToFloat(texelFetch(setupTrisView, t + 2)));
+}
+
+// visibility[index] through its view.
+uint64_t fetchKey(uint index)
+{
+    uvec2 words = texelFetch(visibilityView, int(index)).xy;
+    return (uint64_t(words.y) << 32) | uint64_t(words.x);
+}
+
+// materials[k] and textures[k] through their views.
 GpuMaterial fetchMaterial(uint k)
 {
     int t = int(6u * k);
-    GpuMaterial m;
-    m.baseColorFactor = uintBitsToFloat(texelFetch(materialsView, t));
-    m.uvTransformU = uintBitsToFloat(texelFetch(materialsView, t + 1));
-    m.uvTransformV = uintBitsToFloat(texelFetch(materialsView, t + 2));
-    m.emissive = uintBitsToFloat(texelFetch(materialsView, t + 3));
     uvec4 a = texelFetch(materialsView, t + 4), b = texelFetch(materialsView, t + 5);
-    m.baseColorTexture = a.x;
-    m.texCoord = a.y;
-    m.alphaMode = a.z;
-    m.alphaCutoff = uintBitsToFloat(a.w);
-    m.emissiveTexture = b.x;
-    m.emissiveTexCoord = b.y;
-    m.pad0 = b.z;
-    m.pad1 = b.w;
-    return m;
+    return GpuMaterial(uintBitsToFloat(texelFetch(materialsView, t)),
+                       uintBitsToFloat(texelFetch(materialsView, t + 1)),
+                       uintBitsToFloat(texelFetch(materialsView, t + 2)),
+                       uintBitsToFloat(texelFetch(materialsView, t + 3)), a.x, a.y, a.z, uintBitsToFloat(a.w),
+                       b.x, b.y, b.z, b.w);
 }
 
 GpuTexture fetchTexture(uint k)
@@ -92,7 +102,9 @@ GpuTexture fetchTexture(uint k)
     uvec4 a = texelFetch(texturesView, int(2u * k)), b = texelFetch(texturesView, int(2u * k + 1u));
     return GpuTexture(a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w);
 }
+#endif
 
+#if SHADE_CPU
 #define LOAD_KEY_ID(i) texelFetch(visibilityView, int(i)).x
 #define LOAD_INDEX(i) texelFetch(indicesView, int(i)).x
 #define LOAD_POSITION(i) uintBitsToFloat(texelFetch(positionsView, int(i)))

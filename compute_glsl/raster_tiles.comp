@@ -43,28 +43,7 @@ layout(constant_id = SPEC_COUNT_HITS) const bool COUNT_HITS = false;
 #define LANES gl_WorkGroupSize.x
 #define PIXELS_PER_LANE (TILE_SIZE * TILE_SIZE / LANES)  // 1 on a GPU, at most MAX_PIXELS_PER_LANE
 
-#if RASTER_TILES_CHUNKED
-layout(set = 0, binding = VIEW_SETUP_TRIS) uniform usamplerBuffer setupTrisView;
-layout(set = 0, binding = VIEW_BIN_ENTRIES) uniform usamplerBuffer binEntriesView;
-layout(set = 0, binding = VIEW_VISIBILITY) uniform usamplerBuffer visibilityView;
-
-// setupTris[slot] through its view.
-TriSetup fetchSetupRecord(uint slot)
-{
-    TriSetup t;
-    t.xy01 = ivec4(texelFetch(setupTrisView, int(3u * slot)));
-    t.xy2Id = ivec4(texelFetch(setupTrisView, int(3u * slot + 1u)));
-    t.depthPlane = uintBitsToFloat(texelFetch(setupTrisView, int(3u * slot + 2u)));
-    return t;
-}
-
-// visibility[index] through its view.
-uint64_t fetchKey(uint index)
-{
-    uvec2 words = texelFetch(visibilityView, int(index)).xy;
-    return (uint64_t(words.y) << 32) | uint64_t(words.x);
-}
-#else
+#if !RASTER_TILES_CHUNKED
 shared TriSetup tris[TILE_SIZE * TILE_SIZE];
 shared uint minDepth[TILE_SIZE * TILE_SIZE];
 shared uint masked[TILE_SIZE * TILE_SIZE];  // TRI_FLAG_ALPHA_MASK of each: coverage needs the alpha test
@@ -127,22 +106,21 @@ void rasterTile(uint tile, uint lane, uint begin, uint end)
         if (triMinDepth == 0xFFFFFFFFu) continue;
 #if RASTER_METHOD == RASTER_FIXED8 || RASTER_METHOD == RASTER_FIXED4
         if (SAMPLES == 1u) {
-            // The exact edge functions (rasterSample's) stepped from pixel to pixel by additions: the
-            // invocation's pixels lie in rows of TILE_SIZE / LANES, LANES apart (pixel j is p = lane +
-            // j LANES of the tile; LANES divides TILE_SIZE on a CPU device), and a pixel step of d
-            // changes the edge function a->b by SUBPIXEL_SCALE ((b.x - a.x) d.y - (b.y - a.y) d.x).
+            // The exact edge functions (rasterSample's) stepped from pixel to pixel by additions
+            // (edgeStepX, edgeStepY): the invocation's pixels lie in rows of TILE_SIZE / LANES, LANES
+            // apart (pixel j is p = lane + j LANES of the tile; LANES divides TILE_SIZE on a CPU device).
             ivec2 v0 = setupV0(tri), v1 = setupV1(tri), v2 = setupV2(tri);
             int64_t bias0 = edgeBias(v1, v2), bias1 = edgeBias(v2, v0), bias2 = edgeBias(v0, v1);
             ivec2 first = samplePosition(1u, 0u, int(tile % params.tilesX) * TILE_SIZE + int(lane),
                                          int(tile / params.tilesX) * TILE_SIZE);
             int64_t row0 = edgeFunction(v1, v2, first), row1 = edgeFunction(v2, v0, first);
             int64_t row2 = edgeFunction(v0, v1, first);
-            int64_t dx0 = int64_t(v1.y - v2.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
-            int64_t dx1 = int64_t(v2.y - v0.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
-            int64_t dx2 = int64_t(v0.y - v1.y) * int64_t(SUBPIXEL_SCALE) * int64_t(LANES);
-            int64_t dy0 = int64_t(v2.x - v1.x) * int64_t(SUBPIXEL_SCALE);
-            int64_t dy1 = int64_t(v0.x - v2.x) * int64_t(SUBPIXEL_SCALE);
-            int64_t dy2 = int64_t(v1.x - v0.x) * int64_t(SUBPIXEL_SCALE);
+            // Next pixel of the row: LANES pixels right; next row: one pixel down.
+            int64_t columnStep = int64_t(SUBPIXEL_SCALE) * int64_t(LANES), rowStep = int64_t(SUBPIXEL_SCALE);
+            int64_t dx0 = edgeStepX(v1, v2) * columnStep, dx1 = edgeStepX(v2, v0) * columnStep;
+            int64_t dx2 = edgeStepX(v0, v1) * columnStep;
+            int64_t dy0 = edgeStepY(v1, v2) * rowStep, dy1 = edgeStepY(v2, v0) * rowStep;
+            int64_t dy2 = edgeStepY(v0, v1) * rowStep;
             for (uint row = 0u; row < uint(TILE_SIZE); ++row) {
                 int64_t e0 = row0, e1 = row1, e2 = row2;
                 for (uint c = 0u; c < uint(TILE_SIZE) / LANES; ++c) {

@@ -53,9 +53,20 @@ SR_FN uint sampleBoundsOf(uint count)
     return uint(lo.x) | (uint(lo.y) << 8) | (uint(hi.x) << 16) | (uint(hi.y) << 24);
 }
 
-// Coverage of the sample at subpixel position p and, when covered, its window depth. Depth is linear in
-// screen space (Vulkan's rule) and evaluated from the exact edge functions with correctly rounded float
-// steps, so CUDA and GLSL produce the same bits.
+// Window depth of a covered sample from its edge values e1 and e2 (the weights of v1 and v2): linear in
+// screen space (Vulkan's rule), from the exact edge functions with correctly rounded float steps, so CUDA
+// and GLSL produce the same bits. rasterSample takes it from edge values at a sample; raster_tiles' CPU
+// build steps the edge values from pixel to pixel by additions (exact: they are integers).
+SR_FN float depthFromEdges(TriSetup t, int64_t e1, int64_t e2)
+{
+    SR_PRECISE float b1 = float(e1) * t.depthPlane.w;
+    SR_PRECISE float b2 = float(e2) * t.depthPlane.w;
+    SR_PRECISE float z = t.depthPlane.x + b1 * t.depthPlane.y + b2 * t.depthPlane.z;
+    // Clamp to the depth range; written so that -0.0 and NaN become +0.0 and keys stay ordered.
+    return z > 0.0f ? min(z, 1.0f) : 0.0f;
+}
+
+// Coverage of the sample at subpixel position p and, when covered, its window depth (depthFromEdges).
 SR_FN bool rasterSample(TriSetup t, ivec2 p, SR_OUT(float) depth)
 {
     depth = 1.0f;
@@ -66,23 +77,8 @@ SR_FN bool rasterSample(TriSetup t, ivec2 p, SR_OUT(float) depth)
     if (e0 - edgeBias(v1, v2) < int64_t(0)) return false;
     if (e1 - edgeBias(v2, v0) < int64_t(0)) return false;
     if (e2 - edgeBias(v0, v1) < int64_t(0)) return false;
-    SR_PRECISE float b1 = float(e1) * t.depthPlane.w;
-    SR_PRECISE float b2 = float(e2) * t.depthPlane.w;
-    SR_PRECISE float z = t.depthPlane.x + b1 * t.depthPlane.y + b2 * t.depthPlane.z;
-    // Clamp to the depth range; written so that -0.0 and NaN become +0.0 and keys stay ordered.
-    depth = z > 0.0f ? min(z, 1.0f) : 0.0f;
+    depth = depthFromEdges(t, e1, e2);
     return true;
-}
-
-// rasterSample's depth from the edge values e1 and e2 (the weights of v1 and v2) of a covered sample, the
-// same float steps, for a caller that walks the edge functions itself: raster_tiles' CPU build steps
-// them from pixel to pixel by additions, which is exact (they are integers) and saves the products.
-SR_FN float depthFromEdges(TriSetup t, int64_t e1, int64_t e2)
-{
-    SR_PRECISE float b1 = float(e1) * t.depthPlane.w;
-    SR_PRECISE float b2 = float(e2) * t.depthPlane.w;
-    SR_PRECISE float z = t.depthPlane.x + b1 * t.depthPlane.y + b2 * t.depthPlane.z;
-    return z > 0.0f ? min(z, 1.0f) : 0.0f;
 }
 
 // The samples of pixel (px, py) the triangle covers, as a bit mask (bit s: sample s of the `count`-

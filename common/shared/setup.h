@@ -46,6 +46,17 @@ SR_FN int64_t edgeFunction(ivec2 a, ivec2 b, ivec2 p)
     return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
 }
 
+// How edgeFunction(a, b, p) changes when p moves one subpixel right (X) or down (Y): it is linear in p,
+// so a walk over sample positions can step it by additions, exactly.
+SR_FN int64_t edgeStepX(ivec2 a, ivec2 b)
+{
+    return int64_t(a.y - b.y);
+}
+SR_FN int64_t edgeStepY(ivec2 a, ivec2 b)
+{
+    return int64_t(b.x - a.x);
+}
+
 // Top-left rule in the y-down framebuffer (D3D and lavapipe): a sample exactly on an edge belongs to
 // the triangle only if the edge is a top edge (horizontal, interior below) or a left edge (interior to
 // its right). For a positively oriented triangle those are dy == 0 && dx > 0, and dy < 0.
