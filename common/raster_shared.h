@@ -10,6 +10,7 @@
 //   raster.h       raster stages: sample patterns, sample coverage and depth, points, the visibility key
 //   texture.h      textures: level of detail, level and texel selection, wrap modes, filters
 //   shade.h        stage shade: perspective-correct barycentrics and derivatives, lighting, sRGB
+//   cluster.h      stage clusters: whole clusters culled only where setup would cull every triangle
 //   stages.h       the stage table: every stage's id, name, group size and launch (C++ and CUDA only)
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index
 // threads, load buffers, call these functions and do the atomics.
@@ -69,24 +70,29 @@ SR_NAMESPACE_BEGIN
 #define BUF_TESS_SUMS 27       // uvec4: [0] the frame's totals; [1 + b] scan block b's totals -> its base
 #define BUF_TESS_IDS 28        // uint per generated triangle: its scene triangle (the id AOV maps through it)
 #define BUF_TESS_MATERIALS 29  // uint per scene primitive: its material (only when materialCount > 0)
-#define BUF_COUNT 30
+// Clusters (RasterParams.clusterCount > 0, common/shared/cluster.h): the scene's triangles in clusters of
+// at most CLUSTER_MAX_VERTICES vertices and CLUSTER_MAX_TRIANGLES triangles, built at load time.
+#define BUF_CLUSTERS 30      // GpuCluster per cluster
+#define BUF_CLUSTER_DATA 31  // uint: each cluster's vertex list (scene vertices), then two words per
+                             // triangle: its scene triangle id, its local corners (8 bits each)
+#define BUF_COUNT 32
 // CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
 // them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
 // loop with a branch per lane and component), but fetches texels of a buffer view with vector gathers;
 // the CPU builds of the stages (SR_CPU_BUILD) read their hot data through these.
-#define VIEW_SETUP_TRIS 30     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
-#define VIEW_BIN_ENTRIES 31    // BUF_BIN_ENTRIES as R32UI
-#define VIEW_VISIBILITY 32     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
-#define VIEW_INDICES 33        // BUF_INDICES as R32UI
-#define VIEW_POSITIONS 34      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
-#define VIEW_NORMALS 35        // BUF_NORMALS as RGBA32UI
-#define VIEW_COLORS 36         // BUF_COLORS as RGBA32UI
-#define VIEW_TEXCOORDS 37      // BUF_TEXCOORDS as RGBA32UI
-#define VIEW_TRI_MATERIALS 38  // BUF_TRI_MATERIALS as R32UI
-#define VIEW_MATERIALS 39      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
-#define VIEW_TEXTURES 40       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
-#define VIEW_TEXELS 41         // BUF_TEXELS as R32UI
-#define VIEW_SRGB_TABLE 42     // BUF_SRGB_TABLE as R32UI (float bits)
+#define VIEW_SETUP_TRIS 32     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
+#define VIEW_BIN_ENTRIES 33    // BUF_BIN_ENTRIES as R32UI
+#define VIEW_VISIBILITY 34     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
+#define VIEW_INDICES 35        // BUF_INDICES as R32UI
+#define VIEW_POSITIONS 36      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
+#define VIEW_NORMALS 37        // BUF_NORMALS as RGBA32UI
+#define VIEW_COLORS 38         // BUF_COLORS as RGBA32UI
+#define VIEW_TEXCOORDS 39      // BUF_TEXCOORDS as RGBA32UI
+#define VIEW_TRI_MATERIALS 40  // BUF_TRI_MATERIALS as R32UI
+#define VIEW_MATERIALS 41      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
+#define VIEW_TEXTURES 42       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
+#define VIEW_TEXELS 43         // BUF_TEXELS as R32UI
+#define VIEW_SRGB_TABLE 44     // BUF_SRGB_TABLE as R32UI (float bits)
 #define VIEW_COUNT 13
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
@@ -105,7 +111,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_POINTS 11        // points rasterized (not culled) by setup
 #define COUNTER_LINES 12         // line segments set up (not culled, not clipped away) by setup
 #define COUNTER_MAX_BIN 13       // the largest bin of a screen tile (written only when rasterChunk != 0)
-#define COUNTER_COUNT 14
+#define COUNTER_CLUSTERS_CULLED 14  // clusters culled whole by stage clusters (their triangles: COUNTER_CULLED)
+#define COUNTER_COUNT 15
 
 // Stages: their ids (STAGE_*), names, group sizes and launch kinds are the stage table,
 // shared/stages.h (C++ and CUDA only, included at the end of this file).
@@ -117,6 +124,12 @@ SR_NAMESPACE_BEGIN
 #define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
 #define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
 #define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
+#define CLUSTER_MAX_VERTICES 64    // vertices per cluster: a warp transforms them in two passes
+#define CLUSTER_MAX_TRIANGLES 124  // triangles per cluster (as hardware mesh shaders)
+#define CLUSTER_LANES 32           // invocations per cluster in stage clusters (a warp on NVIDIA)
+#define CLUSTERS_PER_GROUP 4       // clusters per clusters group: CLUSTER_LANES x this invocations
+#define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)
+#define CLUSTER_PLANE_W 10         // RasterParams.clusterPlanes[10]: clip w as a plane (not normalised)
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
 // Bin entries per raster_tiles work item on a CPU device at one sample per pixel. llvmpipe ends every
 // loop of a shader invocation after 65,535 iterations in all (its loop limiter), and one entry costs an
@@ -262,6 +275,18 @@ struct RasterParams {
     vec4 shadeExtra;        // x: specular exponent; y, z: view distances mapped to white/black in depth
                             // view; w: specular strength (the highlight's peak as a fraction of the light)
     vec4 guardBand;         // x, y: guard-band half-extent in NDC units (|x| <= x * w); zw unused
+    // Stage clusters (shared/cluster.h). clusterEye: xyz the camera centre in world space (where clip x,
+    // y and w vanish); w the facing test's sign: +1 culls clusters that face away from it by their
+    // triangles' winding, -1 those that face it, 0 none (no culling, an orthographic camera, a float
+    // raster method). clusterCone: x the inradius scale K (pixels per world unit of inradius x facing
+    // distance / distance^2), y the float error of projected corners in pixels per unit of vertex
+    // magnitude / w, z the displacement threshold in pixels (snapping and the window transform's
+    // rounding), w the plane slack per unit of vertex magnitude. clusterPlanes: world-space planes with
+    // unit normals, inside >= 0: 0-3 the viewport sides (x >= -w, x <= w, y >= -w, y <= w), 4 near
+    // (z >= 0), 5 far (z <= w), 6-9 the sides at twice the viewport; 10 clip w itself.
+    vec4 clusterEye;
+    vec4 clusterCone;
+    vec4 clusterPlanes[CLUSTER_PLANE_COUNT + 1];
     uint width;             // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
     uint height;            // framebuffer height in pixels
     uint vertexCount;       // entries in the per-vertex buffers
@@ -300,6 +325,11 @@ struct RasterParams {
     uint tessSourceTriangles;  // scene triangles (BUF_TESS_SOURCE entries)
     uint tessSourceVertices;   // scene vertices: generated vertex k is vertex tessSourceVertices + k
     uint tessBlocks;           // scan blocks of scene triangles: ceil(tessSourceTriangles / SCAN_GROUP_SIZE)
+    uint clusterCount;         // entries in BUF_CLUSTERS; 0: the triangles are set up by stage setup
+    uint setupFirstPrimitive;  // setup's invocation i takes primitive setupFirstPrimitive + i (with
+                               // clusters, triangleCount: setup sets up the lines and points alone)
+    uint pad0;
+    uint pad1;
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour, alpha and emission.
@@ -342,6 +372,19 @@ struct TriSetup {
     vec4 depthPlane;  // z0, z1 - z0, z2 - z0 (window depth at the snapped vertices), 1 / area
 };
 
+// One cluster of the scene's triangles (BUF_CLUSTERS; host/scene/clusters.cpp builds it, shared/cluster.h
+// culls it). 64 bytes.
+struct GpuCluster {
+    vec4 sphere;      // xyz centre, w radius: every vertex inside (world); an infinite radius never culls
+    vec4 cone;        // xyz axis a (unit), w spread beta >= |n - a| for the unit normal n of every triangle
+    vec4 coneBounds;  // x: h <= n . (p - c) of every triangle (p a corner, c the centre); y: -H, H >= every
+                      // n . (p - c); z: rho <= every triangle's inradius (0: never culled by facing)
+    uint vertexOffset;    // its vertex list in BUF_CLUSTER_DATA: scene vertices, vertexCount words
+    uint triangleOffset;  // its triangles in BUF_CLUSTER_DATA: two words each (scene id, corners)
+    uint vertexCount;     // 1..CLUSTER_MAX_VERTICES
+    uint triangleCount;   // 1..CLUSTER_MAX_TRIANGLES
+};
+
 // A scene triangle as tessellation reads it. 16 bytes.
 struct TessSource {
     uint i0;     // corner vertices (validated on the host)
@@ -352,7 +395,9 @@ struct TessSource {
 
 #if defined(__cplusplus)
 static_assert(sizeof(TessSource) == 16, "TessSource must match std430");
-static_assert(sizeof(RasterParams) == 3 * 64 + 5 * 16 + 36 * 4, "RasterParams must match std140");
+static_assert(sizeof(RasterParams) == 3 * 64 + (7 + CLUSTER_PLANE_COUNT + 1) * 16 + 40 * 4,
+              "RasterParams must match std140");
+static_assert(sizeof(GpuCluster) == 64, "GpuCluster must match std430");
 static_assert(sizeof(GpuMaterial) == 96, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
@@ -370,6 +415,7 @@ SR_NAMESPACE_END
 #include "shared/texture.h"
 #include "shared/shade.h"
 #include "shared/tessellate.h"
+#include "shared/cluster.h"
 
 #if defined(__cplusplus)
 #include "shared/stages.h"

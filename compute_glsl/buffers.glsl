@@ -50,6 +50,8 @@ layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint
 layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock { float srgbTable[]; };
 layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
 layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
+layout(std430, set = 0, binding = BUF_CLUSTERS) readonly buffer ClustersBlock { GpuCluster clusters[]; };
+layout(std430, set = 0, binding = BUF_CLUSTER_DATA) readonly buffer ClusterDataBlock { uint clusterData[]; };
 
 // The CPU builds (SR_CPU_BUILD) read their hot data through the texel views (VIEW_*, raster_shared.h),
 // which llvmpipe gathers as vectors, where a storage-buffer load at an index it cannot prove uniform is a

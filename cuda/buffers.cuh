@@ -38,6 +38,8 @@ struct Buffers {
     const TessSource* tessSource;    // BUF_TESS_SOURCE
     uvec4* tessCounts;               // BUF_TESS_COUNTS
     uvec4* tessSums;                 // BUF_TESS_SUMS
+    const GpuCluster* clusters;      // BUF_CLUSTERS
+    const uint* clusterData;         // BUF_CLUSTER_DATA
     // tess_emit's writable view of the per-vertex and per-triangle buffers, BUF_TESS_IDS and
     // BUF_TESS_MATERIALS (the stages above read the same memory through the const pointers).
     TessWriter tess;

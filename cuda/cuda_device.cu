@@ -169,6 +169,8 @@ private:
         b.tessSource = as<TessSource>(BUF_TESS_SOURCE);
         b.tessCounts = as<uvec4>(BUF_TESS_COUNTS);
         b.tessSums = as<uvec4>(BUF_TESS_SUMS);
+        b.clusters = as<GpuCluster>(BUF_CLUSTERS);
+        b.clusterData = as<uint>(BUF_CLUSTER_DATA);
         TessWriter& w = b.tess;
         w.positions = as<vec4>(BUF_POSITIONS);
         w.normals = as<vec4>(BUF_NORMALS);

@@ -14,18 +14,26 @@
 #include "bin_fill.cuh"
 #include "raster_tiles.cuh"
 #include "setup.cuh"
+#include "clusters.cuh"
 
 namespace sr {
 
-// setup and raster_tiles come in two builds: with the alpha test of MASK materials, launched when the
-// scene has MASK triangles (Dispatch::alphaTest), and without, so that the test's code (surface,
-// material and texture lookups) costs every other scene neither registers nor instructions. setup also
-// has a build with MSAA's per-sample loop and one without, and one with the line and point paths and one
-// without, for the same reason.
+// setup, clusters and raster_tiles come in two builds: with the alpha test of MASK materials, launched when
+// the scene has MASK triangles (Dispatch::alphaTest), and without, so that the test's code (surface, material
+// and texture lookups) costs every other scene neither registers nor instructions. setup also has a build
+// with MSAA's per-sample loop and one without, and one with the line and point paths and one without, for the
+// same reason.
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
     setupStage<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
+}
+// clusters has setup's triangle builds: with and without the alpha test, with and without MSAA.
+template <bool kMaterials, bool kMultisample, uint kMethod>
+__global__ void __launch_bounds__(CLUSTER_LANES* CLUSTERS_PER_GROUP)
+    clustersKernel(const RasterParams params, const Buffers b)
+{
+    clustersStage<kMaterials, kMultisample, kMethod>(params, b);
 }
 template <uint kMethod>
 __global__ void __launch_bounds__(GROUP_SIZE) binCountKernel(const RasterParams params, const Buffers b)
@@ -83,6 +91,14 @@ cudaError_t launchMethodStage(uint stage, uint blocks, bool alphaTest, const Ras
                     setupKernel<materials.value, multisample.value, linesPoints.value, kMethod>
                         <<<blocks, threads, 0, stream>>>(params, buffers);
                 });
+            });
+        });
+        break;
+    case STAGE_CLUSTERS:
+        forBool(alphaTest, [&](auto materials) {
+            forBool(params.sampleCount > 1u, [&](auto multisample) {
+                clustersKernel<materials.value, multisample.value, kMethod>
+                    <<<blocks, threads, 0, stream>>>(params, buffers);
             });
         });
         break;

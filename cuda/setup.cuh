@@ -7,8 +7,9 @@
 // two triangles (setupLine), which take the same two paths (a long line's pieces spread over many
 // threads like a big triangle's), stored as records when big. A point is culled by its vertex, snapped
 // and rasterized by its thread (every sample of its square).
-// One thread per primitive, triangles, then line segments, then points; blocks = ceil((triangleCount +
-// lineCount + pointCount) / GROUP_SIZE).
+// One thread per primitive, triangles, then line segments, then points, from setupFirstPrimitive (with
+// clusters the triangles are stage clusters' work); blocks = ceil((triangleCount + lineCount +
+// pointCount - setupFirstPrimitive) / GROUP_SIZE).
 namespace sr {
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
@@ -125,7 +126,7 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
 template <bool kMaterials, bool kMultisample, uint kMethod>
 __device__ inline void setupStageWithLinesPoints(const RasterParams& params, const Buffers& b)
 {
-    uint prim = globalThreadId();
+    uint prim = params.setupFirstPrimitive + globalThreadId();
     uint lineEnd = params.triangleCount + params.lineCount;
     if (prim >= lineEnd) {
         if (prim < lineEnd + params.pointCount) rasterPoint<kMultisample>(params, b, prim - lineEnd);
@@ -178,6 +179,34 @@ __device__ inline void setupStageWithLinesPoints(const RasterParams& params, con
         atomicAdd(&b.counters[COUNTER_LINES], 1u);
 }
 
+// Input triangle `tri` with clip positions c0, c1, c2: classified, clipped, set up, and each of its
+// (sub-)triangles rasterized or binned (emitTriangle). Stage clusters calls it too, with the positions it
+// transformed once per cluster: the same function, the same bits.
+template <bool kMaterials, bool kMultisample, uint kMethod>
+__device__ inline void setupInputTriangle(const RasterParams& params, const Buffers& b, uint tri, vec4 c0,
+                                          vec4 c1, vec4 c2)
+{
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count;
+    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    if (kind == PREPARE_INVALID) {
+        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        return;
+    }
+    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+    bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    uint emitted = 0u;
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        if (methodSetupTriangle<kMethod>(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode,
+                                         params.width, params.height, params.sampleBounds, t)) {
+            emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, t, kind == PREPARE_CLIPPED);
+            ++emitted;
+        }
+    }
+    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+}
+
 // kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp); the
 // triangle-only build is the code below.
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
@@ -194,26 +223,7 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
-    vec4 poly[MAX_CLIP_VERTS];
-    uint count;
-    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
-    if (kind == PREPARE_INVALID) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
-        return;
-    }
-    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
-    bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
-    uint emitted = 0u;
-    for (uint k = 1u; k + 1u < count; ++k) {
-        TriSetup t;
-        if (methodSetupTriangle<kMethod>(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode,
-                                         params.width, params.height, params.sampleBounds, t)) {
-            emitTriangle<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b, t,
-                                                                          kind == PREPARE_CLIPPED);
-            ++emitted;
-        }
-    }
-    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    setupInputTriangle<kMaterials, kMultisample, kMethod>(params, b, tri, c0, c1, c2);
 }
 
 }  // namespace sr

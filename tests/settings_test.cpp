@@ -207,6 +207,7 @@ TEST(SettingsSchema, RenderArgumentsParseBackToTheSameSettings)
         {"tessellate", "flat"},
         {"tess-edge-px", "6"},
         {"tess-max-level", "5"},
+        {"clusters", "off"},
         {"aov-samples", "true"},
         {"repeat", "3"},
         {"warmup", "0"}};

@@ -72,8 +72,11 @@ std::vector<Row> textRows()
 // raster_shared.h (0 and a failure for anything else).
 uint32_t evaluateSize(const std::string& expression)
 {
-    const std::map<std::string, uint32_t> constants = {
-        {"GROUP_SIZE", GROUP_SIZE}, {"SCAN_GROUP_SIZE", SCAN_GROUP_SIZE}, {"TILE_SIZE", TILE_SIZE}};
+    const std::map<std::string, uint32_t> constants = {{"GROUP_SIZE", GROUP_SIZE},
+                                                       {"SCAN_GROUP_SIZE", SCAN_GROUP_SIZE},
+                                                       {"TILE_SIZE", TILE_SIZE},
+                                                       {"CLUSTER_LANES", CLUSTER_LANES},
+                                                       {"CLUSTERS_PER_GROUP", CLUSTERS_PER_GROUP}};
     uint32_t value = 1;
     std::istringstream factors(expression);
     for (std::string factor; std::getline(factors, factor, '*');) {
@@ -167,7 +170,8 @@ TEST(StageTable, MethodStagesAreTheOnesEachRasterMethodRebuilds)
     std::vector<std::string> method;
     for (uint32_t stage = 0; stage < STAGE_COUNT; ++stage)
         if (methodStage(stage)) method.push_back(stageName(stage));
-    EXPECT_EQ(method, (std::vector<std::string>{"setup", "bin_count", "bin_fill", "raster_tiles"}));
+    EXPECT_EQ(method,
+              (std::vector<std::string>{"clusters", "setup", "bin_count", "bin_fill", "raster_tiles"}));
     EXPECT_FALSE(methodStage(STAGE_COUNT));
 }
 

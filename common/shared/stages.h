@@ -34,6 +34,9 @@
     X(CLEAR,            clear,            clear,          GROUP_SIZE,            PLAIN)                   \
     /* per vertex: clip position */                                                                       \
     X(VERTEX,           vertex,           vertex,         GROUP_SIZE,            PLAIN)                   \
+    /* per cluster (a warp each): cull it whole, transform its vertices once, set up its triangles as */ \
+    /* setup does */                                                                                      \
+    X(CLUSTERS,         clusters,         clusters,       CLUSTER_LANES * CLUSTERS_PER_GROUP, METHOD)     \
     /* per primitive: cull, clip, snap (a line to its rectangle's two triangles); rasterize points and */ \
     /* small triangles, cut big triangles into pieces */                                                  \
     X(SETUP,            setup,            setup,          GROUP_SIZE,            METHOD)                  \

@@ -85,6 +85,7 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, 
           {"bin_entries", s.capacities.binEntries}}},
     };
     json["settings"] = settingsJson(options);
+    if (s.clusters > 0) json["clusters"] = {{"count", s.clusters}, {"culled", s.clustersCulled}};
     if (settings.tessellate != TESS_OFF) {
         json["tessellation"] = {{"mode", choiceName(setting("tessellate"), settings.tessellate)},
                                 {"edge_px", settings.tessEdgePx},

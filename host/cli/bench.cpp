@@ -12,6 +12,7 @@
 
 #include "scene/camera.h"
 #include "scene/texture.h"
+#include "settings/schema.h"
 #include "render/compute_device.h"
 #include "api/stats_json.h"
 #include "vulkan/vulkan_graphics.h"
@@ -285,62 +286,71 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
         for (const BenchScene& s : *scenes) {
             for (uint32_t msaa : o.msaa) {
                 for (const std::string& backend : o.backends) {
-                    if (tty)
-                        fmt::print(stderr, "\r\033[Kbench: {} {}x{} {}x MSAA on {} ({} triangles)", s.name, w,
-                                   h, msaa, backend, s.scene.primitiveCount());
-                    RenderSettings r;
-                    r.msaa = msaa;
-                    r.width = w;
-                    r.height = h;
-                    r.warmup = o.warmup;
-                    r.repeat = o.repeat;
-                    r.cullMode = CULL_BACK;
-                    r.shadingMode = SHADING_LAMBERT;
-                    r.textureFilter = s.textureFilter;
-                    auto out = renderOn(backend, o.device, s, r);
-                    if (!out) return out.error();
-                    double ms = out->total.medianMs;
-                    // Visibility time: the whole frame less deferred shading (the graphics baseline has
-                    // none).
-                    double shadeMs = 0.0;
-                    for (const StageTiming& t : out->stages)
-                        if (t.name == "shade") shadeMs = t.medianMs;
-                    // The whole shaded frame: the compute backends' total; the graphics pipeline draws
-                    // it once more with its fragment shader shading (what a user of either gets).
-                    double frameMs = ms;
-                    if (backend == "vulkan-graphics") {
-                        auto frame = renderOn(backend, o.device, s, r, true);
-                        if (!frame) return frame.error();
-                        frameMs = frame->total.medianMs;
+                    for (const std::string& clusterMode : o.clusters) {
+                        if (tty)
+                            fmt::print(stderr, "\r\033[Kbench: {} {}x{} {}x MSAA on {} ({} triangles)",
+                                       s.name, w, h, msaa, backend, s.scene.primitiveCount());
+                        RenderSettings r;
+                        r.msaa = msaa;
+                        r.width = w;
+                        r.height = h;
+                        r.warmup = o.warmup;
+                        r.repeat = o.repeat;
+                        r.cullMode = CULL_BACK;
+                        r.shadingMode = SHADING_LAMBERT;
+                        r.textureFilter = s.textureFilter;
+                        auto clusters = choiceValue(setting("clusters"), clusterMode, "--clusters entry");
+                        if (!clusters) return clusters.error();
+                        r.clusters = *clusters;
+                        auto out = renderOn(backend, o.device, s, r);
+                        if (!out) return out.error();
+                        double ms = out->total.medianMs;
+                        // Visibility time: the whole frame less deferred shading (the graphics baseline has
+                        // none).
+                        double shadeMs = 0.0;
+                        for (const StageTiming& t : out->stages)
+                            if (t.name == "shade") shadeMs = t.medianMs;
+                        // The whole shaded frame: the compute backends' total; the graphics pipeline draws
+                        // it once more with its fragment shader shading (what a user of either gets).
+                        double frameMs = ms;
+                        if (backend == "vulkan-graphics") {
+                            auto frame = renderOn(backend, o.device, s, r, true);
+                            if (!frame) return frame.error();
+                            frameMs = frame->total.medianMs;
+                        }
+                        double pixels = double(w) * h;
+                        size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
+                                             ? out->peakDeviceBytes - sceneBytes(s.scene)
+                                             : 0;
+                        runs.push_back(
+                            {{"scene", s.name},
+                             {"resolution", {w, h}},
+                             {"msaa", msaa},
+                             {"backend", backend},
+                             {"device", out->device.name},
+                             {"driver", out->device.driver},
+                             {"triangles", s.scene.primitiveCount()},
+                             {"triangle_area_px", s.triangleArea},
+                             // null where the backend does not count it (vulkan-graphics)
+                             {"rasterized", out->stats.pipelineCounts ? nlohmann::json(out->stats.rasterized)
+                                                                      : nlohmann::json(nullptr)},
+                             {"stages_ms", stagesJson(out->stages)},
+                             {"gpu_total_ms", timingJson(out->total)},
+                             {"visibility_ms", ms - shadeMs},
+                             {"frame_ms", frameMs},
+                             {"triangles_per_s",
+                              ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
+                             {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
+                             {"peak_device_bytes", out->peakDeviceBytes},
+                             {"scene_bytes", sceneBytes(s.scene)},
+                             {"working_bytes", working},
+                             {"working_budget_bytes",
+                              40.0 * double(s.scene.primitiveCount()) + 8.0 * pixels + 8.0 * pixels * msaa},
+                             {"redraws", out->stats.redraws},
+                             {"clusters", clusterMode},
+                             {"cluster_count", out->stats.clusters},
+                             {"clusters_culled", out->stats.clustersCulled}});
                     }
-                    double pixels = double(w) * h;
-                    size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
-                                         ? out->peakDeviceBytes - sceneBytes(s.scene)
-                                         : 0;
-                    runs.push_back(
-                        {{"scene", s.name},
-                         {"resolution", {w, h}},
-                         {"msaa", msaa},
-                         {"backend", backend},
-                         {"device", out->device.name},
-                         {"driver", out->device.driver},
-                         {"triangles", s.scene.primitiveCount()},
-                         {"triangle_area_px", s.triangleArea},
-                         // null where the backend does not count it (vulkan-graphics)
-                         {"rasterized", out->stats.pipelineCounts ? nlohmann::json(out->stats.rasterized)
-                                                                  : nlohmann::json(nullptr)},
-                         {"stages_ms", stagesJson(out->stages)},
-                         {"gpu_total_ms", timingJson(out->total)},
-                         {"visibility_ms", ms - shadeMs},
-                         {"frame_ms", frameMs},
-                         {"triangles_per_s", ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
-                         {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
-                         {"peak_device_bytes", out->peakDeviceBytes},
-                         {"scene_bytes", sceneBytes(s.scene)},
-                         {"working_bytes", working},
-                         {"working_budget_bytes",
-                          40.0 * double(s.scene.primitiveCount()) + 8.0 * pixels + 8.0 * pixels * msaa},
-                         {"redraws", out->stats.redraws}});
                 }
             }
         }

@@ -321,6 +321,7 @@ struct BenchCommand {
     std::string resolutions = "1920x1080";
     std::string scenes;
     std::string msaa;
+    std::string clusters;
     std::string jsonPath;
     BenchOptions options;
 };
@@ -356,6 +357,14 @@ Status runBenchCommand(BenchCommand& cmd)
             auto samples = parseSettingText(setting("msaa"), m, "--msaa entry");
             if (!samples) return samples.error();
             o.msaa.push_back(samples->get<uint32_t>());
+        }
+    }
+    if (!cmd.clusters.empty()) {
+        o.clusters.clear();
+        for (const std::string& c : splitList(cmd.clusters)) {
+            auto mode = choiceValue(setting("clusters"), c, "--clusters entry");
+            if (!mode) return mode.error();
+            o.clusters.push_back(c);
         }
     }
     auto bench = runBench(o);
@@ -493,6 +502,9 @@ int main(int argc, char** argv)
         "points-1m, lines-1m, layers-16, bunny, dense, builtin, checker-*, sphere-* (default: all)");
     benchApp->add_option("--msaa", bench.msaa,
                          "comma-separated sample counts, each run on every scene (default 1)");
+    benchApp->add_option("--clusters", bench.clusters,
+                         "comma-separated --clusters modes (auto, on, off), each run on every scene (default "
+                         "auto)");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")

@@ -19,6 +19,7 @@
 #include "io/image_io.h"
 #include "raster_shared.h"
 #include "base/result.h"
+#include "scene/clusters.h"
 #include "scene/scene.h"
 #include "settings/render_settings.h"
 
@@ -45,7 +46,7 @@ struct FrameWork {
     GroupCounts groups;
     bool binBig = true;      // bin_count, the scans, bin_fill and raster_tiles
     bool countSplit = true;  // bin_count
-    bool alphaTest = false;  // setup and raster_tiles with the alpha test: some triangle is alphaMode MASK
+    bool alphaTest = false;  // setup, clusters and raster_tiles with the alpha test: some triangle is MASK
     uint32_t rasterMethod = RASTER_FIXED8;  // RenderSettings::rasterMethod, for every dispatch
 };
 
@@ -55,25 +56,27 @@ struct StageTiming {
 };
 
 struct RenderStats {
-    uint64_t trianglesIn = 0;    // triangles handed to the GPU (generated ones when tessellating)
-    uint64_t culled = 0;         // input primitives that produced nothing to rasterize
-    uint64_t clipped = 0;        // input triangles that went through the clipper
-    uint64_t invalid = 0;        // input primitives dropped on the GPU for NaN/Inf positions
-    uint64_t rasterized = 0;     // (sub-)triangles set up for rasterization
-    uint64_t smallTris = 0;      // of which rasterized by their setup thread
-    uint64_t bigTris = 0;        // of which binned to screen tiles
-    uint64_t linesIn = 0;        // line segments handed to the GPU
-    uint64_t lines = 0;          // of which set up (the others culled, clipped away or invalid)
-    uint64_t pointsIn = 0;       // points handed to the GPU
-    uint64_t points = 0;         // of which rasterized (the others culled or invalid)
-    uint64_t records = 0;        // TriSetup records: clipped big sub-triangles (CPU devices: all big ones)
-    uint64_t pieces = 0;         // pieces the big triangles were cut into
-    uint64_t binEntries = 0;     // (big triangle, screen tile) bin entries
-    uint64_t tessVertices = 0;   // vertices tessellation generated (0 without it)
-    uint64_t tessTriangles = 0;  // triangles it generated (they are trianglesIn)
-    uint64_t tessCulled = 0;     // scene triangles it culled before refining
-    uint32_t redraws = 0;        // frames redrawn after growing an overflowing list or for a skipped stage
-    ListCapacities capacities;   // final capacities of the lists
+    uint64_t trianglesIn = 0;     // triangles handed to the GPU (generated ones when tessellating)
+    uint64_t culled = 0;          // input primitives that produced nothing to rasterize
+    uint64_t clipped = 0;         // input triangles that went through the clipper
+    uint64_t invalid = 0;         // input primitives dropped on the GPU for NaN/Inf positions
+    uint64_t rasterized = 0;      // (sub-)triangles set up for rasterization
+    uint64_t smallTris = 0;       // of which rasterized by their setup thread
+    uint64_t bigTris = 0;         // of which binned to screen tiles
+    uint64_t linesIn = 0;         // line segments handed to the GPU
+    uint64_t lines = 0;           // of which set up (the others culled, clipped away or invalid)
+    uint64_t pointsIn = 0;        // points handed to the GPU
+    uint64_t points = 0;          // of which rasterized (the others culled or invalid)
+    uint64_t records = 0;         // TriSetup records: clipped big sub-triangles (CPU devices: all big ones)
+    uint64_t pieces = 0;          // pieces the big triangles were cut into
+    uint64_t binEntries = 0;      // (big triangle, screen tile) bin entries
+    uint64_t tessVertices = 0;    // vertices tessellation generated (0 without it)
+    uint64_t tessTriangles = 0;   // triangles it generated (they are trianglesIn)
+    uint64_t tessCulled = 0;      // scene triangles it culled before refining
+    uint64_t clusters = 0;        // clusters the triangles went through (stage clusters; 0: setup did)
+    uint64_t clustersCulled = 0;  // of which culled whole (their triangles are in `culled`)
+    uint32_t redraws = 0;         // frames redrawn after growing an overflowing list or for a skipped stage
+    ListCapacities capacities;    // final capacities of the lists
     // Whether the counts after the inputs (culled, clipped, rasterized, ...) were measured: false for
     // vulkan-graphics, whose fixed-function stages count nothing we read back; reports then say "n/a".
     bool pipelineCounts = true;
@@ -155,6 +158,10 @@ private:
     // a frame's totals (grown, never shrunk; the scene's vertices uploaded again after a reallocation).
     Status prepareTessellation();
     Status sizeTessellation(uint64_t vertices, uint64_t triangles);
+    // Clusters: built from the scene once per session (buildClusters) and uploaded the first time a frame
+    // draws through them; returns the number of clusters a frame with `settings` draws through, 0 for
+    // setup alone.
+    Result<uint32_t> frameClusters(const RenderSettings& settings, bool tessellating);
 
     // render()'s steps, in order (renderer.cpp), and the state they pass along.
     struct FrameState;
@@ -179,7 +186,12 @@ private:
     TessSources tessSources_;
     bool trianglesReplaced_ = false;  // BUF_INDICES etc. hold generated triangles, not the scene's
     uint64_t tessVertexCapacity_ = 0, tessTriangleCapacity_ = 0;
-    bool uploaded_ = true;  // the device's buffers hold this session's scene
+    bool uploaded_ = true;           // the device's buffers hold this session's scene
+    bool clustersBuilt_ = false;     // the scene's clusters were built: clusterCount_, clusterTriangles_
+    ClusterSet clusterSet_;          // and held here until they are uploaded
+    bool clustersUploaded_ = false;  // BUF_CLUSTERS and BUF_CLUSTER_DATA hold them
+    uint32_t clusterCount_ = 0;      // clusters (0: the scene has none, its triangles go through setup)
+    double clusterTriangles_ = 0.0;  // triangles per cluster, on average
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline

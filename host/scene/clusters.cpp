@@ -3,13 +3,18 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 #include <meshoptimizer.h>
 
 #include "scene/scene.h"
 
 namespace sr {
+
+static_assert(kClusterMaxVertices == CLUSTER_MAX_VERTICES && kClusterMaxTriangles == CLUSTER_MAX_TRIANGLES,
+              "the host's cluster limits are the shader's");
 namespace {
 
 // meshoptimizer's balance between a cluster's spatial compactness and the spread of its normals (0:
@@ -59,22 +64,118 @@ private:
     std::vector<bool> taken_;
 };
 
+// Coordinates beyond this make a cluster never cull: their clip positions could overflow to infinity,
+// which setup counts invalid, not culled.
+constexpr double kLargestCoordinate = 1e18;
+
+// The bounding radius and facing bounds of cluster `c` (its sphere centre already set) from its
+// triangles, in double and rounded outwards (cluster.h's tests are only as safe as these bounds).
+void facingBounds(const Scene& scene, const ClusterSet& set, bool allFinite, Cluster& c)
+{
+    const glm::dvec3 centre(glm::vec3(c.sphere));
+    double radius = 0.0;
+    bool small = true;
+    for (uint32_t v = 0; v < c.vertexCount; ++v) {
+        const glm::dvec3 p(glm::vec3(scene.positions[set.vertices[c.vertexOffset + v]]));
+        radius = std::max(radius, glm::length(p - centre));
+        small = small && std::abs(p.x) < kLargestCoordinate && std::abs(p.y) < kLargestCoordinate &&
+                std::abs(p.z) < kLargestCoordinate;
+    }
+    if (!allFinite || !small) {
+        c.sphere.w = INFINITY;
+        c.coneBounds = glm::vec4(0.0f);
+        return;
+    }
+    c.sphere.w = float(radius * (1.0 + 1e-6)) + 1e-30f;
+    // Unit normals by winding, and each triangle's inradius (2 area / perimeter).
+    std::vector<glm::dvec3> normals(c.triangleCount);
+    std::vector<glm::dvec3> corners(3 * size_t(c.triangleCount));
+    glm::dvec3 sum(0.0);
+    double rho = INFINITY;
+    for (uint32_t t = 0; t < c.triangleCount; ++t) {
+        const size_t slot = c.triangleOffset + t;
+        glm::dvec3 q[3];
+        for (int k = 0; k < 3; ++k)
+            q[k] = corners[3 * size_t(t) + k] = glm::dvec3(
+                glm::vec3(scene.positions[set.vertices[c.vertexOffset + set.localIndices[3 * slot + k]]]));
+        const glm::dvec3 n = glm::cross(q[1] - q[0], q[2] - q[0]);
+        const double twiceArea = glm::length(n);
+        const double perimeter =
+            glm::length(q[1] - q[0]) + glm::length(q[2] - q[1]) + glm::length(q[0] - q[2]);
+        const bool doubleSided = (scene.triFlags[set.triangleIds[slot]] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+        if (!(twiceArea > 0.0) || doubleSided) {
+            rho = 0.0;
+            normals[t] = glm::dvec3(0.0);
+            continue;
+        }
+        normals[t] = n / twiceArea;
+        sum += normals[t];
+        rho = std::min(rho, twiceArea / perimeter);
+    }
+    const double sumLength = glm::length(sum);
+    if (!(rho > 0.0) || !(sumLength > 1e-6 * c.triangleCount)) {
+        c.coneBounds = glm::vec4(0.0f);
+        return;
+    }
+    // The bounds hold for the axis as stored (any vector a: n . d >= a . d - |n - a| |d|).
+    const glm::vec3 axis = glm::vec3(sum / sumLength);
+    const glm::dvec3 a(axis);
+    double spread = 0.0, low = INFINITY, high = -INFINITY;
+    for (uint32_t t = 0; t < c.triangleCount; ++t) {
+        spread = std::max(spread, glm::length(normals[t] - a));
+        for (int k = 0; k < 3; ++k) {
+            const double d = glm::dot(normals[t], corners[3 * size_t(t) + k] - centre);
+            low = std::min(low, d);
+            high = std::max(high, d);
+        }
+    }
+    // Rounded outwards: a relative 1e-6 of the cluster's size covers double's rounding many times over.
+    const double margin = 1e-6 * (radius + 1e-30);
+    c.cone = glm::vec4(axis, float(spread * (1.0 + 1e-6) + 1e-7));
+    c.coneBounds = glm::vec4(float(low - margin), float(-(high + margin)), float(rho * (1.0 - 1e-6)), 0.0f);
+}
+
 }  // namespace
 
-ClusterSet buildClusters(const Scene& scene)
+namespace {
+
+// Triangles per chunk: the mesh is clustered in chunks of consecutive triangles, on every core. A chunk
+// holds thousands of clusters, so the seams between chunks (clusters never span two) cost little, and
+// meshoptimizer's work per chunk is linear in the chunk alone.
+constexpr size_t kChunkTriangles = size_t(1) << 20;
+
+// The clusters of scene triangles [first, first + count), with scene triangle ids and scene vertices;
+// offsets count from the chunk's own arrays.
+ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
 {
     ClusterSet set;
-    const size_t indexCount = scene.indices.size();
-    const size_t vertexCount = scene.positions.size();
-    if (indexCount == 0 || vertexCount == 0) return set;
+    const size_t indexCount = 3 * count;
+    const uint32_t* indices = scene.indices.data() + 3 * first;
+    // The chunk's vertices, in scene order, and its corners as indices into them.
+    std::vector<uint32_t> global(indices, indices + indexCount);
+    std::sort(global.begin(), global.end());
+    global.erase(std::unique(global.begin(), global.end()), global.end());
+    std::vector<uint32_t> local(indexCount);
+    const size_t span = size_t(global.back()) - global.front() + 1;
+    if (span <= 4 * global.size()) {  // a coherent mesh: a table over the chunk's range of vertices
+        std::vector<uint32_t> table(span);
+        for (size_t v = 0; v < global.size(); ++v) table[global[v] - global.front()] = uint32_t(v);
+        for (size_t i = 0; i < indexCount; ++i) local[i] = table[indices[i] - global.front()];
+    } else {
+        for (size_t i = 0; i < indexCount; ++i)
+            local[i] = uint32_t(std::lower_bound(global.begin(), global.end(), indices[i]) - global.begin());
+    }
+    const size_t vertexCount = global.size();
 
     // meshoptimizer reads positions for locality and bounds only; a vertex that is not finite (the GPU
     // drops its triangles) takes the origin here, and the clusters holding one never cull.
+    std::vector<glm::vec4> exact(vertexCount);
     std::vector<glm::vec3> positions(vertexCount);
     std::vector<bool> finite(vertexCount);
     for (size_t v = 0; v < vertexCount; ++v) {
-        finite[v] = isFinite(scene.positions[v]);
-        positions[v] = finite[v] ? glm::vec3(scene.positions[v]) : glm::vec3(0.0f);
+        exact[v] = scene.positions[global[v]];
+        finite[v] = isFinite(exact[v]);
+        positions[v] = finite[v] ? glm::vec3(exact[v]) : glm::vec3(0.0f);
     }
 
     // Vertices at one position (bitwise) are one vertex to the clusters, named by the first of them: the
@@ -82,31 +183,34 @@ ClusterSet buildClusters(const Scene& scene)
     // bits. (OBJ gives every face corner its own vertex; shading reads the scene's own vertices by
     // triangle id.) So 64 vertices of a closed mesh hold about twice their count in triangles.
     std::vector<uint32_t> welded(indexCount);
-    const meshopt_Stream stream = {scene.positions.data(), sizeof(glm::vec4), sizeof(glm::vec4)};
-    meshopt_generateShadowIndexBufferMulti(welded.data(), scene.indices.data(), indexCount, vertexCount,
-                                           &stream, 1);
+    const meshopt_Stream stream = {exact.data(), sizeof(glm::vec4), sizeof(glm::vec4)};
+    meshopt_generateShadowIndexBufferMulti(welded.data(), local.data(), indexCount, vertexCount, &stream, 1);
 
     const size_t bound = meshopt_buildMeshletsBound(indexCount, kClusterMaxVertices, kClusterMaxTriangles);
     std::vector<meshopt_Meshlet> meshlets(bound);
     std::vector<unsigned int> vertices(bound * kClusterMaxVertices);
     std::vector<unsigned char> triangles(bound * kClusterMaxTriangles * 3);
-    const size_t count = meshopt_buildMeshlets(
+    const size_t clusters = meshopt_buildMeshlets(
         meshlets.data(), vertices.data(), triangles.data(), welded.data(), indexCount, &positions[0].x,
         vertexCount, sizeof(glm::vec3), kClusterMaxVertices, kClusterMaxTriangles, kConeWeight);
 
     TriangleLookup lookup(welded);
-    set.clusters.reserve(count);
-    for (size_t k = 0; k < count; ++k) {
+    set.clusters.reserve(clusters);
+    set.triangleIds.reserve(count);
+    set.localIndices.reserve(indexCount);
+    for (size_t k = 0; k < clusters; ++k) {
         const meshopt_Meshlet& m = meshlets[k];
         Cluster c;
         c.vertexOffset = uint32_t(set.vertices.size());
         c.triangleOffset = uint32_t(set.triangleIds.size());
         c.vertexCount = m.vertex_count;
         c.triangleCount = m.triangle_count;
-        const unsigned int* local = &vertices[m.vertex_offset];
-        set.vertices.insert(set.vertices.end(), local, local + m.vertex_count);
+        const unsigned int* mv = &vertices[m.vertex_offset];
         bool allFinite = true;
-        for (uint32_t i = 0; i < m.vertex_count; ++i) allFinite = allFinite && finite[local[i]];
+        for (uint32_t i = 0; i < m.vertex_count; ++i) {
+            set.vertices.push_back(global[mv[i]]);
+            allFinite = allFinite && finite[mv[i]];
+        }
         for (uint32_t t = 0; t < m.triangle_count; ++t) {
             const unsigned char* tri = &triangles[m.triangle_offset + 3 * size_t(t)];
             // The triangle as the scene winds it: meshoptimizer keeps the corner order, but any rotation
@@ -115,37 +219,182 @@ ClusterSet buildClusters(const Scene& scene)
             uint8_t corner[3] = {tri[0], tri[1], tri[2]};
             for (int r = 0; r < 3 && id == UINT32_MAX; ++r) {
                 uint8_t a = tri[r], b = tri[(r + 1) % 3], cc = tri[(r + 2) % 3];
-                id = lookup.take(local[a], local[b], local[cc]);
+                id = lookup.take(mv[a], mv[b], mv[cc]);
                 if (id != UINT32_MAX) {
                     corner[0] = a;
                     corner[1] = b;
                     corner[2] = cc;
                 }
             }
-            set.triangleIds.push_back(id);
+            set.triangleIds.push_back(id == UINT32_MAX ? id : uint32_t(first + id));
             set.localIndices.insert(set.localIndices.end(), corner, corner + 3);
         }
         const meshopt_Bounds b =
-            meshopt_computeMeshletBounds(local, &triangles[m.triangle_offset], m.triangle_count,
-                                         &positions[0].x, vertexCount, sizeof(glm::vec3));
-        c.sphere = glm::vec4(b.center[0], b.center[1], b.center[2], b.radius);
-        c.coneApex = glm::vec4(b.cone_apex[0], b.cone_apex[1], b.cone_apex[2], 0.0f);
-        c.coneAxis = glm::vec4(b.cone_axis[0], b.cone_axis[1], b.cone_axis[2], b.cone_cutoff);
-        if (!allFinite) {
-            c.sphere.w = INFINITY;
-            c.coneAxis.w = 2.0f;
-        }
+            meshopt_computeMeshletBounds(mv, &triangles[m.triangle_offset], m.triangle_count, &positions[0].x,
+                                         vertexCount, sizeof(glm::vec3));
+        c.sphere = glm::vec4(b.center[0], b.center[1], b.center[2], 0.0f);
+        facingBounds(scene, set, allFinite, c);
         set.clusters.push_back(c);
+    }
+    return set;
+}
+
+}  // namespace
+
+ClusterSet buildClusters(const Scene& scene)
+{
+    ClusterSet set;
+    const size_t triangles = scene.indices.size() / 3;
+    const size_t vertexCount = scene.positions.size();
+    if (triangles == 0 || vertexCount == 0) return set;
+    if (std::any_of(scene.indices.begin(), scene.indices.end(), [&](uint32_t i) { return i >= vertexCount; }))
+        return set;
+
+    const size_t chunks = (triangles + kChunkTriangles - 1) / kChunkTriangles;
+    std::vector<ClusterSet> parts(chunks);
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t k = next++; k < chunks; k = next++)
+            parts[k] = buildChunk(scene, k * kChunkTriangles,
+                                  std::min(kChunkTriangles, triangles - k * kChunkTriangles));
+    };
+    const size_t threads = std::min<size_t>(chunks, std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+
+    // The chunks' clusters in chunk order, their offsets moved past the chunks before them.
+    for (ClusterSet& part : parts) {
+        const auto vertexBase = uint32_t(set.vertices.size());
+        const auto triangleBase = uint32_t(set.triangleIds.size());
+        for (Cluster c : part.clusters) {
+            c.vertexOffset += vertexBase;
+            c.triangleOffset += triangleBase;
+            set.clusters.push_back(c);
+        }
+        set.vertices.insert(set.vertices.end(), part.vertices.begin(), part.vertices.end());
+        set.triangleIds.insert(set.triangleIds.end(), part.triangleIds.begin(), part.triangleIds.end());
+        set.localIndices.insert(set.localIndices.end(), part.localIndices.begin(), part.localIndices.end());
+        part = ClusterSet{};
     }
     return set;
 }
 
 bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye)
 {
-    const glm::vec3 toApex = glm::vec3(c.coneApex) - eye;
-    const float length = glm::length(toApex);
-    if (!(length > 0.0f) || !(c.coneAxis.w <= 1.0f)) return false;
-    return glm::dot(toApex / length, glm::vec3(c.coneAxis)) >= c.coneAxis.w;
+    if (!(c.coneBounds.z > 0.0f)) return false;
+    const glm::dvec3 toCentre = glm::dvec3(glm::vec3(c.sphere)) - glm::dvec3(eye);
+    const double s = double(c.coneBounds.x) + glm::dot(glm::dvec3(glm::vec3(c.cone)), toCentre) -
+                     double(c.cone.w) * glm::length(toCentre);
+    return s > 0.0;
+}
+
+void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
+                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data)
+{
+    clusters.clear();
+    data.clear();
+    clusters.reserve(set.clusters.size());
+    data.reserve(set.vertices.size() + 2 * set.triangleIds.size());
+    for (const Cluster& c : set.clusters) {
+        GpuCluster g{};
+        g.sphere = c.sphere;
+        g.cone = c.cone;
+        g.coneBounds = c.coneBounds;
+        g.vertexCount = c.vertexCount;
+        g.triangleCount = c.triangleCount;
+        g.vertexOffset = uint32_t(data.size());
+        data.insert(data.end(), set.vertices.begin() + c.vertexOffset,
+                    set.vertices.begin() + c.vertexOffset + c.vertexCount);
+        g.triangleOffset = uint32_t(data.size());
+        for (uint32_t t = 0; t < c.triangleCount; ++t) {
+            const size_t slot = c.triangleOffset + t;
+            const uint32_t id = set.triangleIds[slot];
+            const bool doubleSided = id < triFlags.size() && (triFlags[id] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+            data.push_back(id);
+            data.push_back(uint32_t(set.localIndices[3 * slot]) |
+                           uint32_t(set.localIndices[3 * slot + 1]) << 8 |
+                           uint32_t(set.localIndices[3 * slot + 2]) << 16 |
+                           (doubleSided ? CLUSTER_TRI_DOUBLE_SIDED : 0u));
+        }
+        clusters.push_back(g);
+    }
+}
+
+void setClusterParams(RasterParams& p, uint32_t clusterCount, uint32_t rasterMethod)
+{
+    p.clusterCount = clusterCount;
+    p.setupFirstPrimitive = clusterCount > 0 ? p.triangleCount : 0u;
+    const glm::mat4& m = p.clipFromWorld;
+    // Row i of the clip transform (glm is column-major), in double: clip component i = row . (p, 1).
+    auto row = [&](int i) { return glm::dvec4(m[0][i], m[1][i], m[2][i], m[3][i]); };
+    const glm::dvec4 rx = row(0), ry = row(1), rz = row(2), rw = row(3);
+    auto absSum = [](const glm::dvec4& r) {
+        return std::abs(r.x) + std::abs(r.y) + std::abs(r.z) + std::abs(r.w);
+    };
+    auto lin = [](const glm::dvec4& r) { return glm::dvec3(r); };
+    constexpr double u = 1.0 / 16777216.0;  // float's unit roundoff, 2^-24
+    // Planes in frustumOutcode's order, then the sides at twice the viewport; each with the two rows it
+    // combines, for its float error.
+    const glm::dvec4 planes[CLUSTER_PLANE_COUNT] = {
+        rw + rx, rw - rx,       rw + ry,       rw - ry,       rz,
+        rw - rz, 2.0 * rw + rx, 2.0 * rw - rx, 2.0 * rw + ry, 2.0 * rw - ry};
+    const double rowError[CLUSTER_PLANE_COUNT] = {absSum(rw) + absSum(rx),
+                                                  absSum(rw) + absSum(rx),
+                                                  absSum(rw) + absSum(ry),
+                                                  absSum(rw) + absSum(ry),
+                                                  absSum(rz),
+                                                  absSum(rw) + absSum(rz),
+                                                  2 * absSum(rw) + absSum(rx),
+                                                  2 * absSum(rw) + absSum(rx),
+                                                  2 * absSum(rw) + absSum(ry),
+                                                  2 * absSum(rw) + absSum(ry)};
+    double slack = 0.0;
+    for (int k = 0; k < CLUSTER_PLANE_COUNT; ++k) {
+        const double n = glm::length(lin(planes[k]));
+        // A plane without a normal is a constant: neither culls nor admits anything.
+        if (!(n > 0.0) || !std::isfinite(n)) {
+            p.clusterPlanes[k] = glm::vec4(0.0f);
+            continue;
+        }
+        p.clusterPlanes[k] = glm::vec4(planes[k] / n);
+        // Each clip component is three products and three sums of float terms, each rounded: a plane's
+        // value is off by at most 4u x (its rows' absolute sums) x the largest coordinate (>= 1), twice
+        // that here for the normalised plane's own rounding.
+        slack = std::max(slack, 8.0 * u * rowError[k] / n);
+    }
+    p.clusterPlanes[CLUSTER_PLANE_W] = glm::vec4(rw);
+    // The camera centre e: clip x, y and w vanish there (L e = -t for L the linear part of those rows).
+    const glm::dmat3 lt(lin(rx), lin(ry), lin(rw));  // columns: the transpose of L
+    const double det = glm::determinant(lt);
+    const double scale = glm::length(lin(rx)) * glm::length(lin(ry)) * glm::length(lin(rw));
+    const bool perspective = scale > 0.0 && std::abs(det) > 1e-9 * scale;
+    const bool exactFacing = rasterMethod == RASTER_FIXED8 || rasterMethod == RASTER_FIXED4;
+    float sign = 0.0f;
+    glm::dvec3 eye(0.0);
+    if (perspective && exactFacing && p.cullMode != CULL_NONE) {
+        eye = glm::inverse(glm::transpose(lt)) * -glm::dvec3(rx.w, ry.w, rw.w);
+        // setup culls back faces where the snapped area is positive: det(L) x n . (p - e) > 0.
+        sign = float((det > 0.0) == (p.cullMode == CULL_BACK) ? 1 : -1);
+    }
+    p.clusterEye = glm::vec4(glm::vec3(eye), sign);
+    const double width = p.width, height = p.height;
+    const double nx = glm::length(lin(rx)), ny = glm::length(lin(ry)), nw = glm::length(lin(rw));
+    // The window transform's largest stretch at clip w, with |x|, |y| <= 2w: K1 / w.
+    const double k1 = std::hypot(0.5 * width * (nx + 2.0 * nw), 0.5 * height * (ny + 2.0 * nw));
+    const double k = perspective ? 0.25 * width * height * std::abs(det) / (k1 * nw * nw) : 0.0;
+    // Half a snapping step per axis: 1/512 pixel (fixed8), 1/32 (fixed4).
+    const double snap = rasterMethod == RASTER_FIXED4 ? 0.5 / 16.0 : 0.5 / double(SUBPIXEL_SCALE);
+    const double extent = std::max(width, height);
+    // Twice the corner displacement (sqrt 2 per axis): snapping and the window transform's rounding (the
+    // reciprocal's ulp and three float operations) in z, the clip positions' rounding in y (per unit of
+    // vertex magnitude over w: 4u per component, 3x through x/w with |x/w| <= 2, half the extent).
+    const double twoRoot2 = 2.0 * std::sqrt(2.0);
+    const double rowsError = std::max({absSum(rx), absSum(ry), absSum(rw)});
+    p.clusterCone =
+        glm::vec4(float(k), float(twoRoot2 * 0.5 * extent * 12.0 * u * rowsError),
+                  float(twoRoot2 * (snap + extent * (std::ldexp(1.0, -23) + 4.0 * u))), float(2.0 * slack));
 }
 
 }  // namespace sr

@@ -19,6 +19,8 @@
 
 #include <glm/glm.hpp>
 
+#include "raster_shared.h"
+
 namespace sr {
 
 struct Scene;
@@ -31,13 +33,15 @@ struct Cluster {
     uint32_t triangleOffset = 0;  // first of its triangles in ClusterSet::triangleIds (x3 in localIndices)
     uint32_t vertexCount = 0;     // 1 .. kClusterMaxVertices
     uint32_t triangleCount = 0;   // 1 .. kClusterMaxTriangles
-    // Bounding sphere in world space: centre xyz, radius w; every vertex of the cluster lies inside.
+    // Bounding sphere in world space: centre xyz, radius w; every vertex of the cluster lies inside. An
+    // infinite radius (a vertex that is not finite, or beyond 1e18) never culls.
     glm::vec4 sphere{0.0f};
-    // Normal cone: apex xyz (w unused) and axis xyz, cutoff w. Every triangle of the cluster faces away
-    // from a viewer at v where dot(normalize(apex - v), axis) >= cutoff (clusterConeBackFacing). A cutoff
-    // above 1 never culls: clusters whose normals spread too far, or with a degenerate triangle.
-    glm::vec4 coneApex{0.0f};
-    glm::vec4 coneAxis{0.0f, 0.0f, 0.0f, 2.0f};
+    // The facing bounds of GpuCluster (common/raster_shared.h, common/shared/cluster.h): cone = axis a
+    // xyz, spread beta >= |n - a| over the unit normals n of its triangles (by their winding);
+    // coneBounds = h <= n . (p - c), -H with H >= n . (p - c) (p any corner, c the centre), and rho <= the
+    // smallest inradius, 0 when a triangle is degenerate or double-sided (never culled by facing).
+    glm::vec4 cone{0.0f, 0.0f, 1.0f, 2.0f};
+    glm::vec4 coneBounds{0.0f};
 };
 
 struct ClusterSet {
@@ -49,13 +53,27 @@ struct ClusterSet {
 
 // The clusters of every triangle of the scene (lines and points are not clustered). Each scene triangle
 // lands in exactly one cluster with its three corners in the scene's order (each corner the scene's
-// vertex or the first vertex at its position).
+// vertex or the first vertex at its position). A scene with an index out of range has no clusters (its
+// triangles go through setup, which counts them invalid).
 ClusterSet buildClusters(const Scene& scene);
 
-// Whether every triangle of `c` faces away from a viewer at world position `eye` by the cluster's cone
-// (meshoptimizer's test on the apex). World-space facing only: the pipeline's facing rule is the sign of
-// the snapped window-space area, which a cluster stage must respect on its own.
+// Whether every triangle of `c` faces away from a viewer at world position `eye` (n . (p - eye) > 0 for
+// every triangle, n its unit normal by its winding, p a corner) by the cluster's facing bounds. World
+// space only: the pipeline's facing rule is the sign of the snapped window-space area, which
+// clusterCull adds its margins for.
 bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye);
+
+// The GPU form of a cluster set: a GpuCluster per cluster (BUF_CLUSTERS) and BUF_CLUSTER_DATA (every
+// cluster's vertex list, then two words per triangle: its scene id, its corners 8 bits each with
+// CLUSTER_TRI_DOUBLE_SIDED from the scene's triangle flags `triFlags`).
+void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
+                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data);
+
+// RasterParams' cluster fields for a frame of `p` (clipFromWorld, width, height, cullMode already set):
+// clusterCount, setupFirstPrimitive (the triangles are the clusters' when clusterCount > 0), and the
+// planes, camera centre and thresholds of clusterCull. rasterMethod: RASTER_*; the facing test is on for
+// the fixed-point methods only, whose facing is the sign of an exact area.
+void setClusterParams(RasterParams& p, uint32_t clusterCount, uint32_t rasterMethod);
 
 }  // namespace sr
 

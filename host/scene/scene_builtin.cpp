@@ -4,6 +4,7 @@
 // about 2,900 triangles, smooth normals on the curved solids, one normal per face on the flat ones.
 // Every surface is a grid of (u, v) samples emitted so that dP/du x dP/dv points outwards, which
 // makes all triangles counter-clockwise seen from outside (glTF's front faces).
+#include <algorithm>
 #include <cmath>
 
 #include "scene/scene.h"
@@ -238,6 +239,16 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     if (name == "builtin") return builtinScene();
     Scene scene;
     if (name == "builtin:dense") return tessellatedSphere(128);  // 128 x 256 quads: ~65k triangles
+    // builtin:dense:N, the sphere of `raster bench --dense-rings N` (about 4 N^2 triangles).
+    if (name.rfind("builtin:dense:", 0) == 0) {
+        const std::string digits = name.substr(14);
+        const bool number = !digits.empty() && digits.size() <= 4 &&
+                            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+        const int rings = number ? std::stoi(digits) : 0;
+        if (rings < 4 || rings > 8192)
+            return makeError(ExitCode::Usage, "builtin:dense:N needs N in 4..8192 rings, not '{}'", digits);
+        return tessellatedSphere(rings);
+    }
     if (name == "builtin:huge") {
         addGround(scene, 1e5f, 1);  // two triangles, each ~1e4 times the viewport from a few units away
         addObjects(scene);
@@ -247,7 +258,7 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     if (name == "builtin:cutout") return cutoutScene();
     if (name == "builtin:lowpoly") return lowPolyScene();
     return makeError(ExitCode::Usage,
-                     "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:huge, "
+                     "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:dense:N, builtin:huge, "
                      "builtin:checker, builtin:cutout or builtin:lowpoly",
                      name);
 }

@@ -33,6 +33,13 @@ constexpr uint32_t kAutoTessLevel = 0xffffffffu;
 // images stay on the device; statistics and timings are still filled).
 enum class ImageDownload { All, Colour, None };
 
+// --clusters (RenderSettings::clusters): whether a frame's triangles go through stage clusters
+// (common/shared/cluster.h) or setup. The image is the same either way; auto takes clusters where they pay
+// (RenderSession::sizeFrame).
+constexpr uint32_t CLUSTERS_AUTO = 0;
+constexpr uint32_t CLUSTERS_ON = 1;
+constexpr uint32_t CLUSTERS_OFF = 2;
+
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;
@@ -85,6 +92,9 @@ struct RenderSettings {
     uint32_t tessellate = TESS_OFF;
     float tessEdgePx = 8.0f;
     uint32_t tessMaxLevel = kDefaultTessMaxLevel;
+    // Stage clusters (CLUSTERS_*): on draws a triangle scene through it wherever it has clusters (not
+    // while tessellating, and not a scene with an index out of range); off never.
+    uint32_t clusters = CLUSTERS_AUTO;
 };
 
 // One render as a user describes it: the pipeline's settings, the camera and model specs and how the

@@ -232,6 +232,13 @@ std::vector<Setting> makeSchema()
     level.defaultNote =
         fmt::format("{} for flat and pn, {} for centroid", kDefaultTessMaxLevel, kDefaultCentroidLevel);
     t.push_back(level);
+    // geometry
+    t.push_back(choiceSetting(
+        "geometry", "clusters", &RenderSettings::clusters,
+        {{"auto", CLUSTERS_AUTO}, {"on", CLUSTERS_ON}, {"off", CLUSTERS_OFF}},
+        "set up triangles cluster by cluster (built at load time; whole clusters culled where every "
+        "triangle would be) instead of one thread each; the same image either way. auto: on GPUs, for "
+        "meshes whose clusters average at least 32 triangles, without tessellation"));
     // outputs and timing
     t.push_back(
         boolSetting("output", "aov-samples", &RenderSettings::aovSamples,

@@ -37,6 +37,7 @@ namespace {
 #include "setup_lines_points.spv.h"
 #include "setup_cpu.spv.h"
 #include "setup_lines_points_cpu.spv.h"
+#include "clusters_cpu.spv.h"
 #include "raster_tiles_chunked.spv.h"
 #include "shade_cpu.spv.h"
 #include "bin_count_fixed4.spv.h"
@@ -47,6 +48,8 @@ namespace {
 #include "setup_lines_points_fixed4.spv.h"
 #include "setup_cpu_fixed4.spv.h"
 #include "setup_lines_points_cpu_fixed4.spv.h"
+#include "clusters_fixed4.spv.h"
+#include "clusters_cpu_fixed4.spv.h"
 #include "bin_count_float.spv.h"
 #include "bin_fill_float.spv.h"
 #include "raster_tiles_float.spv.h"
@@ -55,6 +58,8 @@ namespace {
 #include "setup_lines_points_float.spv.h"
 #include "setup_cpu_float.spv.h"
 #include "setup_lines_points_cpu_float.spv.h"
+#include "clusters_float.spv.h"
+#include "clusters_cpu_float.spv.h"
 #include "bin_count_scanline.spv.h"
 #include "bin_fill_scanline.spv.h"
 #include "raster_tiles_scanline.spv.h"
@@ -63,6 +68,8 @@ namespace {
 #include "setup_lines_points_scanline.spv.h"
 #include "setup_cpu_scanline.spv.h"
 #include "setup_lines_points_cpu_scanline.spv.h"
+#include "clusters_scanline.spv.h"
+#include "clusters_cpu_scanline.spv.h"
 
 struct StageSpirv {
     const uint32_t* code;
@@ -87,25 +94,29 @@ static_assert(sizeof kStageSpirv / sizeof kStageSpirv[0] == STAGE_COUNT, "one mo
 // (SR_CPU_BUILD: every big triangle stored as a record, which the chunked raster_tiles requires).
 struct MethodSpirv {
     StageSpirv setup, setupLinesPoints, binCount, binFill, rasterTiles, rasterTilesChunked, setupCpu,
-        setupLinesPointsCpu;
+        setupLinesPointsCpu, clusters, clustersCpu;
 };
 // Indexed by RASTER_*.
 const MethodSpirv kMethodSpirv[] = {
     {SR_SPIRV(kSpv_setup), SR_SPIRV(kSpv_setup_lines_points), SR_SPIRV(kSpv_bin_count),
      SR_SPIRV(kSpv_bin_fill), SR_SPIRV(kSpv_raster_tiles), SR_SPIRV(kSpv_raster_tiles_chunked),
-     SR_SPIRV(kSpv_setup_cpu), SR_SPIRV(kSpv_setup_lines_points_cpu)},
+     SR_SPIRV(kSpv_setup_cpu), SR_SPIRV(kSpv_setup_lines_points_cpu), SR_SPIRV(kSpv_clusters),
+     SR_SPIRV(kSpv_clusters_cpu)},
     {SR_SPIRV(kSpv_setup_fixed4), SR_SPIRV(kSpv_setup_lines_points_fixed4), SR_SPIRV(kSpv_bin_count_fixed4),
      SR_SPIRV(kSpv_bin_fill_fixed4), SR_SPIRV(kSpv_raster_tiles_fixed4),
      SR_SPIRV(kSpv_raster_tiles_chunked_fixed4), SR_SPIRV(kSpv_setup_cpu_fixed4),
-     SR_SPIRV(kSpv_setup_lines_points_cpu_fixed4)},
+     SR_SPIRV(kSpv_setup_lines_points_cpu_fixed4), SR_SPIRV(kSpv_clusters_fixed4),
+     SR_SPIRV(kSpv_clusters_cpu_fixed4)},
     {SR_SPIRV(kSpv_setup_float), SR_SPIRV(kSpv_setup_lines_points_float), SR_SPIRV(kSpv_bin_count_float),
      SR_SPIRV(kSpv_bin_fill_float), SR_SPIRV(kSpv_raster_tiles_float),
      SR_SPIRV(kSpv_raster_tiles_chunked_float), SR_SPIRV(kSpv_setup_cpu_float),
-     SR_SPIRV(kSpv_setup_lines_points_cpu_float)},
+     SR_SPIRV(kSpv_setup_lines_points_cpu_float), SR_SPIRV(kSpv_clusters_float),
+     SR_SPIRV(kSpv_clusters_cpu_float)},
     {SR_SPIRV(kSpv_setup_scanline), SR_SPIRV(kSpv_setup_lines_points_scanline),
      SR_SPIRV(kSpv_bin_count_scanline), SR_SPIRV(kSpv_bin_fill_scanline),
      SR_SPIRV(kSpv_raster_tiles_scanline), SR_SPIRV(kSpv_raster_tiles_chunked_scanline),
-     SR_SPIRV(kSpv_setup_cpu_scanline), SR_SPIRV(kSpv_setup_lines_points_cpu_scanline)},
+     SR_SPIRV(kSpv_setup_cpu_scanline), SR_SPIRV(kSpv_setup_lines_points_cpu_scanline),
+     SR_SPIRV(kSpv_clusters_scanline), SR_SPIRV(kSpv_clusters_cpu_scanline)},
 };
 static_assert(sizeof kMethodSpirv / sizeof kMethodSpirv[0] == RASTER_METHOD_COUNT, "modules per method");
 #undef SR_SPIRV
@@ -295,8 +306,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     // Specialization constant 0, the invocations of a raster_tiles group: one per tile pixel on a GPU;
     // on a CPU device (lavapipe), where each invocation of a group that synchronizes runs as a
     // coroutine, one SIMD-wide bundle that walks several pixels each (compute_glsl/raster_tiles.comp).
-    // Specialization constant SPEC_MATERIALS of setup and raster_tiles: whether the alpha test of MASK
-    // materials is compiled in. Each is built both ways, so that scenes without MASK triangles run code
+    // Specialization constant SPEC_MATERIALS of setup, clusters and raster_tiles: whether the alpha test of
+    // MASK materials is compiled in. Each is built both ways, so that scenes without MASK triangles run code
     // without the test's surface, material and texture lookups (fewer registers on a GPU; on a CPU, where
     // both sides of a per-pixel branch run, none of the test's work). SPEC_SAMPLES of setup, raster_tiles
     // and shade: the sample count, which sizes each invocation's array of keys or ids. SPEC_RESOLVE of
@@ -335,11 +346,13 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         {SPEC_SHADE_USES, offsetof(Constants, shadeUses), sizeof(uint32_t)},
         {SPEC_SHADE_SSAA, offsetof(Constants, shadeSsaa), sizeof(uint32_t)},
         {SPEC_COUNT_HITS, offsetof(Constants, countHits), sizeof(VkBool32)}};
-    bool variants = stage == STAGE_SETUP || stage == STAGE_RASTER_TILES || stage == STAGE_SHADE;
+    bool variants = stage == STAGE_SETUP || stage == STAGE_CLUSTERS || stage == STAGE_RASTER_TILES ||
+                    stage == STAGE_SHADE;
     const MethodSpirv& m = kMethodSpirv[build.method];
     StageSpirv spirv = kStageSpirv[stage];
     if (stage == STAGE_SETUP && info_.isCpu) spirv = build.linesPoints ? m.setupLinesPointsCpu : m.setupCpu;
     if (stage == STAGE_SETUP && !info_.isCpu) spirv = build.linesPoints ? m.setupLinesPoints : m.setup;
+    if (stage == STAGE_CLUSTERS) spirv = info_.isCpu ? m.clustersCpu : m.clusters;
     if (stage == STAGE_BIN_COUNT) spirv = m.binCount;
     if (stage == STAGE_BIN_FILL) spirv = m.binFill;
     if (stage == STAGE_RASTER_TILES) spirv = info_.isCpu ? m.rasterTilesChunked : m.rasterTiles;
@@ -385,8 +398,10 @@ void VulkanDevice::savePipelineCache()
 Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams& params)
 {
     Build build;
-    build.materials = d.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES);
-    if (d.stage == STAGE_SETUP || d.stage == STAGE_RASTER_TILES || d.stage == STAGE_SHADE)
+    build.materials =
+        d.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES);
+    if (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES ||
+        d.stage == STAGE_SHADE)
         build.samples = params.sampleCount;
     build.resolve = d.stage == STAGE_SHADE && (params.sampleCount > 1 || params.ssaa > 1);
     build.linesPoints = d.stage == STAGE_SETUP && params.lineCount + params.pointCount > 0;

@@ -112,6 +112,7 @@ class Renderer:
         tessellate: Literal['off', 'flat', 'pn', 'centroid'] = 'off',  # flat: split triangles to the screen size --tess-edge-px asks, in their plane; pn: the same, new vertices on Curved PN triangles
         tess_edge_px: float = 8.0,  # flat, pn: target projected edge length in output pixels
         tess_max_level: Union[int, Literal['auto']] = 'auto',  # flat, pn: most pieces per edge (1..64); centroid: splits (0..8)
+        clusters: Literal['auto', 'on', 'off'] = 'auto',  # set up triangles cluster by cluster (built at load time; whole clusters culled where every triangle would be) instead of one thread each; th
         aov_samples: bool = False,  # with an AOV file: also every sample's id and depth as channels id.s<k>, Z.s<k>
         repeat: int = 1,  # timed runs of the whole frame (the statistics give min, median and max)
         warmup: int = 0,  # untimed runs first

@@ -1,0 +1,136 @@
+// shared/cluster.h - stage `clusters`: whole clusters culled before any per-triangle work, only where
+// every triangle of the cluster would have been culled by setup itself.
+//
+// A cluster (GpuCluster) is up to CLUSTER_MAX_VERTICES vertices and CLUSTER_MAX_TRIANGLES triangles of
+// one mesh, built at load time (host/scene/clusters.cpp). The stage transforms a cluster's vertices once
+// and sets up its triangles from them with setup's own functions, so a drawn cluster gives the same bits
+// as setup; the tests here only decide when a cluster need not be drawn at all, and they must never be
+// wrong: culling a cluster may only skip triangles that setup would have dropped, and count them the same
+// way (COUNTER_CULLED). Two tests, both conservative by explicit error bounds:
+//
+// Frustum. setup culls a triangle whose three clip positions lie outside one viewport plane (x > w, x < -w,
+// y > w, y < -w, z < 0, z > w; frustumOutcode). A cluster whose bounding sphere lies outside such a plane
+// by more than the float error of the clip positions (RasterParams.clusterCone.w per unit of the
+// vertices' magnitude) has every vertex outside it as setup computes it.
+//
+// Facing. setup culls by the sign of the snapped window-space area. In exact arithmetic that sign is
+// sign(det L) * sign(n . (p - e)) for a triangle with unit normal n (by its winding) through p, seen from
+// the camera centre e, where L is the linear part of clip x, y and w (their determinant is the volume
+// the camera's rays span): the window area is det L * 2 area * n . (p - e) * width * height / 4 / (w0 w1 w2).
+// Snapping moves each corner by up to half a subpixel per axis and float rounding of the clip positions by
+// a little more; the sign survives when the exactly projected triangle's inradius exceeds twice that
+// displacement (the area changes by at most displacement x perimeter plus a square term, and area =
+// inradius x perimeter / 2). So a cluster is culled when, for every triangle, sign * n . (p - e) has a
+// positive lower bound s and the projected inradius has a lower bound above the threshold:
+//   s >= h + sign * a . (c - e) - beta |c - e|        (GpuCluster: h per sign, axis a, spread beta)
+//   inradius_px >= rho * K * s / (|c - e| + r)^2      (rho: smallest inradius; K: RasterParams.clusterCone.x)
+// The second line is the smallest singular value of the projection from the triangle's plane to the
+// window (area scale over the largest stretch) with |x|, |y| <= 2w, which the cluster must satisfy (it
+// also keeps every triangle clear of the clipper: no clipped sub-triangle, whose slivers could flip).
+// Part of raster_shared.h (included from there, not on its own); same three-language rules.
+#ifndef RASTER_SHARED_CLUSTER_H
+#define RASTER_SHARED_CLUSTER_H
+
+SR_NAMESPACE_BEGIN
+
+#define CLUSTER_DRAWN 0u
+#define CLUSTER_FRUSTUM_CULLED 1u  // outside a viewport plane: every triangle is PREPARE_CULLED
+#define CLUSTER_FACING_CULLED 2u   // every triangle faces the culled way, by the bounds above
+// The safety factor on the facing test's inradius threshold, for the float evaluation of the bound.
+#define CLUSTER_FACING_SAFETY 1.25f
+
+// Signed distance (world units) of the cluster's centre from plane k of RasterParams.clusterPlanes.
+SR_FN float clusterPlaneDistance(RasterParams params, uint k, vec3 centre)
+{
+    vec4 plane = params.clusterPlanes[k];
+    return dot(vec3(plane.x, plane.y, plane.z), centre) + plane.w;
+}
+
+// CLUSTER_DRAWN, CLUSTER_FRUSTUM_CULLED or CLUSTER_FACING_CULLED. A cluster with a vertex that is not
+// finite has an infinite radius: every comparison below fails and it is drawn (its triangles are counted
+// invalid by setup's functions, as without clusters).
+SR_FN uint clusterCull(RasterParams params, GpuCluster c)
+{
+    vec3 centre = vec3(c.sphere.x, c.sphere.y, c.sphere.z);
+    float radius = c.sphere.w;
+    // The largest vertex coordinate magnitude (plus one, for the translation column) the float error of
+    // a clip position scales with.
+    float extent = max(abs(centre.x), max(abs(centre.y), abs(centre.z))) + radius + 1.0f;
+    float slack = radius + params.clusterCone.w * extent;
+    // Planes 0-5 are the viewport's (x >= -w, x <= w, y >= -w, y <= w, z >= 0, z <= w); the cluster is
+    // eligible for the facing test only inside near, far and the sides at twice the viewport (4-9).
+    bool eligible = true;
+    for (uint k = 0u; k < CLUSTER_PLANE_COUNT; ++k) {
+        float d = clusterPlaneDistance(params, k, centre);
+        if (k < 6u && d < -slack) return CLUSTER_FRUSTUM_CULLED;
+        if (k >= 4u && !(d > slack)) eligible = false;
+    }
+    float sign = params.clusterEye.w;
+    float rho = c.coneBounds.z;
+    if (!eligible || sign == 0.0f || !(rho > 0.0f)) return CLUSTER_DRAWN;
+
+    vec3 eye = vec3(params.clusterEye.x, params.clusterEye.y, params.clusterEye.z);
+    vec3 toCentre = centre - eye;
+    float dist = sqrt(dot(toCentre, toCentre));
+    vec3 axis = vec3(c.cone.x, c.cone.y, c.cone.z);
+    // Lower bound of sign * n . (p - e) over the cluster's triangles, less the float error of this sum.
+    float s = (sign > 0.0f ? c.coneBounds.x : c.coneBounds.y) + sign * dot(axis, toCentre) - c.cone.w * dist;
+    s -= 1.0e-5f * (dist + radius + abs(c.coneBounds.x) + abs(c.coneBounds.y));
+    if (!(s > 0.0f)) return CLUSTER_DRAWN;
+    // Clip w over the sphere (plane CLUSTER_PLANE_W is clip w itself, not normalised): the float error
+    // of the projected corners grows as extent / w.
+    vec4 wRow = params.clusterPlanes[CLUSTER_PLANE_W];
+    float wMin = clusterPlaneDistance(params, CLUSTER_PLANE_W, centre) -
+                 radius * sqrt(wRow.x * wRow.x + wRow.y * wRow.y + wRow.z * wRow.z);
+    if (!(wMin > 0.0f)) return CLUSTER_DRAWN;
+    float reach = dist + radius;
+    float inradiusPx = rho * params.clusterCone.x * s / (reach * reach);
+    float needPx = params.clusterCone.z + params.clusterCone.y * extent / wMin;
+    return inradiusPx > CLUSTER_FACING_SAFETY * needPx ? CLUSTER_FACING_CULLED : CLUSTER_DRAWN;
+}
+
+// Corner k (0-2) of a cluster triangle's packed corners (BUF_CLUSTER_DATA's second word: three local
+// vertex indices of 8 bits, then CLUSTER_TRI_DOUBLE_SIDED).
+SR_FN uint clusterCorner(uint packed, uint k)
+{
+    return (packed >> (8u * k)) & 255u;
+}
+#define CLUSTER_TRI_DOUBLE_SIDED 0x1000000u  // the triangle's TRI_FLAG_DOUBLE_SIDED, beside its corners
+
+// The per-vertex half of setup, done once per cluster vertex instead of once per corner (fixed8): the
+// clip position's finiteness, its outcodes and its snapped window position. Flags: frustumOutcode in bits
+// 0-5, clipOutcode in bits 8-13, and:
+#define CLUSTER_VERTEX_FINITE 0x10000u   // every clip coordinate is finite
+#define CLUSTER_VERTEX_SNAPPED 0x20000u  // snapVertex succeeded (xy, z hold its result)
+SR_FN uint clusterVertex(vec4 c, vec4 guardBand, uint width, uint height, SR_OUT(ivec2) xy, SR_OUT(float) z)
+{
+    bool finite = isFinite(c.x) && isFinite(c.y) && isFinite(c.z) && isFinite(c.w);
+    uint flags = 0u;
+    if (finite) flags = CLUSTER_VERTEX_FINITE | frustumOutcode(c) | (clipOutcode(c, guardBand) << 8u);
+    if (snapVertex(c, width, height, xy, z)) flags |= CLUSTER_VERTEX_SNAPPED;
+    return flags;
+}
+
+// What setup decides for a triangle from its corners' clusterVertex results, in prepareTriangle's order:
+// PREPARE_INVALID (a coordinate is not finite), PREPARE_CULLED (outside one viewport plane, or set up to
+// nothing: zero area, the culled facing, no sample), PREPARE_CLIPPED (it needs the clipper: set it up from
+// the clip positions), or PREPARE_DIRECT with `t` set up, bit for bit setupTriangle's (the same snapped
+// corners through the same steps, setupSnappedTriangle).
+SR_FN uint clusterSetupTriangle(uint f0, uint f1, uint f2, ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1,
+                                float z2, uint triId, bool doubleSided, uint cullMode, uint width,
+                                uint height, uint bounds, SR_OUT(TriSetup) t)
+{
+    uint all = f0 & f1 & f2;
+    if ((all & CLUSTER_VERTEX_FINITE) == 0u) return PREPARE_INVALID;
+    if ((all & 63u) != 0u) return PREPARE_CULLED;
+    if ((((f0 | f1 | f2) >> 8u) & 63u) != 0u) return PREPARE_CLIPPED;
+    if ((all & CLUSTER_VERTEX_SNAPPED) == 0u) return PREPARE_CULLED;
+    return setupSnappedTriangle(v0, v1, v2, z0, z1, z2, triId, doubleSided, cullMode, width, height, bounds,
+                                t)
+               ? PREPARE_DIRECT
+               : PREPARE_CULLED;
+}
+
+SR_NAMESPACE_END
+
+#endif  // RASTER_SHARED_CLUSTER_H

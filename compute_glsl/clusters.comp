@@ -1,0 +1,85 @@
+// clusters.comp - stage `clusters`: the scene's triangles cluster by cluster (RasterParams.clusterCount >
+// 0), in place of setup's invocation per triangle. CLUSTER_LANES invocations (a subgroup on NVIDIA) take
+// one cluster: they cull it whole where every triangle would be culled anyway (clusterCull,
+// common/shared/cluster.h), transform its vertices once into shared memory, and set up each triangle from
+// there, so small triangles are rasterized and big ones binned exactly as setup would: with fixed8 each
+// vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
+// corners (clusterSetupTriangle); a clipped triangle, and every triangle of the other raster methods,
+// takes setup's setupInputTriangle (setup_triangle.glsl) from the clip positions. Triangles counted culled
+// or invalid are summed per cluster, not counted with an atomic each. SR_CPU_BUILD stores every big
+// triangle as a record, as setup's CPU build does (raster_tiles' CPU build reads records alone).
+// CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "raster_shared.h"
+#include "buffers.glsl"
+#include "bin.glsl"
+
+layout(local_size_x = CLUSTER_LANES * CLUSTERS_PER_GROUP) in;
+#include "setup_triangle.glsl"
+
+shared vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
+shared ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];  // x, y, depth bits, flags
+shared uint clusterCounts[CLUSTERS_PER_GROUP][2];                     // invalid, culled
+
+void main()
+{
+    uint slot = gl_LocalInvocationID.x / uint(CLUSTER_LANES);
+    uint lane = gl_LocalInvocationID.x % uint(CLUSTER_LANES);
+    uint index = gl_WorkGroupID.x * uint(CLUSTERS_PER_GROUP) + slot;
+    GpuCluster c;
+    uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
+    if (index < params.clusterCount) {
+        c = clusters[index];
+        verdict = clusterCull(params, c);
+        if (verdict != CLUSTER_DRAWN && lane == 0u) {
+            atomicAdd(counters[COUNTER_CULLED], c.triangleCount);
+            atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
+        }
+    }
+    if (lane < 2u) clusterCounts[slot][lane] = 0u;
+    if (verdict == CLUSTER_DRAWN) {
+        for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
+            vec4 clip = mulPoint(params.clipFromWorld, positions[clusterData[c.vertexOffset + v]]);
+            clusterClip[slot][v] = clip;
+#if RASTER_METHOD == RASTER_FIXED8
+            ivec2 xy;
+            float z;
+            uint flags = clusterVertex(clip, params.guardBand, params.width, params.height, xy, z);
+            clusterSnap[slot][v] = ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
+#endif
+        }
+    }
+    barrier();  // every invocation of the group reaches it: no return above
+    uint invalid = 0u, culled = 0u;
+    if (verdict == CLUSTER_DRAWN) {
+        for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
+            uint tri = clusterData[c.triangleOffset + 2u * t];
+            uint corners = clusterData[c.triangleOffset + 2u * t + 1u];
+            uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u), k2 = clusterCorner(corners, 2u);
+#if RASTER_METHOD == RASTER_FIXED8
+            ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
+            TriSetup setup;
+            uint kind = clusterSetupTriangle(
+                uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y), ivec2(s2.x, s2.y),
+                uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)), uintBitsToFloat(uint(s2.z)), tri,
+                (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u, params.cullMode, params.width, params.height,
+                params.sampleBounds, setup);
+            if (kind == PREPARE_DIRECT)
+                emitTriangle(setup, STORED_AS_RECORD(false));
+            else if (kind == PREPARE_CLIPPED)
+                setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+            invalid += kind == PREPARE_INVALID ? 1u : 0u;
+            culled += kind == PREPARE_CULLED ? 1u : 0u;
+#else
+            setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+#endif
+        }
+    }
+    // The cluster's counts, one shared atomic per invocation that has any, one global atomic per cluster.
+    if (invalid != 0u) atomicAdd(clusterCounts[slot][0], invalid);
+    if (culled != 0u) atomicAdd(clusterCounts[slot][1], culled);
+    barrier();
+    if (lane < 2u && clusterCounts[slot][lane] != 0u)
+        atomicAdd(counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
+}
