@@ -160,6 +160,13 @@ TEST_P(ClusterPathTest, BadVerticesDoubleSidedTrianglesAndBadIndices)
     EXPECT_GT(st.invalid, 0u);
     EXPECT_GT(st.clusters, 0u);
 
+    // A scene that never went through finalizeScene (no triangle flags) is refused in one line.
+    Scene unflagged = scene;
+    unflagged.triFlags.clear();
+    auto refused = renderScene(*device_, unflagged, camera, backSettings(96, 64));
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("triangle flags"), std::string::npos) << refused.error().message;
+
     scene.indices[5] = uint32_t(scene.positions.size()) + 10;
     RenderStats bad = expectSameFrame(scene, camera, backSettings(96, 64), "an index out of range");
     EXPECT_EQ(bad.clusters, 0u);

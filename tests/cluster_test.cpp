@@ -245,10 +245,27 @@ TEST(Clusters, ClusterCullingDropsOnlyWhatSetupDrops)
         std::printf(
             "%s: %zu clusters x %d views: %zu culled by setup in full, %zu culled whole (%zu frustum, "
             "%zu facing); near views: %zu of %zu clusters facing away culled\n",
-            name, records.size(), views, allCulled, frustum + facing, frustum, facing, nearBackCulled, nearBack);
+            name, records.size(), views, allCulled, frustum + facing, frustum, facing, nearBackCulled,
+            nearBack);
         // The built-in scene's few large clusters straddle the near views' frame and hold slivers.
         EXPECT_GT(nearBackCulled, std::string(name) == "builtin" ? size_t(0) : nearBack * 3 / 4) << name;
         EXPECT_GT(facing, 0u) << name;
+    }
+}
+
+// builtin:dense:N is the sphere of `raster bench --dense-rings N`: 4 N^2 - 4 N triangles, N within the
+// loaders' index budget.
+TEST(Clusters, DenseSphereSpecs)
+{
+    auto sphere = builtinSceneNamed("builtin:dense:10");
+    ASSERT_TRUE(sphere.ok()) << sphere.error().message;
+    EXPECT_EQ(sphere->triangleCount(), 4u * 10 * 10 - 4 * 10);
+    EXPECT_EQ(sphere->triFlags.size(), sphere->triangleCount());
+    for (const char* bad : {"builtin:dense:3", "builtin:dense:7724", "builtin:dense:x", "builtin:dense:"}) {
+        auto refused = builtinSceneNamed(bad);
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_NE(refused.error().message.find("builtin:dense:N"), std::string::npos)
+            << refused.error().message;
     }
 }
 

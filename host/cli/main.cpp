@@ -508,7 +508,7 @@ int main(int argc, char** argv)
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")
-        ->check(CLI::Range(4, 8192));
+        ->check(CLI::Range(4, kMaxSphereRings));
     benchApp->add_option("--bunny", bench.options.bunnyPath,
                          "the Stanford bunny OBJ (Debian's glmark2-data)");
     benchApp->add_option("--warmup", bench.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));

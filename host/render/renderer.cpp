@@ -247,6 +247,11 @@ Status checkSceneInputs(const Scene& scene)
         return makeError(ExitCode::Usage,
                          "the scene is too large ({} triangles, {} line segments, {} points, {} vertices)",
                          scene.triangleCount(), scene.lineCount(), scene.pointCount(), scene.vertexCount());
+    // A scene that skipped finalizeScene (a library caller's own) could send the stages past the end of
+    // its triangle flags.
+    if (scene.triFlags.size() != scene.triangleCount())
+        return makeError(ExitCode::Usage, "the scene has {} triangle flags for {} triangles",
+                         scene.triFlags.size(), scene.triangleCount());
     if (scene.lines.size() % 2 != 0)
         return makeError(ExitCode::Usage, "the scene has an odd number ({}) of line indices",
                          scene.lines.size());

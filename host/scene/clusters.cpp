@@ -198,6 +198,8 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
     set.clusters.reserve(clusters);
     set.triangleIds.reserve(count);
     set.localIndices.reserve(indexCount);
+    std::vector<bool> clusterFinite;  // per cluster: every vertex finite
+    bool placed = true;               // every triangle found in the scene once
     for (size_t k = 0; k < clusters; ++k) {
         const meshopt_Meshlet& m = meshlets[k];
         Cluster c;
@@ -226,6 +228,7 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
                     corner[2] = cc;
                 }
             }
+            placed = placed && id != UINT32_MAX;
             set.triangleIds.push_back(id == UINT32_MAX ? id : uint32_t(first + id));
             set.localIndices.insert(set.localIndices.end(), corner, corner + 3);
         }
@@ -233,9 +236,14 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
             meshopt_computeMeshletBounds(mv, &triangles[m.triangle_offset], m.triangle_count, &positions[0].x,
                                          vertexCount, sizeof(glm::vec3));
         c.sphere = glm::vec4(b.center[0], b.center[1], b.center[2], 0.0f);
-        facingBounds(scene, set, allFinite, c);
         set.clusters.push_back(c);
+        clusterFinite.push_back(allFinite);
     }
+    // meshoptimizer's clusters hold every triangle once with its corners rotated at most; should a
+    // version not, the chunk has no clusters and buildClusters returns none (setup draws the scene).
+    if (!placed || set.triangleIds.size() != count) return ClusterSet{};
+    for (size_t k = 0; k < set.clusters.size(); ++k)
+        facingBounds(scene, set, clusterFinite[k], set.clusters[k]);
     return set;
 }
 
@@ -265,6 +273,8 @@ ClusterSet buildClusters(const Scene& scene)
     for (std::thread& t : pool) t.join();
 
     // The chunks' clusters in chunk order, their offsets moved past the chunks before them.
+    for (const ClusterSet& part : parts)
+        if (part.clusters.empty()) return set;
     for (ClusterSet& part : parts) {
         const auto vertexBase = uint32_t(set.vertices.size());
         const auto triangleBase = uint32_t(set.triangleIds.size());

@@ -137,6 +137,9 @@ Result<Scene> loadStl(const std::string& path);  // scene_mesh.cpp, through assi
 Scene builtinScene();
 // A unit sphere of rings x 2 rings quads (about 4 rings^2 triangles, indexed, smooth normals).
 Scene tessellatedSphere(int rings);
+// The most rings tessellatedSphere takes: its 4 N^2 - 4 N triangles stay within the loaders' limit of
+// 2^31 / 3 indices (every index, id and offset of the backends inside 31 bits): 238.6M triangles.
+constexpr int kMaxSphereRings = 7723;
 // Procedural scenes by name: "builtin" (the scene above), "builtin:dense" (a sphere of ~65k triangles,
 // sub-pixel at small resolutions), "builtin:huge" (the built-in objects on a 200,000-unit ground plane),
 // "builtin:checker", "builtin:cutout" (textures) and "builtin:lowpoly" (the built-in objects with a 4-ring

@@ -242,11 +242,16 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     // builtin:dense:N, the sphere of `raster bench --dense-rings N` (about 4 N^2 triangles).
     if (name.rfind("builtin:dense:", 0) == 0) {
         const std::string digits = name.substr(14);
-        const bool number = !digits.empty() && digits.size() <= 4 &&
-                            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+        const bool number =
+            !digits.empty() && digits.size() <= 5 &&
+            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
         const int rings = number ? std::stoi(digits) : 0;
-        if (rings < 4 || rings > 8192)
-            return makeError(ExitCode::Usage, "builtin:dense:N needs N in 4..8192 rings, not '{}'", digits);
+        if (rings < 4 || rings > kMaxSphereRings)
+            return makeError(
+                ExitCode::Usage,
+                "builtin:dense:N needs N in 4..{} rings (4 N^2 - 4 N triangles within the 31-bit "
+                "index budget), not '{}'",
+                kMaxSphereRings, digits);
         return tessellatedSphere(rings);
     }
     if (name == "builtin:huge") {
@@ -257,10 +262,11 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     if (name == "builtin:checker") return checkerScene();
     if (name == "builtin:cutout") return cutoutScene();
     if (name == "builtin:lowpoly") return lowPolyScene();
-    return makeError(ExitCode::Usage,
-                     "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:dense:N, builtin:huge, "
-                     "builtin:checker, builtin:cutout or builtin:lowpoly",
-                     name);
+    return makeError(
+        ExitCode::Usage,
+        "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:dense:N, builtin:huge, "
+        "builtin:checker, builtin:cutout or builtin:lowpoly",
+        name);
 }
 
 }  // namespace sr
