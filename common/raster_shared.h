@@ -128,7 +128,6 @@ SR_NAMESPACE_BEGIN
 #define CLUSTER_MAX_TRIANGLES 124  // triangles per cluster (as hardware mesh shaders)
 #define CLUSTER_LANES 32           // invocations per cluster in stage clusters (a warp on NVIDIA)
 #define CLUSTERS_PER_GROUP 4       // clusters per clusters group: CLUSTER_LANES x this invocations
-#define CLUSTER_ROUNDS 4           // triangles per lane: CLUSTER_MAX_TRIANGLES / CLUSTER_LANES, rounded up
 #define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)
 #define CLUSTER_PLANE_W 10         // RasterParams.clusterPlanes[10]: clip w as a plane (not normalised)
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
@@ -399,7 +398,6 @@ static_assert(sizeof(TessSource) == 16, "TessSource must match std430");
 static_assert(sizeof(RasterParams) == 3 * 64 + (7 + CLUSTER_PLANE_COUNT + 1) * 16 + 40 * 4,
               "RasterParams must match std140");
 static_assert(sizeof(GpuCluster) == 64, "GpuCluster must match std430");
-static_assert(CLUSTER_ROUNDS * CLUSTER_LANES >= CLUSTER_MAX_TRIANGLES, "every triangle of a cluster has a lane");
 static_assert(sizeof(GpuMaterial) == 96, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");

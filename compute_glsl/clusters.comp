@@ -38,15 +38,6 @@ void main()
         }
     }
     if (lane < 2u) clusterCounts[slot][lane] = 0u;
-    // The invocation's triangles (scene id, corners), loaded first so that the loads overlap the vertex
-    // work.
-    uint tris[CLUSTER_ROUNDS], corners[CLUSTER_ROUNDS];
-    for (uint r = 0u; r < uint(CLUSTER_ROUNDS); ++r) {
-        uint t = lane + r * uint(CLUSTER_LANES);
-        bool live = verdict == CLUSTER_DRAWN && t < c.triangleCount;
-        tris[r] = live ? clusterData[c.triangleOffset + 2u * t] : 0u;
-        corners[r] = live ? clusterData[c.triangleOffset + 2u * t + 1u] : 0u;
-    }
     if (verdict == CLUSTER_DRAWN) {
         for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
             vec4 clip = mulPoint(params.clipFromWorld, positions[clusterData[c.vertexOffset + v]]);
@@ -62,18 +53,17 @@ void main()
     barrier();  // every invocation of the group reaches it: no return above
     uint invalid = 0u, culled = 0u;
     if (verdict == CLUSTER_DRAWN) {
-        for (uint r = 0u; r < uint(CLUSTER_ROUNDS); ++r) {
-            if (lane + r * uint(CLUSTER_LANES) >= c.triangleCount) break;
-            uint tri = tris[r];
-            uint k0 = clusterCorner(corners[r], 0u), k1 = clusterCorner(corners[r], 1u),
-                 k2 = clusterCorner(corners[r], 2u);
+        for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
+            uint tri = clusterData[c.triangleOffset + 2u * t];
+            uint corners = clusterData[c.triangleOffset + 2u * t + 1u];
+            uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u), k2 = clusterCorner(corners, 2u);
 #if RASTER_METHOD == RASTER_FIXED8
             ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
             TriSetup setup;
             uint kind = clusterSetupTriangle(
                 uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y), ivec2(s2.x, s2.y),
                 uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)), uintBitsToFloat(uint(s2.z)), tri,
-                (corners[r] & CLUSTER_TRI_DOUBLE_SIDED) != 0u, params.cullMode, params.width, params.height,
+                (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u, params.cullMode, params.width, params.height,
                 params.sampleBounds, setup);
             if (kind == PREPARE_DIRECT)
                 emitTriangle(setup, STORED_AS_RECORD(false));
