@@ -4,13 +4,14 @@
 // A cluster holds at most kClusterMaxVertices vertices and kClusterMaxTriangles triangles (the sizes
 // hardware mesh shaders use: 64 vertices fit a warp's two passes, 124 triangles keep the 8-bit local
 // index list a multiple of 4 bytes). Debian's meshoptimizer 0.18 builds them (meshopt_buildMeshlets,
-// which grows each cluster from its neighbours and weighs the normal spread for a tight cone) and their
-// bounds (meshopt_computeMeshletBounds). Clusters reorder the triangles, so each keeps the scene id of
-// every triangle it holds: the id AOV goes on naming the scene's triangles. Clusters serve visibility,
-// which reads vertex positions alone: a cluster's vertices are scene vertices, and vertices at the same
-// position (bitwise; OBJ gives every face corner its own vertex) are one to the clusters, named by the
-// first of them, as they transform and snap to the same bits. Shading goes on reading the scene's own
-// vertices by triangle id.
+// which grows each cluster from its neighbours and weighs the normal spread) in chunks of consecutive
+// triangles on every core; the bounding sphere's centre is meshopt_computeMeshletBounds', and the radius
+// and facing bounds of stage clusters (common/shared/cluster.h) are computed here, in double. Clusters
+// reorder the triangles, so each keeps the scene id of every triangle it holds: the id AOV goes on naming
+// the scene's triangles. Clusters serve visibility, which reads vertex positions alone: a cluster's
+// vertices are scene vertices, and vertices at the same position (bitwise; OBJ gives every face corner
+// its own vertex) are one to the clusters, named by the first of them in the chunk, as they transform and
+// snap to the same bits. Shading goes on reading the scene's own vertices by triangle id.
 #ifndef RASTER_CLUSTERS_H
 #define RASTER_CLUSTERS_H
 
