@@ -286,10 +286,12 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
         for (const BenchScene& s : *scenes) {
             for (uint32_t msaa : o.msaa) {
                 for (const std::string& backend : o.backends) {
-                    for (const std::string& clusterMode : o.clusters) {
+                    for (uint32_t clusters : o.clusters) {
+                        const std::string clusterMode = choiceName(setting("clusters"), clusters);
                         if (tty)
-                            fmt::print(stderr, "\r\033[Kbench: {} {}x{} {}x MSAA on {} ({} triangles)",
-                                       s.name, w, h, msaa, backend, s.scene.primitiveCount());
+                            fmt::print(stderr,
+                                       "\r\033[Kbench: {} {}x{} {}x MSAA on {}, clusters {} ({} triangles)",
+                                       s.name, w, h, msaa, backend, clusterMode, s.scene.primitiveCount());
                         RenderSettings r;
                         r.msaa = msaa;
                         r.width = w;
@@ -299,9 +301,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                         r.cullMode = CULL_BACK;
                         r.shadingMode = SHADING_LAMBERT;
                         r.textureFilter = s.textureFilter;
-                        auto clusters = choiceValue(setting("clusters"), clusterMode, "--clusters entry");
-                        if (!clusters) return clusters.error();
-                        r.clusters = *clusters;
+                        r.clusters = clusters;
                         auto out = renderOn(backend, o.device, s, r);
                         if (!out) return out.error();
                         double ms = out->total.medianMs;

@@ -29,11 +29,11 @@ namespace sr {
 struct BenchOptions {
     std::vector<std::string> backends{"cuda", "vulkan", "vulkan-graphics"};
     std::vector<std::pair<uint32_t, uint32_t>> resolutions{{1920, 1080}};
-    std::vector<std::string> scenes;            // empty: all
-    std::vector<uint32_t> msaa{1};              // sample counts, each a run of every scene and backend
-    std::vector<std::string> clusters{"auto"};  // --clusters modes, each a run of every scene and backend
-    uint32_t sweepTriangles = 1u << 20;         // per sweep scene
-    int denseRings = 1600;                      // tessellated sphere: ~4 rings^2 triangles (10.2M)
+    std::vector<std::string> scenes;                // empty: all
+    std::vector<uint32_t> msaa{1};                  // sample counts, each a run of every scene and backend
+    std::vector<uint32_t> clusters{CLUSTERS_AUTO};  // CLUSTERS_* modes, each a run of every scene and backend
+    uint32_t sweepTriangles = 1u << 20;             // per sweep scene
+    int denseRings = 1600;                          // tessellated sphere: ~4 rings^2 triangles (10.2M)
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
     uint32_t warmup = 3;
     uint32_t repeat = 20;

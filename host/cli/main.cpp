@@ -364,7 +364,7 @@ Status runBenchCommand(BenchCommand& cmd)
         for (const std::string& c : splitList(cmd.clusters)) {
             auto mode = choiceValue(setting("clusters"), c, "--clusters entry");
             if (!mode) return mode.error();
-            o.clusters.push_back(c);
+            o.clusters.push_back(*mode);
         }
     }
     auto bench = runBench(o);

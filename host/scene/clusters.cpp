@@ -13,8 +13,6 @@
 
 namespace sr {
 
-static_assert(kClusterMaxVertices == CLUSTER_MAX_VERTICES && kClusterMaxTriangles == CLUSTER_MAX_TRIANGLES,
-              "the host's cluster limits are the shader's");
 namespace {
 
 // meshoptimizer's balance between a cluster's spatial compactness and the spread of its normals (0:

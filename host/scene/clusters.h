@@ -26,8 +26,8 @@ namespace sr {
 
 struct Scene;
 
-constexpr uint32_t kClusterMaxVertices = 64;
-constexpr uint32_t kClusterMaxTriangles = 124;
+constexpr uint32_t kClusterMaxVertices = CLUSTER_MAX_VERTICES;
+constexpr uint32_t kClusterMaxTriangles = CLUSTER_MAX_TRIANGLES;
 
 struct Cluster {
     uint32_t vertexOffset = 0;    // first of its vertices in ClusterSet::vertices
