@@ -92,24 +92,36 @@ void emitTriangle(TriSetup t, bool clipped)
 
 // Input triangle `tri` with clip positions c0, c1, c2: classified, clipped, set up, and each of its
 // (sub-)triangles rasterized or binned. Stage clusters calls it too, with the positions it transformed
-// once per cluster: the same function, the same bits.
+// once per cluster: the same function, the same bits. A triangle that needs no clipping is set up from
+// c0, c1, c2 directly; only a clipped one fills the polygon (local memory on GPUs).
 void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
 {
-    vec4 poly[MAX_CLIP_VERTS];
-    uint count;
-    uint kind = prepareTriangle(c0, c1, c2, params.guardBand, poly, count);
+    uint planes;
+    uint kind = classifyTriangle(c0, c1, c2, params.guardBand, planes);
     if (kind == PREPARE_INVALID) {
         atomicAdd(counters[COUNTER_INVALID], 1u);
         return;
     }
-    if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    bool clipped = kind == PREPARE_CLIPPED;
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count = kind == PREPARE_DIRECT ? 3u : 0u;
+    if (clipped) {
+        atomicAdd(counters[COUNTER_CLIPPED], 1u);
+        count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
+    }
     bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
+        vec4 a = c0, p1 = c1, p2 = c2;
+        if (clipped) {
+            a = poly[0];
+            p1 = poly[k];
+            p2 = poly[k + 1u];
+        }
         TriSetup t;
-        if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                                params.height, params.sampleBounds, t)) {
-            emitTriangle(t, STORED_AS_RECORD(kind == PREPARE_CLIPPED));
+        if (methodSetupTriangle(a, p1, p2, tri, doubleSided, params.cullMode, params.width, params.height,
+                                params.sampleBounds, t)) {
+            emitTriangle(t, STORED_AS_RECORD(clipped));
             ++emitted;
         }
     }

@@ -141,26 +141,37 @@ SR_FN vec4 setupClipPosition(RasterParams params, vec4 worldPosition, vec4 store
 #define PREPARE_DIRECT 2u   // inside the depth range and guard band: poly holds the 3 vertices
 #define PREPARE_CLIPPED 3u  // went through the clipper: poly holds `count` vertices (0 = nothing left)
 
+// Classifies the triangle without touching a polygon: PREPARE_DIRECT triangles (nearly all of them)
+// are set up straight from c0, c1, c2, so the polygon array, which dynamic indexing puts in local
+// memory, is only written for the few that need the clipper. `planes` names the planes to clip against.
+SR_FN uint classifyTriangle(vec4 c0, vec4 c1, vec4 c2, vec4 guardBand, SR_OUT(uint) planes)
+{
+    planes = 0u;
+    bool finite = true;
+    for (int k = 0; k < 4; ++k) finite = finite && isFinite(c0[k]) && isFinite(c1[k]) && isFinite(c2[k]);
+    if (!finite) return PREPARE_INVALID;
+    if ((frustumOutcode(c0) & frustumOutcode(c1) & frustumOutcode(c2)) != 0u) return PREPARE_CULLED;
+    planes = clipOutcode(c0, guardBand) | clipOutcode(c1, guardBand) | clipOutcode(c2, guardBand);
+    return planes == 0u ? PREPARE_DIRECT : PREPARE_CLIPPED;
+}
+
 // Classifies the triangle and fills `poly`/`count` with the convex polygon to set up as a fan
 // (poly[0], poly[k], poly[k + 1]).
 SR_FN uint prepareTriangle(vec4 c0, vec4 c1, vec4 c2, vec4 guardBand,
                            SR_ARRAY_INOUT(vec4, poly, MAX_CLIP_VERTS), SR_OUT(uint) count)
 {
+    uint planes;
+    uint kind = classifyTriangle(c0, c1, c2, guardBand, planes);
     count = 0u;
-    bool finite = true;
-    for (int k = 0; k < 4; ++k) finite = finite && isFinite(c0[k]) && isFinite(c1[k]) && isFinite(c2[k]);
-    if (!finite) return PREPARE_INVALID;
-    if ((frustumOutcode(c0) & frustumOutcode(c1) & frustumOutcode(c2)) != 0u) return PREPARE_CULLED;
-    uint planes = clipOutcode(c0, guardBand) | clipOutcode(c1, guardBand) | clipOutcode(c2, guardBand);
-    if (planes == 0u) {
+    if (kind == PREPARE_DIRECT) {
         poly[0] = c0;
         poly[1] = c1;
         poly[2] = c2;
         count = 3u;
-        return PREPARE_DIRECT;
+    } else if (kind == PREPARE_CLIPPED) {
+        count = clipTriangle(c0, c1, c2, planes, guardBand, poly);
     }
-    count = clipTriangle(c0, c1, c2, planes, guardBand, poly);
-    return PREPARE_CLIPPED;
+    return kind;
 }
 
 // What setup does with one input line segment before snapping: the same PREPARE_* classes as a

@@ -119,7 +119,9 @@ SR_FN float recipArea(int64_t area)
 
 // Everything raster needs from one (sub-)triangle. Returns false (and leaves `t` undefined) when the
 // snapped triangle has zero area, faces the culled way, or its bbox holds no sample of the viewport
-// (samples of the pattern with extent `bounds`, RasterParams.sampleBounds).
+// (samples of the pattern with extent `bounds`, RasterParams.sampleBounds). The sample span is tested
+// first: every test returns false alike, so the order changes no result, and a triangle whose bbox
+// holds no sample (most of a dense mesh's, at hundredths of a pixel each) leaves before any 64-bit work.
 // setupSnappedTriangle does the part after snapping, for triangles whose corners are already in fixed
 // point (a line's rectangle). setupTriangle repeats its body instead of calling it: on the H100,
 // NVIDIA's Vulkan compiler ran the triangle path of `setup` twice as slow through the extra call with
@@ -128,6 +130,9 @@ SR_FN bool setupSnappedTriangle(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1
                                 bool doubleSided, uint cullMode, uint width, uint height, uint bounds,
                                 SR_OUT(TriSetup) t)
 {
+    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
+    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
+    if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
     int64_t area = signedArea2(v0, v1, v2);
     if (area == int64_t(0)) return false;
     bool frontFacing = area < int64_t(0);  // counter-clockwise on screen, glTF's front face
@@ -142,9 +147,6 @@ SR_FN bool setupSnappedTriangle(ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1
         z2 = tz;
         area = -area;
     }
-    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
-    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
-    if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
     t.xy01 = ivec4(v0.x, v0.y, v1.x, v1.y);
     t.xy2Id = ivec4(v2.x, v2.y, int(triId), spanX.x | (spanY.x << 16));
     SR_PRECISE float dz10 = z1 - z0;
@@ -161,6 +163,9 @@ SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided
     if (!snapVertex(c0, width, height, v0, z0)) return false;
     if (!snapVertex(c1, width, height, v1, z1)) return false;
     if (!snapVertex(c2, width, height, v2, z2)) return false;
+    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
+    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
+    if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
     int64_t area = signedArea2(v0, v1, v2);
     if (area == int64_t(0)) return false;
     bool frontFacing = area < int64_t(0);  // counter-clockwise on screen, glTF's front face
@@ -175,9 +180,6 @@ SR_FN bool setupTriangle(vec4 c0, vec4 c1, vec4 c2, uint triId, bool doubleSided
         z2 = tz;
         area = -area;
     }
-    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
-    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
-    if (spanX.x > spanX.y || spanY.x > spanY.y) return false;
     t.xy01 = ivec4(v0.x, v0.y, v1.x, v1.y);
     t.xy2Id = ivec4(v2.x, v2.y, int(triId), spanX.x | (spanY.x << 16));
     SR_PRECISE float dz10 = z1 - z0;
