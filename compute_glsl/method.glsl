@@ -23,7 +23,9 @@
 #define methodSample rasterSample
 #define methodPixel rasterPixel
 #define methodCoverage pixelCoverage
+#define METHOD_INTEGER_EDGES 1  // exact integer edge functions: the small-triangle loop may use SmallEdges
 #else
+#define METHOD_INTEGER_EDGES 0
 #define methodSetupTriangle setupTriangleFloat
 #define methodLineTriangle setupLineTriangleFloat
 #define methodPixelBounds floatPixelBounds

@@ -41,6 +41,24 @@ void emitTriangle(TriSetup t, bool clipped)
                       (SETUP_LINES_POINTS == 0 || id < params.triangleCount) &&
                       (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (SAMPLES == 1u) {
+#if METHOD_INTEGER_EDGES
+            if (smallEdgesFit(t)) {
+                // The fixed-point methods' pixel test in 32-bit integers (SmallEdges): the same bits.
+                SmallEdges s = smallEdges(t, bounds.x, bounds.y);
+                ivec3 row = s.start;
+                for (int y = bounds.y; y <= bounds.w; ++y) {
+                    ivec3 e = row;
+                    for (int x = bounds.x; x <= bounds.z; ++x) {
+                        float depth;
+                        if (smallEdgesPixel(t, s, e, depth) && (!masked || alphaMaskCovers(id, x, y)))
+                            mergeFragment(uint(y) * params.width + uint(x), depth, id);
+                        e += s.stepX;
+                    }
+                    row += s.stepY;
+                }
+                return;
+            }
+#endif
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
@@ -122,6 +140,29 @@ void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
         if (methodSetupTriangle(a, p1, p2, tri, doubleSided, params.cullMode, params.width, params.height,
                                 params.sampleBounds, t)) {
             emitTriangle(t, STORED_AS_RECORD(clipped));
+            ++emitted;
+        }
+    }
+    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
+}
+
+// A triangle that classifyTriangle found PREPARE_CLIPPED: clipped, and each piece of its fan set up and
+// rasterized or binned, as setupInputTriangle does. Stage clusters calls it for the clipped triangles of
+// its snapped-once path (cuda/setup.cuh: the CUDA twin kept clustersKernel at 96 registers this way).
+void setupClippedTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
+{
+    uint planes;
+    classifyTriangle(c0, c1, c2, params.guardBand, planes);
+    atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    vec4 poly[MAX_CLIP_VERTS];
+    uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
+    bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+    uint emitted = 0u;
+    for (uint k = 1u; k + 1u < count; ++k) {
+        TriSetup t;
+        if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
+                                params.height, params.sampleBounds, t)) {
+            emitTriangle(t, STORED_AS_RECORD(true));
             ++emitted;
         }
     }

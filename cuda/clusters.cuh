@@ -7,9 +7,9 @@
 // once (clusterVertex) where setup snaps every corner of every triangle (about six times per vertex of a
 // closed mesh), and a triangle's three indices and 48 bytes of clip positions become two words. The
 // triangles that setup would count culled or invalid are counted per warp, not with an atomic each.
-// A clipped triangle, and every triangle of the other raster methods, takes setup's setupInputTriangle
-// from the clip positions. A culled cluster costs one 64-byte record for up to 124 triangles.
-// CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP).
+// A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
+// setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
+// 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP).
 namespace sr {
 
 template <bool kMaterials, bool kMultisample, uint kMethod>
@@ -63,7 +63,7 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
                 if (kind == PREPARE_DIRECT)
                     emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, setup, false);
                 else if (kind == PREPARE_CLIPPED)
-                    setupInputTriangle<kMaterials, kMultisample, kMethod>(
+                    setupClippedTriangle<kMaterials, kMultisample, kMethod>(
                         params, b, tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
                 invalid += kind == PREPARE_INVALID ? 1u : 0u;
                 culled += kind == PREPARE_CULLED ? 1u : 0u;

@@ -59,6 +59,89 @@ TEST(SharedMath, RecipAreaMatchesDivision)
     }
 }
 
+// recipArea's oracle: the nearest float to floor(2^47 / d) (a correctly rounded conversion of the 64-bit
+// quotient) times 2^-(47 + shift), as the function was first written with a 64-bit division.
+float recipAreaByDivision(int64_t area)
+{
+    uint64_t a = uint64_t(area);
+    int shift = 0;
+    while ((a >> shift) >= (uint64_t(1) << 24)) ++shift;
+    uint64_t q = (uint64_t(1) << 47) / (a >> shift);
+    return float(q) * std::ldexp(1.0f, -47 - shift);
+}
+
+// recipArea builds the quotient without a 64-bit division and rounds it by hand: every 24-bit d (all
+// areas below 2^24, and the top bits of every larger one), and larger areas at random, give the bits of
+// the division.
+TEST(SharedMath, RecipAreaWithoutDivisionIsTheDivisionsBitsForEveryTopBits)
+{
+    uint32_t wrong = 0;
+    for (int64_t d = 1; d < (int64_t(1) << 24); ++d)
+        if (floatBitsToUint(recipArea(d)) != floatBitsToUint(recipAreaByDivision(d))) ++wrong;
+    EXPECT_EQ(wrong, 0u);
+    std::mt19937_64 rng(11);
+    for (int k = 0; k < 100000; ++k) {
+        int64_t area = int64_t(rng() >> (1 + rng() % 40));
+        if (area <= 0) continue;
+        ASSERT_EQ(floatBitsToUint(recipArea(area)), floatBitsToUint(recipAreaByDivision(area))) << area;
+    }
+}
+
+// setup's small-triangle loop steps SmallEdges in 32-bit integers where rasterPixel evaluates 64-bit edge
+// functions: over random snapped triangles up to SMALL_EDGE_EXTENT wide and high (the bound of the
+// exactness argument, also reached exactly, with corners on the bbox's corners where the products peak),
+// anywhere from inside the image to far outside it, every pixel of every triangle's bounds gets the
+// same coverage and the same depth bits.
+TEST(SharedMath, SmallEdgesGiveRasterPixelsCoverageAndDepth)
+{
+    std::mt19937 rng(23);
+    std::uniform_int_distribution<int> origin(-40 * SUBPIXEL_SCALE, int(kSize) * SUBPIXEL_SCALE);
+    std::uniform_int_distribution<int> extent(0, SMALL_EDGE_EXTENT);
+    std::uniform_real_distribution<float> depth(0.0f, 1.0f);
+    size_t pixels = 0, covered = 0, fits = 0;
+    for (int i = 0; i < 20000; ++i) {
+        ivec2 o(origin(rng), origin(rng));
+        int w = i % 5 == 0 ? SMALL_EDGE_EXTENT : extent(rng) >> (rng() % 8);
+        int h = i % 5 == 0 ? SMALL_EDGE_EXTENT : extent(rng) >> (rng() % 8);
+        std::uniform_int_distribution<int> dx(0, w), dy(0, h);
+        ivec2 v[3] = {o + ivec2(dx(rng), dy(rng)), o + ivec2(dx(rng), dy(rng)), o + ivec2(dx(rng), dy(rng))};
+        if (i % 5 == 0) v[0] = o, v[1] = o + ivec2(w, 0), v[2] = o + ivec2(rng() % 2 ? w : 0, h);
+        TriSetup t;
+        if (!setupSnappedTriangle(v[0], v[1], v[2], depth(rng), depth(rng), depth(rng), 0, true, CULL_NONE,
+                                  kSize, kSize, PIXEL_CENTER_BOUNDS, t))
+            continue;
+        ASSERT_TRUE(smallEdgesFit(t));
+        ++fits;
+        ivec4 b = setupPixelBounds(t, kSize, kSize, PIXEL_CENTER_BOUNDS);
+        SmallEdges edges = smallEdges(t, b.x, b.y);
+        ivec3 row = edges.start;
+        for (int y = b.y; y <= b.w; ++y) {
+            ivec3 e = row;
+            for (int x = b.x; x <= b.z; ++x) {
+                float d64 = 0.0f, d32 = 0.0f;
+                bool in64 = rasterPixel(t, x, y, d64);
+                bool in32 = smallEdgesPixel(t, edges, e, d32);
+                ASSERT_EQ(in32, in64) << "triangle " << i << " pixel " << x << "," << y;
+                if (in64) {
+                    ASSERT_EQ(floatBitsToUint(d32), floatBitsToUint(d64)) << "triangle " << i;
+                }
+                covered += in64 ? 1u : 0u;
+                ++pixels;
+                e += edges.stepX;
+            }
+            row += edges.stepY;
+        }
+    }
+    EXPECT_GT(fits, 5000u);
+    EXPECT_GT(covered, 100000u);
+    EXPECT_GT(pixels, covered + 100000u);  // and uncovered pixels too
+    // One subpixel wider than the bound does not fit, and takes rasterPixel.
+    TriSetup t;
+    ASSERT_TRUE(setupSnappedTriangle(ivec2(0, 0), ivec2(SMALL_EDGE_EXTENT + 1, 0), ivec2(0, 512), 0.5f, 0.5f,
+                                     0.5f, 0, true, CULL_NONE, kSize, kSize, PIXEL_CENTER_BOUNDS, t));
+    EXPECT_FALSE(smallEdgesFit(t));
+}
+
 TEST(SharedMath, SnapRoundsHalfSubpixelsToEven)
 {
     ivec2 xy;
@@ -267,8 +350,8 @@ TEST(SharedMath, SrgbEncodingEndpoints)
     EXPECT_EQ(packRgba8(vec3(0.5f, 0.0f, 0.0f)) & 0xffu, 188u);
 }
 
-// The CPU builds' reciprocal: quotient47NoDivide gives floor(2^47 / m), recipDet's quotient, for every one
-// of the 2^23 mantissas; floorQuotient47 corrects any estimate within 2, whatever the device's division.
+// recipDet's and recipArea's quotient: quotient47NoDivide gives floor(2^47 / m) for every one of the 2^23
+// mantissas; floorQuotient47 corrects any estimate within 3, what a division 2.5 ulp off can give.
 TEST(SharedMath, QuotientWithoutDivisionIsExactForEveryMantissa)
 {
     uint32_t wrong = 0, wrongFromEstimate = 0;
@@ -276,7 +359,7 @@ TEST(SharedMath, QuotientWithoutDivisionIsExactForEveryMantissa)
         uint32_t exact = uint32_t((uint64_t(1) << 47) / m);
         if (quotient47NoDivide(m) != exact) ++wrong;
         if (m % 61u != 0u) continue;
-        for (int d = -2; d <= 2; ++d)
+        for (int d = -3; d <= 3; ++d)
             if (floorQuotient47(m, uint32_t(int64_t(exact) + d)) != exact) ++wrongFromEstimate;
     }
     EXPECT_EQ(wrong, 0u);

@@ -9,13 +9,13 @@
 
 SR_NAMESPACE_BEGIN
 
-// floor(2^47 / m) for a 24-bit mantissa m (2^23 <= m < 2^24), from an estimate q within 2 of it: the
+// floor(2^47 / m) for a 24-bit mantissa m (2^23 <= m < 2^24), from an estimate q within 3 of it: the
 // exact remainder r = 2^47 - q m (a 32 x 32-bit product, which SIMD units multiply natively) moves q
 // down while r < 0 and up while r >= m.
 SR_FN uint floorQuotient47(uint m, uint q)
 {
     int64_t r = int64_t(uint64_t(1) << 47) - int64_t(uint64_t(q) * uint64_t(m));
-    for (int step = 0; step < 2; ++step) {
+    for (int step = 0; step < 3; ++step) {
         if (r < int64_t(0)) {
             q = q - 1u;
             r = r + int64_t(m);
@@ -28,11 +28,12 @@ SR_FN uint floorQuotient47(uint m, uint q)
     return q;
 }
 
-// floor(2^47 / m) estimated by a float division (the quotient lies in (2^23, 2^24], where floats are
-// integers, and even a division 2.5 ulp off lands within 2 of it) and made exact by floorQuotient47.
+// floor(2^47 / m) estimated by a float division and made exact by floorQuotient47. The quotient X lies in
+// (2^23, 2^24], where floats are integers, so an estimate E at most 2.5 ulp (2.5) off is an integer with
+// floor(X) - 2 <= E <= floor(X) + 3.
 SR_FN uint quotient47NoDivide(uint m)
 {
-    return floorQuotient47(m, uint(140737488355328.0f / float(m)));  // 2^47 / m
+    return floorQuotient47(m, uint(divideEstimate(140737488355328.0f, float(m))));  // 2^47 / m
 }
 
 // Deterministic reciprocal. Vulkan only promises 2.5 ulp for OpFDiv while CUDA divides correctly

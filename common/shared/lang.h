@@ -34,6 +34,7 @@ using glm::dot;
 using glm::floor;
 using glm::fract;
 using glm::ivec2;
+using glm::ivec3;
 using glm::ivec4;
 using glm::mat4;
 using glm::max;
@@ -85,6 +86,17 @@ SR_FN bool isFinite(float x)
 {
     return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u;
 }
+// a / b where only an estimate is needed (the caller makes the result exact): CUDA's fast division (at
+// most 2 ulp off, without the correctly rounded division's branch to a slow path), '/' elsewhere (Vulkan
+// allows 2.5 ulp).
+SR_FN float divideEstimate(float a, float b)
+{
+#if defined(__CUDA_ARCH__)
+    return __fdividef(a, b);
+#else
+    return a / b;
+#endif
+}
 }  // namespace sr
 #else  // GLSL
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -96,6 +108,10 @@ SR_FN bool isFinite(float x)
 bool isFinite(float x)
 {
     return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u;
+}
+float divideEstimate(float a, float b)
+{
+    return a / b;
 }
 #endif
 

@@ -103,6 +103,53 @@ SR_FN bool rasterPixel(TriSetup t, int px, int py, SR_OUT(float) depth)
     return rasterSample(t, samplePosition(1u, 0u, px, py), depth);
 }
 
+// A small triangle's three edge functions at pixel centres in 32-bit integers, stepped from pixel to
+// pixel by additions: setup's one-thread loop over a small triangle's pixels (one sample per pixel, fixed-
+// point methods) tests them instead of rasterPixel's three 64-bit products per edge. Exact where the
+// triangle's bbox is at most SMALL_EDGE_EXTENT subpixels (64 pixels) wide and high (smallEdgesFit): the
+// loop visits pixel centres inside that bbox, or one pixel past it, each within 2^14 + 256 subpixels of
+// every corner, so |edgeFunction| < 2 * 2^14 * (2^14 + 256) < 2^30 and the int32 values are the int64
+// ones. A small triangle reaching far outside the viewport does not fit and takes rasterPixel.
+#define SMALL_EDGE_EXTENT 16384
+struct SmallEdges {
+    ivec3 start;  // edgeFunction of edges v1v2, v2v0, v0v1 (the weights of v0, v1, v2) at the first pixel
+    ivec3 stepX;  // their change one pixel to the right
+    ivec3 stepY;  // their change one pixel down
+    ivec3 bias;   // the fill rule's edgeBias: a pixel centre is covered where every value >= its bias
+};
+
+SR_FN bool smallEdgesFit(TriSetup t)
+{
+    ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
+    return max(v0.x, max(v1.x, v2.x)) - min(v0.x, min(v1.x, v2.x)) <= SMALL_EDGE_EXTENT &&
+           max(v0.y, max(v1.y, v2.y)) - min(v0.y, min(v1.y, v2.y)) <= SMALL_EDGE_EXTENT;
+}
+
+// The edge functions at the centre of pixel (px, py) and their per-pixel steps (edgeStepX, edgeStepY
+// times SUBPIXEL_SCALE).
+SR_FN SmallEdges smallEdges(TriSetup t, int px, int py)
+{
+    ivec2 v0 = setupV0(t), v1 = setupV1(t), v2 = setupV2(t);
+    ivec2 p = samplePosition(1u, 0u, px, py);
+    SmallEdges s;
+    s.start = ivec3((v2.x - v1.x) * (p.y - v1.y) - (v2.y - v1.y) * (p.x - v1.x),
+                    (v0.x - v2.x) * (p.y - v2.y) - (v0.y - v2.y) * (p.x - v2.x),
+                    (v1.x - v0.x) * (p.y - v0.y) - (v1.y - v0.y) * (p.x - v0.x));
+    s.stepX = ivec3(v1.y - v2.y, v2.y - v0.y, v0.y - v1.y) * SUBPIXEL_SCALE;
+    s.stepY = ivec3(v2.x - v1.x, v0.x - v2.x, v1.x - v0.x) * SUBPIXEL_SCALE;
+    s.bias = ivec3(int(edgeBias(v1, v2)), int(edgeBias(v2, v0)), int(edgeBias(v0, v1)));
+    return s;
+}
+
+// rasterPixel from the edge values e at a pixel centre: coverage, and the depth when covered.
+SR_FN bool smallEdgesPixel(TriSetup t, SmallEdges s, ivec3 e, SR_OUT(float) depth)
+{
+    depth = 1.0f;
+    if (e.x < s.bias.x || e.y < s.bias.y || e.z < s.bias.z) return false;
+    depth = depthFromEdges(t, int64_t(e.y), int64_t(e.z));
+    return true;
+}
+
 // A point (Vulkan "Basic Point Rasterization"): the square of side pointSize centred on the snapped
 // vertex covers the samples inside it; a sample on its left or top side is inside and one on its
 // right or bottom side is not, the top-left rule of a square drawn as two triangles. Its depth is the

@@ -104,16 +104,29 @@ SR_FN ivec2 pixelSpan(int lo, int hi, uint size)
     return sampleSpan(lo, hi, size, 128u | (128u << 8));
 }
 
-// Deterministic 1 / area for a positive int64 area: floor(2^p / area) is an exact integer quotient
-// below 2^24, so the float built from it is identical on every backend.
+// Deterministic 1 / area for a positive int64 area: the float nearest to floor(2^47 / d), times
+// 2^-(47 + shift), where d = area >> shift < 2^24 keeps the area's top 24 bits. Identical on every
+// backend, and without a 64-bit division (a 70-instruction routine on GPUs, once per drawn triangle):
+// write d = m 2^-j with 2^23 <= m < 2^24 (j > 0 only for areas below 2^23). Then
+// floor(2^47 / d) = Q 2^j + t with Q = floor(2^47 / m) (quotient47NoDivide, in (2^23, 2^24]),
+// r = 2^47 - Q m and t = floor(2^j r / m) < 2^j. Floats near Q 2^j are 2^j apart, so the nearest one
+// is Q 2^j when t < 2^(j-1) (2r < m), (Q + 1) 2^j when t > 2^(j-1) (2^(j-1) (2r - m) >= m), and the
+// even one of the two at the tie. tests/shared_math_test.cpp checks every d against the division.
 SR_FN float recipArea(int64_t area)
 {
     uint64_t a = uint64_t(area);
     int shift = 0;
     while ((a >> shift) >= (uint64_t(1) << 24)) ++shift;  // a >> shift < 2^24
-    uint64_t q = (uint64_t(1) << 47) / (a >> shift);      // in (2^23, 2^24]
-    // 1/area ~= q * 2^-(47 + shift); build the float directly from the exact q.
-    SR_PRECISE float r = float(q) * uintBitsToFloat(uint(127 - 47 - shift) << 23);
+    uint d = uint(a >> shift);
+    int j = 150 - int(floatBitsToUint(float(d)) >> 23);  // 23 - floor(log2 d): d < 2^24 converts exactly
+    uint m = d << uint(j);
+    uint q = quotient47NoDivide(m);
+    if (j > 0) {
+        int64_t r = int64_t(uint64_t(1) << 47) - int64_t(uint64_t(q) * uint64_t(m));
+        int64_t u = int64_t(2) * r - int64_t(m);  // >= 0: t >= 2^(j-1)
+        if (u >= int64_t(0) && ((u << (j - 1)) >= int64_t(m) || (q & 1u) != 0u)) q = q + 1u;
+    }
+    SR_PRECISE float r = float(q) * uintBitsToFloat(uint(127 + j - 47 - shift) << 23);
     return r;
 }
 
