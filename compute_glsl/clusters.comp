@@ -6,8 +6,9 @@
 // vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
 // corners (clusterSetupTriangle); a clipped triangle takes setup's setupClippedTriangle, and every triangle
 // of the other raster methods setup's setupInputTriangle (setup_triangle.glsl), from the clip positions.
-// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each. SR_CPU_BUILD stores every big
-// triangle as a record, as setup's CPU build does (raster_tiles' CPU build reads records alone).
+// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each.
+// SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
+// reads records alone).
 // CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -68,7 +69,8 @@ void main()
             if (kind == PREPARE_DIRECT)
                 emitTriangle(setup, STORED_AS_RECORD(false));
             else if (kind == PREPARE_CLIPPED)
-                setupClippedTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+                setupClippedTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1],
+                                     clusterClip[slot][k2]);
             invalid += kind == PREPARE_INVALID ? 1u : 0u;
             culled += kind == PREPARE_CULLED ? 1u : 0u;
 #else

@@ -160,8 +160,8 @@ void setupClippedTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
         TriSetup t;
-        if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode, params.width,
-                                params.height, params.sampleBounds, t)) {
+        if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode,
+                                params.width, params.height, params.sampleBounds, t)) {
             emitTriangle(t, STORED_AS_RECORD(true));
             ++emitted;
         }
