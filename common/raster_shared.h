@@ -74,7 +74,8 @@ SR_NAMESPACE_BEGIN
 // at most CLUSTER_MAX_VERTICES vertices and CLUSTER_MAX_TRIANGLES triangles, built at load time.
 #define BUF_CLUSTERS 30      // GpuCluster per cluster
 #define BUF_CLUSTER_DATA 31  // uint: each cluster's vertex list (scene vertices), then two words per
-                             // triangle: its scene triangle id, its local corners (8 bits each)
+                             // triangle: its scene triangle id, its local corners (8 bits each); with
+                             // level of detail, CLUSTER_LOD_WORDS before each vertex list (cluster.h)
 #define BUF_COUNT 32
 // CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
 // them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
@@ -112,7 +113,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_LINES 12         // line segments set up (not culled, not clipped away) by setup
 #define COUNTER_MAX_BIN 13       // the largest bin of a screen tile (written only when rasterChunk != 0)
 #define COUNTER_CLUSTERS_CULLED 14  // clusters culled whole by stage clusters (their triangles: COUNTER_CULLED)
-#define COUNTER_COUNT 15
+#define COUNTER_LOD_TRIANGLES 15    // triangles of the clusters the level-of-detail cut draws (lodScale > 0)
+#define COUNTER_COUNT 16
 
 // Stages: their ids (STAGE_*), names, group sizes and launch kinds are the stage table,
 // shared/stages.h (C++ and CUDA only, included at the end of this file).
@@ -328,8 +330,12 @@ struct RasterParams {
     uint clusterCount;         // entries in BUF_CLUSTERS; 0: the triangles are set up by stage setup
     uint setupFirstPrimitive;  // setup's invocation i takes primitive setupFirstPrimitive + i (with
                                // clusters, triangleCount: setup sets up the lines and points alone)
-    uint pad0;
-    uint pad1;
+    // Level of detail (shared/cluster.h's clusterLodDrawn; RenderSettings::lod): lodScale = pixels per
+    // world unit at clip w = 1 (the window's larger half extent times its row's scale) over the error
+    // asked for (--lod-error-px), 0 with level of detail off; lodWLength = |linear part of clip w's row|,
+    // how fast clip w changes per world unit (0 for an orthographic camera).
+    float lodScale;
+    float lodWLength;
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour, alpha and emission.

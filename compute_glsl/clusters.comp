@@ -6,7 +6,8 @@
 // vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
 // corners (clusterSetupTriangle); a clipped triangle takes setup's setupClippedTriangle, and every triangle
 // of the other raster methods setup's setupInputTriangle (setup_triangle.glsl), from the clip positions.
-// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each.
+// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each. With level
+// of detail (lodScale > 0) a cluster outside the cut (clusterLodDrawn) is skipped before anything else.
 // SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
 // reads records alone).
 // CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP).
@@ -32,8 +33,21 @@ void main()
     uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
     if (index < params.clusterCount) {
         c = clusters[index];
-        verdict = clusterCull(params, c);
-        if (verdict != CLUSTER_DRAWN && lane == 0u) {
+        if (params.lodScale > 0.0f) {
+            uint lod = c.vertexOffset - CLUSTER_LOD_WORDS;
+            bool drawn = clusterLodDrawn(
+                params,
+                vec4(uintBitsToFloat(clusterData[lod]), uintBitsToFloat(clusterData[lod + 1u]),
+                     uintBitsToFloat(clusterData[lod + 2u]), uintBitsToFloat(clusterData[lod + 3u])),
+                uintBitsToFloat(clusterData[lod + 4u]),
+                vec4(uintBitsToFloat(clusterData[lod + 5u]), uintBitsToFloat(clusterData[lod + 6u]),
+                     uintBitsToFloat(clusterData[lod + 7u]), uintBitsToFloat(clusterData[lod + 8u])),
+                uintBitsToFloat(clusterData[lod + 9u]));
+            verdict = drawn ? CLUSTER_DRAWN : CLUSTER_LOD_SKIPPED;
+            if (drawn && lane == 0u) atomicAdd(counters[COUNTER_LOD_TRIANGLES], c.triangleCount);
+        }
+        if (verdict != CLUSTER_LOD_SKIPPED) verdict = clusterCull(params, c);
+        if (verdict != CLUSTER_DRAWN && verdict != CLUSTER_LOD_SKIPPED && lane == 0u) {
             atomicAdd(counters[COUNTER_CULLED], c.triangleCount);
             atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
         }

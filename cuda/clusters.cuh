@@ -9,7 +9,9 @@
 // triangles that setup would count culled or invalid are counted per warp, not with an atomic each.
 // A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
 // setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
-// 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP).
+// 124 triangles. With level of detail (lodScale > 0) a cluster outside the cut (clusterLodDrawn) is
+// skipped before anything else; COUNTER_LOD_TRIANGLES counts the triangles of those it draws.
+// CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP).
 namespace sr {
 
 template <bool kMaterials, bool kMultisample, uint kMethod>
@@ -25,8 +27,20 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
     uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
     if (index < params.clusterCount) {
         c = b.clusters[index];
-        verdict = clusterCull(params, c);
-        if (verdict != CLUSTER_DRAWN && lane == 0u) {
+        if (params.lodScale > 0.0f) {
+            const uint* lod = b.clusterData + (c.vertexOffset - CLUSTER_LOD_WORDS);
+            bool drawn = clusterLodDrawn(params,
+                                         vec4(uintBitsToFloat(lod[0]), uintBitsToFloat(lod[1]),
+                                              uintBitsToFloat(lod[2]), uintBitsToFloat(lod[3])),
+                                         uintBitsToFloat(lod[4]),
+                                         vec4(uintBitsToFloat(lod[5]), uintBitsToFloat(lod[6]),
+                                              uintBitsToFloat(lod[7]), uintBitsToFloat(lod[8])),
+                                         uintBitsToFloat(lod[9]));
+            verdict = drawn ? CLUSTER_DRAWN : CLUSTER_LOD_SKIPPED;
+            if (drawn && lane == 0u) atomicAdd(&b.counters[COUNTER_LOD_TRIANGLES], c.triangleCount);
+        }
+        if (verdict != CLUSTER_LOD_SKIPPED) verdict = clusterCull(params, c);
+        if (verdict != CLUSTER_DRAWN && verdict != CLUSTER_LOD_SKIPPED && lane == 0u) {
             atomicAdd(&b.counters[COUNTER_CULLED], c.triangleCount);
             atomicAdd(&b.counters[COUNTER_CLUSTERS_CULLED], 1u);
         }

@@ -208,6 +208,8 @@ TEST(SettingsSchema, RenderArgumentsParseBackToTheSameSettings)
         {"tess-edge-px", "6"},
         {"tess-max-level", "5"},
         {"clusters", "off"},
+        {"lod", "on"},
+        {"lod-error-px", "1.5"},
         {"aov-samples", "true"},
         {"repeat", "3"},
         {"warmup", "0"}};

@@ -36,6 +36,7 @@ SR_NAMESPACE_BEGIN
 #define CLUSTER_DRAWN 0u
 #define CLUSTER_FRUSTUM_CULLED 1u  // outside a viewport plane: every triangle is PREPARE_CULLED
 #define CLUSTER_FACING_CULLED 2u   // every triangle faces the culled way, by the bounds above
+#define CLUSTER_LOD_SKIPPED 3u     // not in the level-of-detail cut (clusterLodDrawn): another level draws it
 // The safety factor on the facing test's inradius threshold, for the float evaluation of the bound.
 #define CLUSTER_FACING_SAFETY 1.25f
 
@@ -87,6 +88,47 @@ SR_FN uint clusterCull(RasterParams params, GpuCluster c)
     float inradiusPx = rho * params.clusterCone.x * s / (reach * reach);
     float needPx = params.clusterCone.z + params.clusterCone.y * extent / wMin;
     return inradiusPx > CLUSTER_FACING_SAFETY * needPx ? CLUSTER_FACING_CULLED : CLUSTER_DRAWN;
+}
+
+// Level of detail (RasterParams.lodScale > 0; host/scene/lod.cpp builds the hierarchy). Every level of a
+// mesh's simplification hierarchy is in the clusters: the mesh's own clusters and the clusters of each
+// simplified group of clusters, as in Nanite. A cluster carries two LOD bounds, each a sphere and an error
+// in world units: its own (the group it was simplified from; error 0 for the mesh's own clusters) and its
+// parent's (the group it is simplified in, infinite where it is a root). Every cluster of a group carries
+// that group's bounds bit for bit, and a group's bounds contain those of its members (sphere inside
+// sphere, error at least theirs). A bound is too coarse where its error, projected at the sphere's
+// nearest clip w, exceeds the error asked for:
+//   error x K / w_min > E   with w_min = w(centre) - radius x |d w / d p|, K the pixels per world unit at
+//                           w = 1,
+// written without a division as w_min < error x lodScale (lodScale = K / E). A cluster is drawn where its
+// own bound is fine enough and its parent's is not. The decision is per cluster, in any order, and the
+// cut is consistent: a group's members are drawn exactly where the group's bound is too coarse, the
+// clusters simplified from it exactly where it is not (the same test on the same bits), so each part of
+// the surface is drawn at one level, and the groups' locked borders make the levels meet without cracks.
+// The containment makes w_min of a parent no larger than of its members, so the choice is monotonic (a
+// member too coarse has a parent too coarse); the host widens parent spheres by a relative 2^-10 to keep
+// that through the float rounding of w(centre).
+// The words before each cluster's vertex list in BUF_CLUSTER_DATA (float bits): own sphere xyz r, own
+// error, parent sphere xyz r, parent error; CLUSTER_LOD_WORDS in all (10 used, padded to 12).
+#define CLUSTER_LOD_WORDS 12u
+
+// Whether the LOD bound (sphere, error) is too coarse for this frame; an error of 0 (the mesh itself)
+// never is, an infinite one (no parent) always is.
+SR_FN bool lodTooCoarse(RasterParams params, vec4 sphere, float error)
+{
+    if (!(error > 0.0f)) return false;
+    vec4 wRow = params.clusterPlanes[CLUSTER_PLANE_W];
+    SR_PRECISE float wCentre = ((wRow.x * sphere.x + wRow.y * sphere.y) + wRow.z * sphere.z) + wRow.w;
+    SR_PRECISE float wNearest = wCentre - sphere.w * params.lodWLength;
+    SR_PRECISE float allowed = error * params.lodScale;
+    return wNearest < allowed;
+}
+
+// Whether the level-of-detail cut draws a cluster with these bounds (see above).
+SR_FN bool clusterLodDrawn(RasterParams params, vec4 ownSphere, float ownError, vec4 parentSphere,
+                           float parentError)
+{
+    return !lodTooCoarse(params, ownSphere, ownError) && lodTooCoarse(params, parentSphere, parentError);
 }
 
 // Corner k (0-2) of a cluster triangle's packed corners (BUF_CLUSTER_DATA's second word: three local

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -421,14 +422,55 @@ Result<RenderOutput> RenderSession::renderTessellatedDisplay(const CameraMatrice
     RenderSettings plain = settings;
     plain.tessellate = TESS_OFF;
     // The other session overwrites the device's buffers: this one forgets what it sized and uploaded.
+    forgetDeviceBuffers();
+    auto out = renderScene(*device_, t.scene, camera, plain);
+    if (out) finishTessellatedDisplay(t, *out);
+    return out;
+}
+
+void RenderSession::forgetDeviceBuffers()
+{
     uploaded_ = false;
     sizes_.assign(BUF_COUNT, SIZE_MAX);
     tessPrepared_ = false;
     clustersBuilt_ = clustersUploaded_ = false;
     trianglesReplaced_ = false;
     tessVertexCapacity_ = tessTriangleCapacity_ = 0;
-    auto out = renderScene(*device_, t.scene, camera, plain);
-    if (out) finishTessellatedDisplay(t, *out);
+}
+
+struct RenderSession::LodState {
+    LodHierarchy hierarchy;
+    Scene scene;  // the session's scene with the simplified triangles (lodScene)
+    std::optional<RenderSession> session;
+};
+
+Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, const RenderSettings& settings)
+{
+    if (settings.tessellate != TESS_OFF)
+        return makeError(
+            ExitCode::Usage,
+            "--lod on draws the scene's triangles at the screen's resolution; it does not combine "
+            "with --tessellate (turn one of them off)");
+    if (scene_->display)
+        return makeError(ExitCode::Usage,
+                         "--lod on draws triangles; it does not combine with --primitives lines or points or "
+                         "--wireframe");
+    if (!lod_) {
+        auto state = std::make_shared<LodState>();
+        state->hierarchy = buildLodHierarchy(*scene_);
+        state->scene = lodScene(*scene_, state->hierarchy);
+        forgetDeviceBuffers();
+        auto session = RenderSession::create(*device_, state->scene);
+        if (!session) return session.error();
+        state->session.emplace(std::move(*session));
+        state->session->lodHierarchy_ = &state->hierarchy;
+        lod_ = std::move(state);
+    }
+    forgetDeviceBuffers();
+    auto out = lod_->session->render(camera, settings);
+    if (!out) return out;
+    for (uint32_t& id : out->aov.id) id = lodAovId(id, lod_->hierarchy);
+    for (uint32_t& id : out->samples.id) id = lodAovId(id, lod_->hierarchy);
     return out;
 }
 
@@ -469,6 +511,9 @@ struct RenderSession::FrameState {
 Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const RenderSettings& settings)
 {
     SR_TRY(checkRenderInputs(*scene_, settings));
+    if (settings.lod == LOD_ON && !lodHierarchy_) return renderLod(camera, settings);
+    // The level-of-detail session's buffers are this session's again.
+    if (lod_) lod_->session->forgetDeviceBuffers();
     if (settings.tessellate != TESS_OFF && scene_->display) return renderTessellatedDisplay(camera, settings);
     if (!uploaded_) {
         SR_TRY(upload());
@@ -542,6 +587,20 @@ constexpr uint64_t kAutoClusterMinTriangles = uint64_t(1) << 20;
 
 Result<uint32_t> RenderSession::frameClusters(const RenderSettings& settings, bool tessellating)
 {
+    if (lodHierarchy_) {  // a level-of-detail scene: its clusters are the hierarchy's, always drawn
+        if (lodHierarchy_->clusters.clusters.empty()) return 0u;
+        if (!clustersUploaded_) {
+            std::vector<GpuCluster> records;
+            std::vector<uint32_t> data;
+            gpuClusters(lodHierarchy_->clusters, scene_->triFlags, records, data, &lodHierarchy_->bounds);
+            SR_TRY(uploadVector(*device_, BUF_CLUSTERS, records));
+            SR_TRY(uploadVector(*device_, BUF_CLUSTER_DATA, data));
+            sizes_[BUF_CLUSTERS] = records.size() * sizeof(GpuCluster);
+            sizes_[BUF_CLUSTER_DATA] = data.size() * sizeof(uint32_t);
+            clustersUploaded_ = true;
+        }
+        return uint32_t(lodHierarchy_->clusters.clusters.size());
+    }
     // Generated triangles change every frame; clusters are built once, from the scene's.
     if (settings.clusters == CLUSTERS_OFF || tessellating || scene_->triangleCount() == 0) return 0u;
     // A CPU device runs a group that synchronizes as one coroutine per invocation: setup's thread per
@@ -587,6 +646,7 @@ Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& s
         // The clusters transform their own vertices; the stages that set a triangle up again from the
         // scene (bin_count, bin_fill, raster_tiles) transform its three, with the same function.
         if (f.clusters > 0) f.params.transformInSetup = 1u;
+        if (lodHierarchy_ && f.clusters > 0) setLodParams(f.params, settings.lodErrorPx);
         std::vector<Dispatch> dispatches;  // every dispatch of the frame, in order, and its GPU times
         std::vector<double> gpuMs;
         SR_TRY(runFrame(f, dispatches, gpuMs));
@@ -730,6 +790,11 @@ void RenderSession::statistics(FrameState& f) const
     st.capacities = capacities_;
     st.clusters = f.clusters;
     st.clustersCulled = counters[COUNTER_CLUSTERS_CULLED];
+    if (lodHierarchy_) {
+        st.lodSceneTriangles = lodHierarchy_->sceneTriangles;
+        st.lodTriangles = f.clusters > 0 ? counters[COUNTER_LOD_TRIANGLES] : scene.triangleCount();
+        st.trianglesIn = st.lodTriangles;
+    }
 }
 
 // What RenderSettings::download asks for: the colour image; with All also the hit counts when counted

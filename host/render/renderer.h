@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "raster_shared.h"
 #include "base/result.h"
 #include "scene/clusters.h"
+#include "scene/lod.h"
 #include "scene/scene.h"
 #include "settings/render_settings.h"
 
@@ -75,8 +77,12 @@ struct RenderStats {
     uint64_t tessCulled = 0;      // scene triangles it culled before refining
     uint64_t clusters = 0;        // clusters the triangles went through (stage clusters; 0: setup did)
     uint64_t clustersCulled = 0;  // of which culled whole (their triangles are in `culled`)
-    uint32_t redraws = 0;         // frames redrawn after growing an overflowing list or for a skipped stage
-    ListCapacities capacities;    // final capacities of the lists
+    // Level of detail (RenderSettings::lod): the triangles of the clusters the frame's cut drew (they are
+    // trianglesIn), and the scene's own triangles, which --lod off would have drawn.
+    uint64_t lodTriangles = 0;
+    uint64_t lodSceneTriangles = 0;
+    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list or for a skipped stage
+    ListCapacities capacities;  // final capacities of the lists
     // Whether the counts after the inputs (culled, clipped, rasterized, ...) were measured: false for
     // vulkan-graphics, whose fixed-function stages count nothing we read back; reports then say "n/a".
     bool pipelineCounts = true;
@@ -150,6 +156,12 @@ private:
     // device, after which this session's buffers are uploaded again before its next frame.
     Result<RenderOutput> renderTessellatedDisplay(const CameraMatrices& camera,
                                                   const RenderSettings& settings);
+    // A frame with level of detail: the scene's hierarchy and the scene with its simplified triangles
+    // (built by the first such frame, kept in lod_), drawn by a session of their own on this device; the
+    // ids mapped back to the scene's (lodAovId).
+    Result<RenderOutput> renderLod(const CameraMatrices& camera, const RenderSettings& settings);
+    // Another session is about to use the device: this one forgets what it sized and uploaded there.
+    void forgetDeviceBuffers();
     // Resizes `buffer` unless this session already gave it exactly `bytes` (a CUDA resize reallocates).
     Status ensureSize(uint32_t buffer, size_t bytes);
     Status allocateLists();
@@ -192,6 +204,9 @@ private:
     bool clustersUploaded_ = false;  // BUF_CLUSTERS and BUF_CLUSTER_DATA hold them
     uint32_t clusterCount_ = 0;      // clusters (0: the scene has none, its triangles go through setup)
     double clusterTriangles_ = 0.0;  // triangles per cluster, on average
+    struct LodState;
+    std::shared_ptr<LodState> lod_;               // renderLod's hierarchy, scene and session
+    const LodHierarchy* lodHierarchy_ = nullptr;  // on LodState's session: its scene's clusters
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline

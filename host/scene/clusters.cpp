@@ -5,10 +5,12 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <thread>
 
 #include <meshoptimizer.h>
 
+#include "scene/lod.h"
 #include "scene/scene.h"
 
 namespace sr {
@@ -18,6 +20,13 @@ namespace {
 // meshoptimizer's balance between a cluster's spatial compactness and the spread of its normals (0:
 // spatial only; its documentation suggests 0.25 where cone culling is used).
 constexpr float kConeWeight = 0.25f;
+
+uint32_t floatBits(float f)
+{
+    uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    return u;
+}
 
 bool isFinite(const glm::vec4& p)
 {
@@ -68,13 +77,14 @@ constexpr double kLargestCoordinate = 1e18;
 
 // The bounding radius and facing bounds of cluster `c` (its sphere centre already set) from its
 // triangles, in double and rounded outwards (cluster.h's tests are only as safe as these bounds).
-void facingBounds(const Scene& scene, const ClusterSet& set, bool allFinite, Cluster& c)
+void facingBounds(const std::vector<glm::vec4>& positions, const std::vector<uint32_t>& triFlags,
+                  const ClusterSet& set, bool allFinite, Cluster& c)
 {
     const glm::dvec3 centre(glm::vec3(c.sphere));
     double radius = 0.0;
     bool small = true;
     for (uint32_t v = 0; v < c.vertexCount; ++v) {
-        const glm::dvec3 p(glm::vec3(scene.positions[set.vertices[c.vertexOffset + v]]));
+        const glm::dvec3 p(glm::vec3(positions[set.vertices[c.vertexOffset + v]]));
         radius = std::max(radius, glm::length(p - centre));
         small = small && std::abs(p.x) < kLargestCoordinate && std::abs(p.y) < kLargestCoordinate &&
                 std::abs(p.z) < kLargestCoordinate;
@@ -95,12 +105,12 @@ void facingBounds(const Scene& scene, const ClusterSet& set, bool allFinite, Clu
         glm::dvec3 q[3];
         for (int k = 0; k < 3; ++k)
             q[k] = corners[3 * size_t(t) + k] = glm::dvec3(
-                glm::vec3(scene.positions[set.vertices[c.vertexOffset + set.localIndices[3 * slot + k]]]));
+                glm::vec3(positions[set.vertices[c.vertexOffset + set.localIndices[3 * slot + k]]]));
         const glm::dvec3 n = glm::cross(q[1] - q[0], q[2] - q[0]);
         const double twiceArea = glm::length(n);
         const double perimeter =
             glm::length(q[1] - q[0]) + glm::length(q[2] - q[1]) + glm::length(q[0] - q[2]);
-        const bool doubleSided = (scene.triFlags[set.triangleIds[slot]] & TRI_FLAG_DOUBLE_SIDED) != 0u;
+        const bool doubleSided = (triFlags[set.triangleIds[slot]] & TRI_FLAG_DOUBLE_SIDED) != 0u;
         if (!(twiceArea > 0.0) || doubleSided) {
             rho = 0.0;
             normals[t] = glm::dvec3(0.0);
@@ -142,13 +152,20 @@ namespace {
 // meshoptimizer's work per chunk is linear in the chunk alone.
 constexpr size_t kChunkTriangles = size_t(1) << 20;
 
-// The clusters of scene triangles [first, first + count), with scene triangle ids and scene vertices;
-// offsets count from the chunk's own arrays.
-ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
+// The clusters of scene triangles [first, first + count), or of entries [first, first + count) of
+// `list` where it is not empty, with scene triangle ids and scene vertices; offsets count from the
+// chunk's own arrays.
+ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, size_t first, size_t count)
 {
     ClusterSet set;
     const size_t indexCount = 3 * count;
-    const uint32_t* indices = scene.indices.data() + 3 * first;
+    std::vector<uint32_t> listed;  // the chunk's corners, when it is a list of triangles
+    if (!list.empty()) {
+        listed.resize(indexCount);
+        for (size_t t = 0; t < count; ++t)
+            for (size_t k = 0; k < 3; ++k) listed[3 * t + k] = scene.indices[3 * size_t(list[first + t]) + k];
+    }
+    const uint32_t* indices = list.empty() ? scene.indices.data() + 3 * first : listed.data();
     // The chunk's vertices, in scene order, and its corners as indices into them.
     std::vector<uint32_t> global(indices, indices + indexCount);
     std::sort(global.begin(), global.end());
@@ -227,7 +244,9 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
                 }
             }
             placed = placed && id != UINT32_MAX;
-            set.triangleIds.push_back(id == UINT32_MAX ? id : uint32_t(first + id));
+            set.triangleIds.push_back(id == UINT32_MAX ? id
+                                      : list.empty()   ? uint32_t(first + id)
+                                                       : list[first + id]);
             set.localIndices.insert(set.localIndices.end(), corner, corner + 3);
         }
         const meshopt_Bounds b =
@@ -241,7 +260,7 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
     // version not, the chunk has no clusters and buildClusters returns none (setup draws the scene).
     if (!placed || set.triangleIds.size() != count) return ClusterSet{};
     for (size_t k = 0; k < set.clusters.size(); ++k)
-        facingBounds(scene, set, clusterFinite[k], set.clusters[k]);
+        facingBounds(scene.positions, scene.triFlags, set, clusterFinite[k], set.clusters[k]);
     return set;
 }
 
@@ -249,8 +268,13 @@ ClusterSet buildChunk(const Scene& scene, size_t first, size_t count)
 
 ClusterSet buildClusters(const Scene& scene)
 {
+    return buildClusters(scene, {});
+}
+
+ClusterSet buildClusters(const Scene& scene, const std::vector<uint32_t>& list)
+{
     ClusterSet set;
-    const size_t triangles = scene.indices.size() / 3;
+    const size_t triangles = list.empty() ? scene.indices.size() / 3 : list.size();
     const size_t vertexCount = scene.positions.size();
     if (triangles == 0 || vertexCount == 0) return set;
     if (std::any_of(scene.indices.begin(), scene.indices.end(), [&](uint32_t i) { return i >= vertexCount; }))
@@ -261,7 +285,7 @@ ClusterSet buildClusters(const Scene& scene)
     std::atomic<size_t> next{0};
     auto work = [&] {
         for (size_t k = next++; k < chunks; k = next++)
-            parts[k] = buildChunk(scene, k * kChunkTriangles,
+            parts[k] = buildChunk(scene, list, k * kChunkTriangles,
                                   std::min(kChunkTriangles, triangles - k * kChunkTriangles));
     };
     const size_t threads = std::min<size_t>(chunks, std::max(1u, std::thread::hardware_concurrency()));
@@ -289,6 +313,15 @@ ClusterSet buildClusters(const Scene& scene)
     return set;
 }
 
+void clusterBounds(const std::vector<glm::vec4>& positions, const std::vector<uint32_t>& triFlags,
+                   const ClusterSet& set, Cluster& c)
+{
+    bool allFinite = true;
+    for (uint32_t v = 0; v < c.vertexCount; ++v)
+        allFinite = allFinite && isFinite(positions[set.vertices[c.vertexOffset + v]]);
+    facingBounds(positions, triFlags, set, allFinite, c);
+}
+
 bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye)
 {
     if (!(c.coneBounds.z > 0.0f)) return false;
@@ -299,13 +332,32 @@ bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye)
 }
 
 void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
-                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data)
+                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data,
+                 const std::vector<ClusterLod>* lod)
 {
     clusters.clear();
     data.clear();
     clusters.reserve(set.clusters.size());
-    data.reserve(set.vertices.size() + 2 * set.triangleIds.size());
-    for (const Cluster& c : set.clusters) {
+    data.reserve(set.vertices.size() + 2 * set.triangleIds.size() +
+                 (lod ? CLUSTER_LOD_WORDS * set.clusters.size() : 0));
+    for (size_t k = 0; k < set.clusters.size(); ++k) {
+        const Cluster& c = set.clusters[k];
+        if (lod) {
+            const ClusterLod& l = (*lod)[k];
+            const float words[CLUSTER_LOD_WORDS] = {l.own.sphere.x,
+                                                    l.own.sphere.y,
+                                                    l.own.sphere.z,
+                                                    l.own.sphere.w,
+                                                    l.own.error,
+                                                    l.parent.sphere.x,
+                                                    l.parent.sphere.y,
+                                                    l.parent.sphere.z,
+                                                    l.parent.sphere.w,
+                                                    l.parent.error,
+                                                    0.0f,
+                                                    0.0f};
+            for (float w : words) data.push_back(floatBits(w));
+        }
         GpuCluster g{};
         g.sphere = c.sphere;
         g.cone = c.cone;

@@ -57,6 +57,13 @@ struct ClusterSet {
 // vertex or the first vertex at its position). A scene with an index out of range has no clusters (its
 // triangles go through setup, which counts them invalid).
 ClusterSet buildClusters(const Scene& scene);
+// The same for the scene triangles `triangles` alone (empty: every triangle), in clusters of their own.
+ClusterSet buildClusters(const Scene& scene, const std::vector<uint32_t>& triangles);
+
+// A cluster's bounding radius and facing bounds from its vertices and triangles, the sphere's centre
+// already set (`triFlags` indexed by the set's triangle ids): what buildClusters computes for its own.
+void clusterBounds(const std::vector<glm::vec4>& positions, const std::vector<uint32_t>& triFlags,
+                   const ClusterSet& set, Cluster& c);
 
 // Whether every triangle of `c` faces away from a viewer at world position `eye` (n . (p - eye) > 0 for
 // every triangle, n its unit normal by its winding, p a corner) by the cluster's facing bounds. World
@@ -67,8 +74,12 @@ bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye);
 // The GPU form of a cluster set: a GpuCluster per cluster (BUF_CLUSTERS) and BUF_CLUSTER_DATA (every
 // cluster's vertex list, then two words per triangle: its scene id, its corners 8 bits each with
 // CLUSTER_TRI_DOUBLE_SIDED from the scene's triangle flags `triFlags`).
+// With `lod` (one per cluster, host/scene/lod.h), each vertex list is preceded by the cluster's
+// CLUSTER_LOD_WORDS level-of-detail words (common/shared/cluster.h).
+struct ClusterLod;
 void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
-                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data);
+                 std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data,
+                 const std::vector<ClusterLod>* lod = nullptr);
 
 // RasterParams' cluster fields for a frame of `p` (clipFromWorld, width, height, cullMode already set):
 // clusterCount, setupFirstPrimitive (the triangles are the clusters' when clusterCount > 0), and the

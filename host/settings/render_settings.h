@@ -40,6 +40,12 @@ constexpr uint32_t CLUSTERS_AUTO = 0;
 constexpr uint32_t CLUSTERS_ON = 1;
 constexpr uint32_t CLUSTERS_OFF = 2;
 
+// --lod (RenderSettings::lod): continuous level of detail on a cluster hierarchy (host/scene/lod.h). off
+// draws the scene's triangles; on draws, of every part of a mesh, the coarsest level whose error projects
+// within lodErrorPx output pixels (common/shared/cluster.h's clusterLodDrawn).
+constexpr uint32_t LOD_OFF = 0;
+constexpr uint32_t LOD_ON = 1;
+
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;
@@ -95,6 +101,11 @@ struct RenderSettings {
     // Stage clusters (CLUSTERS_*): on draws a triangle scene through it wherever it has clusters (not
     // while tessellating, and not a scene with an index out of range); off never.
     uint32_t clusters = CLUSTERS_AUTO;
+    // Level of detail (LOD_*): on draws each part of a mesh at the coarsest level of its hierarchy whose
+    // geometric error projects to at most lodErrorPx output pixels; the id AOV names a simplified
+    // triangle by a scene triangle at its first corner. Not with tessellation or a display scene.
+    uint32_t lod = LOD_OFF;
+    float lodErrorPx = 0.5f;
 };
 
 // One render as a user describes it: the pipeline's settings, the camera and model specs and how the

@@ -239,6 +239,14 @@ std::vector<Setting> makeSchema()
         "set up triangles cluster by cluster (built at load time; whole clusters culled where every "
         "triangle would be) instead of one thread each; the same image either way. auto: on GPUs, for "
         "meshes whose clusters average at least 32 triangles, without tessellation"));
+    t.push_back(choiceSetting(
+        "geometry", "lod", &RenderSettings::lod, {{"off", LOD_OFF}, {"on", LOD_ON}},
+        "level of detail: draw each part of a mesh at the coarsest level of its cluster hierarchy (built "
+        "at load time with meshoptimizer, borders locked: no cracks) whose error projects within "
+        "--lod-error-px; off draws every triangle. Not with --tessellate, --primitives lines/points or "
+        "--wireframe"));
+    t.push_back(floatSetting("geometry", "lod-error-px", &RenderSettings::lodErrorPx, 0.015625, 1024.0, 0.0,
+                             "with --lod on: the geometric error allowed on screen, in output pixels"));
     // outputs and timing
     t.push_back(
         boolSetting("output", "aov-samples", &RenderSettings::aovSamples,

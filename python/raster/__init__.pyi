@@ -113,6 +113,8 @@ class Renderer:
         tess_edge_px: float = 8.0,  # flat, pn: target projected edge length in output pixels
         tess_max_level: Union[int, Literal['auto']] = 'auto',  # flat, pn: most pieces per edge (1..64); centroid: splits (0..8)
         clusters: Literal['auto', 'on', 'off'] = 'auto',  # set up triangles cluster by cluster (built at load time; whole clusters culled where every triangle would be) instead of one thread each; th
+        lod: Literal['off', 'on'] = 'off',  # level of detail: draw each part of a mesh at the coarsest level of its cluster hierarchy (built at load time with meshoptimizer, borders locked: no cracks
+        lod_error_px: float = 0.5,  # with --lod on: the geometric error allowed on screen, in output pixels
         aov_samples: bool = False,  # with an AOV file: also every sample's id and depth as channels id.s<k>, Z.s<k>
         repeat: int = 1,  # timed runs of the whole frame (the statistics give min, median and max)
         warmup: int = 0,  # untimed runs first
