@@ -73,27 +73,29 @@ SR_NAMESPACE_BEGIN
 // Clusters (RasterParams.clusterCount > 0, common/shared/cluster.h): the scene's triangles in clusters of
 // at most CLUSTER_MAX_VERTICES vertices and CLUSTER_MAX_TRIANGLES triangles, built at load time.
 #define BUF_CLUSTERS 30      // GpuCluster per cluster
-#define BUF_CLUSTER_DATA 31  // uint: each cluster's vertex list (scene vertices), then two words per
-                             // triangle: its scene triangle id, its local corners (8 bits each); with
-                             // level of detail, CLUSTER_LOD_WORDS before each vertex list (cluster.h)
-#define BUF_COUNT 32
+#define BUF_CLUSTER_DATA 31  // uint: with level of detail first CLUSTER_LOD_WORDS per cluster (cluster.h);
+                             // then each cluster's vertex list (scene vertices), then two words per
+                             // triangle: its scene triangle id, its local corners (8 bits each)
+#define BUF_LOD_CUT 32       // uint: the clusters the level-of-detail cut draws (COUNTER_LOD_CLUSTERS of
+                             // them, in no particular order; written by stage lod_cut)
+#define BUF_COUNT 33
 // CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
 // them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
 // loop with a branch per lane and component), but fetches texels of a buffer view with vector gathers;
 // the CPU builds of the stages (SR_CPU_BUILD) read their hot data through these.
-#define VIEW_SETUP_TRIS 32     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
-#define VIEW_BIN_ENTRIES 33    // BUF_BIN_ENTRIES as R32UI
-#define VIEW_VISIBILITY 34     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
-#define VIEW_INDICES 35        // BUF_INDICES as R32UI
-#define VIEW_POSITIONS 36      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
-#define VIEW_NORMALS 37        // BUF_NORMALS as RGBA32UI
-#define VIEW_COLORS 38         // BUF_COLORS as RGBA32UI
-#define VIEW_TEXCOORDS 39      // BUF_TEXCOORDS as RGBA32UI
-#define VIEW_TRI_MATERIALS 40  // BUF_TRI_MATERIALS as R32UI
-#define VIEW_MATERIALS 41      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
-#define VIEW_TEXTURES 42       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
-#define VIEW_TEXELS 43         // BUF_TEXELS as R32UI
-#define VIEW_SRGB_TABLE 44     // BUF_SRGB_TABLE as R32UI (float bits)
+#define VIEW_SETUP_TRIS 33     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
+#define VIEW_BIN_ENTRIES 34    // BUF_BIN_ENTRIES as R32UI
+#define VIEW_VISIBILITY 35     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
+#define VIEW_INDICES 36        // BUF_INDICES as R32UI
+#define VIEW_POSITIONS 37      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
+#define VIEW_NORMALS 38        // BUF_NORMALS as RGBA32UI
+#define VIEW_COLORS 39         // BUF_COLORS as RGBA32UI
+#define VIEW_TEXCOORDS 40      // BUF_TEXCOORDS as RGBA32UI
+#define VIEW_TRI_MATERIALS 41  // BUF_TRI_MATERIALS as R32UI
+#define VIEW_MATERIALS 42      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
+#define VIEW_TEXTURES 43       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
+#define VIEW_TEXELS 44         // BUF_TEXELS as R32UI
+#define VIEW_SRGB_TABLE 45     // BUF_SRGB_TABLE as R32UI (float bits)
 #define VIEW_COUNT 13
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
@@ -114,7 +116,8 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_MAX_BIN 13       // the largest bin of a screen tile (written only when rasterChunk != 0)
 #define COUNTER_CLUSTERS_CULLED 14  // clusters culled whole by stage clusters (their triangles: COUNTER_CULLED)
 #define COUNTER_LOD_TRIANGLES 15    // triangles of the clusters the level-of-detail cut draws (lodScale > 0)
-#define COUNTER_COUNT 16
+#define COUNTER_LOD_CLUSTERS 16     // entries of BUF_LOD_CUT: the clusters the cut draws
+#define COUNTER_COUNT 17
 
 // Stages: their ids (STAGE_*), names, group sizes and launch kinds are the stage table,
 // shared/stages.h (C++ and CUDA only, included at the end of this file).
@@ -130,6 +133,8 @@ SR_NAMESPACE_BEGIN
 #define CLUSTER_MAX_TRIANGLES 124  // triangles per cluster (as hardware mesh shaders)
 #define CLUSTER_LANES 32           // invocations per cluster in stage clusters (a warp on NVIDIA)
 #define CLUSTERS_PER_GROUP 4       // clusters per clusters group: CLUSTER_LANES x this invocations
+#define LOD_CLUSTER_GROUPS 2048    // clusters groups with level of detail on a GPU (they loop over the cut)
+#define LOD_CLUSTER_GROUPS_CPU 64  // the same on a CPU device
 #define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)
 #define CLUSTER_PLANE_W 10         // RasterParams.clusterPlanes[10]: clip w as a plane (not normalised)
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)

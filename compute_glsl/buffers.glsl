@@ -52,6 +52,7 @@ layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint
 layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
 layout(std430, set = 0, binding = BUF_CLUSTERS) readonly buffer ClustersBlock { GpuCluster clusters[]; };
 layout(std430, set = 0, binding = BUF_CLUSTER_DATA) readonly buffer ClusterDataBlock { uint clusterData[]; };
+layout(std430, set = 0, binding = BUF_LOD_CUT) buffer LodCutBlock { uint lodCut[]; };
 
 // The CPU builds (SR_CPU_BUILD) read their hot data through the texel views (VIEW_*, raster_shared.h),
 // which llvmpipe gathers as vectors, where a storage-buffer load at an index it cannot prove uniform is a

@@ -6,11 +6,12 @@
 // vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
 // corners (clusterSetupTriangle); a clipped triangle takes setup's setupClippedTriangle, and every triangle
 // of the other raster methods setup's setupInputTriangle (setup_triangle.glsl), from the clip positions.
-// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each. With level
-// of detail (lodScale > 0) a cluster outside the cut (clusterLodDrawn) is skipped before anything else.
+// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each.
 // SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
 // reads records alone).
-// CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP).
+// CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP), or with level
+// of detail at most LOD_CLUSTER_GROUPS (LOD_CLUSTER_GROUPS_CPU on a CPU device), looping over the
+// clusters stage lod_cut listed.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -28,74 +29,72 @@ void main()
 {
     uint slot = gl_LocalInvocationID.x / uint(CLUSTER_LANES);
     uint lane = gl_LocalInvocationID.x % uint(CLUSTER_LANES);
-    uint index = gl_WorkGroupID.x * uint(CLUSTERS_PER_GROUP) + slot;
-    GpuCluster c;
-    uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
-    if (index < params.clusterCount) {
-        c = clusters[index];
-        if (params.lodScale > 0.0f) {
-            uint lod = c.vertexOffset - CLUSTER_LOD_WORDS;
-            bool drawn = clusterLodDrawn(
-                params,
-                vec4(uintBitsToFloat(clusterData[lod]), uintBitsToFloat(clusterData[lod + 1u]),
-                     uintBitsToFloat(clusterData[lod + 2u]), uintBitsToFloat(clusterData[lod + 3u])),
-                uintBitsToFloat(clusterData[lod + 4u]),
-                vec4(uintBitsToFloat(clusterData[lod + 5u]), uintBitsToFloat(clusterData[lod + 6u]),
-                     uintBitsToFloat(clusterData[lod + 7u]), uintBitsToFloat(clusterData[lod + 8u])),
-                uintBitsToFloat(clusterData[lod + 9u]));
-            verdict = drawn ? CLUSTER_DRAWN : CLUSTER_LOD_SKIPPED;
-            if (drawn && lane == 0u) atomicAdd(counters[COUNTER_LOD_TRIANGLES], c.triangleCount);
+    // With level of detail (lodScale > 0) stage lod_cut listed the clusters to draw in BUF_LOD_CUT, and
+    // the groups (LOD_CLUSTER_GROUPS) loop over that list; without, each group takes its clusters once.
+    // The loop's bounds are the group's own: every invocation reaches each barrier() alike.
+    const bool lod = params.lodScale > 0.0f;
+    const uint total = lod ? counters[COUNTER_LOD_CLUSTERS] : params.clusterCount;
+    const uint stride = lod ? gl_NumWorkGroups.x * uint(CLUSTERS_PER_GROUP) : total;
+    for (uint first = gl_WorkGroupID.x * uint(CLUSTERS_PER_GROUP); first < total; first += stride) {
+        uint entry = first + slot;
+        GpuCluster c;
+        uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
+        if (entry < total) {
+            c = clusters[lod ? lodCut[entry] : entry];
+            verdict = clusterCull(params, c);
+            if (verdict != CLUSTER_DRAWN && lane == 0u) {
+                atomicAdd(counters[COUNTER_CULLED], c.triangleCount);
+                atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
+            }
         }
-        if (verdict != CLUSTER_LOD_SKIPPED) verdict = clusterCull(params, c);
-        if (verdict != CLUSTER_DRAWN && verdict != CLUSTER_LOD_SKIPPED && lane == 0u) {
-            atomicAdd(counters[COUNTER_CULLED], c.triangleCount);
-            atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
-        }
-    }
-    if (lane < 2u) clusterCounts[slot][lane] = 0u;
-    if (verdict == CLUSTER_DRAWN) {
-        for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
-            vec4 clip = mulPoint(params.clipFromWorld, positions[clusterData[c.vertexOffset + v]]);
-            clusterClip[slot][v] = clip;
+        if (lane < 2u) clusterCounts[slot][lane] = 0u;
+        if (verdict == CLUSTER_DRAWN) {
+            for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
+                vec4 clip = mulPoint(params.clipFromWorld, positions[clusterData[c.vertexOffset + v]]);
+                clusterClip[slot][v] = clip;
 #if RASTER_METHOD == RASTER_FIXED8
-            ivec2 xy;
-            float z;
-            uint flags = clusterVertex(clip, params.guardBand, params.width, params.height, xy, z);
-            clusterSnap[slot][v] = ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
+                ivec2 xy;
+                float z;
+                uint flags = clusterVertex(clip, params.guardBand, params.width, params.height, xy, z);
+                clusterSnap[slot][v] = ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
 #endif
+            }
         }
-    }
-    barrier();  // every invocation of the group reaches it: no return above
-    uint invalid = 0u, culled = 0u;
-    if (verdict == CLUSTER_DRAWN) {
-        for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
-            uint tri = clusterData[c.triangleOffset + 2u * t];
-            uint corners = clusterData[c.triangleOffset + 2u * t + 1u];
-            uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u), k2 = clusterCorner(corners, 2u);
+        barrier();  // every invocation of the group reaches it: no return above
+        uint invalid = 0u, culled = 0u;
+        if (verdict == CLUSTER_DRAWN) {
+            for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
+                uint tri = clusterData[c.triangleOffset + 2u * t];
+                uint corners = clusterData[c.triangleOffset + 2u * t + 1u];
+                uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u),
+                     k2 = clusterCorner(corners, 2u);
 #if RASTER_METHOD == RASTER_FIXED8
-            ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
-            TriSetup setup;
-            uint kind = clusterSetupTriangle(
-                uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y), ivec2(s2.x, s2.y),
-                uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)), uintBitsToFloat(uint(s2.z)), tri,
-                (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u, params.cullMode, params.width, params.height,
-                params.sampleBounds, setup);
-            if (kind == PREPARE_DIRECT)
-                emitTriangle(setup, STORED_AS_RECORD(false));
-            else if (kind == PREPARE_CLIPPED)
-                setupClippedTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1],
-                                     clusterClip[slot][k2]);
-            invalid += kind == PREPARE_INVALID ? 1u : 0u;
-            culled += kind == PREPARE_CULLED ? 1u : 0u;
+                ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
+                TriSetup setup;
+                uint kind = clusterSetupTriangle(
+                    uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y),
+                    ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)),
+                    uintBitsToFloat(uint(s2.z)), tri, (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
+                    params.cullMode, params.width, params.height, params.sampleBounds, setup);
+                if (kind == PREPARE_DIRECT)
+                    emitTriangle(setup, STORED_AS_RECORD(false));
+                else if (kind == PREPARE_CLIPPED)
+                    setupClippedTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1],
+                                         clusterClip[slot][k2]);
+                invalid += kind == PREPARE_INVALID ? 1u : 0u;
+                culled += kind == PREPARE_CULLED ? 1u : 0u;
 #else
-            setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+                setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
 #endif
+            }
         }
+        // The cluster's counts, one shared atomic per invocation that has any, one global atomic per cluster.
+        if (invalid != 0u) atomicAdd(clusterCounts[slot][0], invalid);
+        if (culled != 0u) atomicAdd(clusterCounts[slot][1], culled);
+        barrier();
+        if (lane < 2u && clusterCounts[slot][lane] != 0u)
+            atomicAdd(counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
+        // The next round clears clusterCounts again.
+        if (lod) barrier();
     }
-    // The cluster's counts, one shared atomic per invocation that has any, one global atomic per cluster.
-    if (invalid != 0u) atomicAdd(clusterCounts[slot][0], invalid);
-    if (culled != 0u) atomicAdd(clusterCounts[slot][1], culled);
-    barrier();
-    if (lane < 2u && clusterCounts[slot][lane] != 0u)
-        atomicAdd(counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
 }

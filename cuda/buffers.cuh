@@ -40,6 +40,7 @@ struct Buffers {
     uvec4* tessSums;                 // BUF_TESS_SUMS
     const GpuCluster* clusters;      // BUF_CLUSTERS
     const uint* clusterData;         // BUF_CLUSTER_DATA
+    uint* lodCut;                    // BUF_LOD_CUT
     // tess_emit's writable view of the per-vertex and per-triangle buffers, BUF_TESS_IDS and
     // BUF_TESS_MATERIALS (the stages above read the same memory through the const pointers).
     TessWriter tess;

@@ -9,9 +9,9 @@
 // triangles that setup would count culled or invalid are counted per warp, not with an atomic each.
 // A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
 // setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
-// 124 triangles. With level of detail (lodScale > 0) a cluster outside the cut (clusterLodDrawn) is
-// skipped before anything else; COUNTER_LOD_TRIANGLES counts the triangles of those it draws.
-// CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP).
+// 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP),
+// or with level of detail at most LOD_CLUSTER_GROUPS (LOD_CLUSTER_GROUPS_CPU on a CPU device), looping
+// over the clusters stage lod_cut listed.
 namespace sr {
 
 template <bool kMaterials, bool kMultisample, uint kMethod>
@@ -22,77 +22,75 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
     __shared__ uint clusterCounts[CLUSTERS_PER_GROUP][2];                    // invalid, culled
     uint slot = threadIdx.x / uint(CLUSTER_LANES);
     uint lane = threadIdx.x % uint(CLUSTER_LANES);
-    uint index = blockIdx.x * uint(CLUSTERS_PER_GROUP) + slot;
-    GpuCluster c;
-    uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
-    if (index < params.clusterCount) {
-        c = b.clusters[index];
-        if (params.lodScale > 0.0f) {
-            const uint* lod = b.clusterData + (c.vertexOffset - CLUSTER_LOD_WORDS);
-            bool drawn = clusterLodDrawn(params,
-                                         vec4(uintBitsToFloat(lod[0]), uintBitsToFloat(lod[1]),
-                                              uintBitsToFloat(lod[2]), uintBitsToFloat(lod[3])),
-                                         uintBitsToFloat(lod[4]),
-                                         vec4(uintBitsToFloat(lod[5]), uintBitsToFloat(lod[6]),
-                                              uintBitsToFloat(lod[7]), uintBitsToFloat(lod[8])),
-                                         uintBitsToFloat(lod[9]));
-            verdict = drawn ? CLUSTER_DRAWN : CLUSTER_LOD_SKIPPED;
-            if (drawn && lane == 0u) atomicAdd(&b.counters[COUNTER_LOD_TRIANGLES], c.triangleCount);
-        }
-        if (verdict != CLUSTER_LOD_SKIPPED) verdict = clusterCull(params, c);
-        if (verdict != CLUSTER_DRAWN && verdict != CLUSTER_LOD_SKIPPED && lane == 0u) {
-            atomicAdd(&b.counters[COUNTER_CULLED], c.triangleCount);
-            atomicAdd(&b.counters[COUNTER_CLUSTERS_CULLED], 1u);
-        }
-    }
-    if (lane < 2u) clusterCounts[slot][lane] = 0u;
-    if (verdict == CLUSTER_DRAWN) {
-        for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
-            vec4 clip = mulPoint(params.clipFromWorld, b.positions[b.clusterData[c.vertexOffset + v]]);
-            clusterClip[slot][v] = clip;
-            if constexpr (kMethod == RASTER_FIXED8) {
-                ivec2 xy;
-                float z;
-                uint flags = clusterVertex(clip, params.guardBand, params.width, params.height, xy, z);
-                clusterSnap[slot][v] = ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
+    // With level of detail (lodScale > 0) stage lod_cut listed the clusters to draw in BUF_LOD_CUT, and
+    // the blocks (LOD_CLUSTER_GROUPS) loop over that list; without, each block takes its clusters once.
+    const bool lod = params.lodScale > 0.0f;
+    const uint total = lod ? b.counters[COUNTER_LOD_CLUSTERS] : params.clusterCount;
+    const uint stride = lod ? gridDim.x * uint(CLUSTERS_PER_GROUP) : total;
+    for (uint first = blockIdx.x * uint(CLUSTERS_PER_GROUP); first < total; first += stride) {
+        uint entry = first + slot;
+        GpuCluster c;
+        uint verdict = CLUSTER_FRUSTUM_CULLED;  // past the last cluster: nothing to do
+        if (entry < total) {
+            c = b.clusters[lod ? b.lodCut[entry] : entry];
+            verdict = clusterCull(params, c);
+            if (verdict != CLUSTER_DRAWN && lane == 0u) {
+                atomicAdd(&b.counters[COUNTER_CULLED], c.triangleCount);
+                atomicAdd(&b.counters[COUNTER_CLUSTERS_CULLED], 1u);
             }
         }
-    }
-    __syncthreads();  // as compute_glsl/clusters.comp's barrier(): every thread of the block reaches it
-    uint invalid = 0u, culled = 0u;
-    if (verdict == CLUSTER_DRAWN) {
-        for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
-            uint tri = b.clusterData[c.triangleOffset + 2u * t];
-            uint corners = b.clusterData[c.triangleOffset + 2u * t + 1u];
-            uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u),
-                 k2 = clusterCorner(corners, 2u);
-            if constexpr (kMethod == RASTER_FIXED8) {
-                ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
-                TriSetup setup;
-                uint kind = clusterSetupTriangle(
-                    uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y),
-                    ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)),
-                    uintBitsToFloat(uint(s2.z)), tri, (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
-                    params.cullMode, params.width, params.height, params.sampleBounds, setup);
-                if (kind == PREPARE_DIRECT)
-                    emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, setup, false);
-                else if (kind == PREPARE_CLIPPED)
-                    setupClippedTriangle<kMaterials, kMultisample, kMethod>(
+        if (lane < 2u) clusterCounts[slot][lane] = 0u;
+        if (verdict == CLUSTER_DRAWN) {
+            for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
+                vec4 clip = mulPoint(params.clipFromWorld, b.positions[b.clusterData[c.vertexOffset + v]]);
+                clusterClip[slot][v] = clip;
+                if constexpr (kMethod == RASTER_FIXED8) {
+                    ivec2 xy;
+                    float z;
+                    uint flags = clusterVertex(clip, params.guardBand, params.width, params.height, xy, z);
+                    clusterSnap[slot][v] = ivec4(xy.x, xy.y, int(floatBitsToUint(z)), int(flags));
+                }
+            }
+        }
+        __syncthreads();  // as compute_glsl/clusters.comp's barrier(): every thread of the block reaches it
+        uint invalid = 0u, culled = 0u;
+        if (verdict == CLUSTER_DRAWN) {
+            for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
+                uint tri = b.clusterData[c.triangleOffset + 2u * t];
+                uint corners = b.clusterData[c.triangleOffset + 2u * t + 1u];
+                uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u),
+                     k2 = clusterCorner(corners, 2u);
+                if constexpr (kMethod == RASTER_FIXED8) {
+                    ivec4 s0 = clusterSnap[slot][k0], s1 = clusterSnap[slot][k1], s2 = clusterSnap[slot][k2];
+                    TriSetup setup;
+                    uint kind = clusterSetupTriangle(
+                        uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y),
+                        ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)),
+                        uintBitsToFloat(uint(s2.z)), tri, (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
+                        params.cullMode, params.width, params.height, params.sampleBounds, setup);
+                    if (kind == PREPARE_DIRECT)
+                        emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, setup, false);
+                    else if (kind == PREPARE_CLIPPED)
+                        setupClippedTriangle<kMaterials, kMultisample, kMethod>(
+                            params, b, tri, clusterClip[slot][k0], clusterClip[slot][k1],
+                            clusterClip[slot][k2]);
+                    invalid += kind == PREPARE_INVALID ? 1u : 0u;
+                    culled += kind == PREPARE_CULLED ? 1u : 0u;
+                } else {
+                    setupInputTriangle<kMaterials, kMultisample, kMethod>(
                         params, b, tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
-                invalid += kind == PREPARE_INVALID ? 1u : 0u;
-                culled += kind == PREPARE_CULLED ? 1u : 0u;
-            } else {
-                setupInputTriangle<kMaterials, kMultisample, kMethod>(
-                    params, b, tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+                }
             }
         }
+        // The warp's counts, one shared atomic per thread that has any, one global atomic per cluster.
+        if (invalid != 0u) atomicAdd(&clusterCounts[slot][0], invalid);
+        if (culled != 0u) atomicAdd(&clusterCounts[slot][1], culled);
+        __syncthreads();
+        if (lane < 2u && clusterCounts[slot][lane] != 0u)
+            atomicAdd(&b.counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
+        // The next round clears clusterCounts again.
+        if (lod) __syncthreads();
     }
-    // The warp's counts, one shared atomic per thread that has any, one global atomic per cluster.
-    if (invalid != 0u) atomicAdd(&clusterCounts[slot][0], invalid);
-    if (culled != 0u) atomicAdd(&clusterCounts[slot][1], culled);
-    __syncthreads();
-    if (lane < 2u && clusterCounts[slot][lane] != 0u)
-        atomicAdd(&b.counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
 }
 
 }  // namespace sr

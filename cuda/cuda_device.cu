@@ -171,6 +171,7 @@ private:
         b.tessSums = as<uvec4>(BUF_TESS_SUMS);
         b.clusters = as<GpuCluster>(BUF_CLUSTERS);
         b.clusterData = as<uint>(BUF_CLUSTER_DATA);
+        b.lodCut = as<uint>(BUF_LOD_CUT);
         TessWriter& w = b.tess;
         w.positions = as<vec4>(BUF_POSITIONS);
         w.normals = as<vec4>(BUF_NORMALS);

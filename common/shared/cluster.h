@@ -36,7 +36,6 @@ SR_NAMESPACE_BEGIN
 #define CLUSTER_DRAWN 0u
 #define CLUSTER_FRUSTUM_CULLED 1u  // outside a viewport plane: every triangle is PREPARE_CULLED
 #define CLUSTER_FACING_CULLED 2u   // every triangle faces the culled way, by the bounds above
-#define CLUSTER_LOD_SKIPPED 3u     // not in the level-of-detail cut (clusterLodDrawn): another level draws it
 // The safety factor on the facing test's inradius threshold, for the float evaluation of the bound.
 #define CLUSTER_FACING_SAFETY 1.25f
 
@@ -108,8 +107,10 @@ SR_FN uint clusterCull(RasterParams params, GpuCluster c)
 // The containment makes w_min of a parent no larger than of its members, so the choice is monotonic (a
 // member too coarse has a parent too coarse); the host widens parent spheres by a relative 2^-10 to keep
 // that through the float rounding of w(centre).
-// The words before each cluster's vertex list in BUF_CLUSTER_DATA (float bits): own sphere xyz r, own
-// error, parent sphere xyz r, parent error; CLUSTER_LOD_WORDS in all (10 used, padded to 12).
+// Cluster k's words at the head of BUF_CLUSTER_DATA, from k * CLUSTER_LOD_WORDS (float bits unless said):
+// own sphere xyz r, own error, parent sphere xyz r, parent error, its triangle count (uint), one unused.
+// Stage lod_cut (cuda/lod_cut.cuh, compute_glsl/lod_cut.comp) takes the cut with a thread per cluster and
+// lists the clusters drawn for stage clusters.
 #define CLUSTER_LOD_WORDS 12u
 
 // Whether the LOD bound (sphere, error) is too coarse for this frame; an error of 0 (the mesh itself)

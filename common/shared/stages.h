@@ -34,6 +34,8 @@
     X(CLEAR,            clear,            clear,          GROUP_SIZE,            PLAIN)                   \
     /* per vertex: clip position */                                                                       \
     X(VERTEX,           vertex,           vertex,         GROUP_SIZE,            PLAIN)                   \
+    /* per cluster of a level-of-detail hierarchy: list the clusters the cut draws */                    \
+    X(LOD_CUT,          lod_cut,          lodCut,         GROUP_SIZE,            PLAIN)                   \
     /* per cluster (a warp each): cull it whole, transform its vertices once, set up its triangles as */ \
     /* setup does */                                                                                      \
     X(CLUSTERS,         clusters,         clusters,       CLUSTER_LANES * CLUSTERS_PER_GROUP, METHOD)     \

@@ -87,7 +87,9 @@ nlohmann::json statsJson(const RenderOutput& out, const RenderOptions& options, 
     json["settings"] = settingsJson(options);
     if (s.clusters > 0) json["clusters"] = {{"count", s.clusters}, {"culled", s.clustersCulled}};
     if (s.lodSceneTriangles > 0)
-        json["lod"] = {{"triangles", s.lodTriangles}, {"scene_triangles", s.lodSceneTriangles}};
+        json["lod"] = {{"triangles", s.lodTriangles},
+                       {"scene_triangles", s.lodSceneTriangles},
+                       {"build_ms", s.lodBuildMs}};
     if (settings.tessellate != TESS_OFF) {
         json["tessellation"] = {{"mode", choiceName(setting("tessellate"), settings.tessellate)},
                                 {"edge_px", settings.tessEdgePx},

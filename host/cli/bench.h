@@ -32,8 +32,12 @@ struct BenchOptions {
     std::vector<std::string> scenes;                // empty: all
     std::vector<uint32_t> msaa{1};                  // sample counts, each a run of every scene and backend
     std::vector<uint32_t> clusters{CLUSTERS_AUTO};  // CLUSTERS_* modes, each a run of every scene and backend
-    uint32_t sweepTriangles = 1u << 20;             // per sweep scene
-    int denseRings = 1600;                          // tessellated sphere: ~4 rings^2 triangles (10.2M)
+    // Level of detail: 0 for --lod off, else a --lod-error-px value; each a run of every scene on the
+    // compute backends (the runs with level of detail share one session per scene and backend, so the
+    // hierarchy is built once; vulkan-graphics runs --lod off alone).
+    std::vector<float> lod{0.0f};
+    uint32_t sweepTriangles = 1u << 20;  // per sweep scene
+    int denseRings = 1600;               // tessellated sphere: ~4 rings^2 triangles (10.2M)
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
     uint32_t warmup = 3;
     uint32_t repeat = 20;

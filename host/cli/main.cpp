@@ -10,7 +10,8 @@
 //                [--json F]
 //   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
 //                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
-//                [--repeat N] [--json F]
+//                [--repeat N] [--lod-scenes sphere,bunny,bunny-fine] [--lod-errors E,...] [--lod-rings N]
+//                [--json F]
 //   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
 //                [--io-threads N] [--queue N] [--summary F] [SETTINGS as defaults under the manifest's]
 //   raster settings [--format markdown|json]
@@ -322,6 +323,7 @@ struct BenchCommand {
     std::string scenes;
     std::string msaa;
     std::string clusters;
+    std::string lod;
     std::string jsonPath;
     BenchOptions options;
 };
@@ -367,6 +369,18 @@ Status runBenchCommand(BenchCommand& cmd)
             o.clusters.push_back(*mode);
         }
     }
+    if (!cmd.lod.empty()) {
+        o.lod.clear();
+        for (const std::string& l : splitList(cmd.lod)) {
+            if (l == "off") {
+                o.lod.push_back(0.0f);
+                continue;
+            }
+            auto error = parseSettingText(setting("lod-error-px"), l, "--lod entry");
+            if (!error) return error.error();
+            o.lod.push_back(error->get<float>());
+        }
+    }
     auto bench = runBench(o);
     if (!bench) return bench.error();
     if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *bench));
@@ -379,6 +393,8 @@ struct StudyCommand {
     std::string axes = "magnitude,slivers,near,coplanar";
     std::string methods = fmt::format("{}", fmt::join(rasterMethodNames(), ","));
     std::string scenes = fmt::format("{}", fmt::join(studySceneNames(), ","));
+    std::string lodScenes = fmt::format("{}", fmt::join(StudyOptions{}.lodScenes, ","));
+    std::string lodErrors = fmt::format("{:g}", fmt::join(StudyOptions{}.lodErrors, ","));
     std::string jsonPath;
     StudyOptions options;
 };
@@ -389,6 +405,10 @@ Status runStudyCommand(StudyCommand& cmd)
     cmd.options.axes = splitList(cmd.axes);
     cmd.options.methods = splitList(cmd.methods);
     cmd.options.scenes = splitList(cmd.scenes);
+    cmd.options.lodScenes = splitList(cmd.lodScenes);
+    auto lodErrors = parseLodErrors(cmd.lodErrors);
+    if (!lodErrors) return lodErrors.error();
+    cmd.options.lodErrors = *lodErrors;
     auto study = runStudy(cmd.options);
     if (!study) return study.error();
     if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *study));
@@ -505,6 +525,10 @@ int main(int argc, char** argv)
     benchApp->add_option("--clusters", bench.clusters,
                          "comma-separated --clusters modes (auto, on, off), each run on every scene (default "
                          "auto)");
+    benchApp->add_option(
+        "--lod", bench.lod,
+        "comma-separated: off or a --lod-error-px value, each run on every scene (default off; "
+        "the runs with level of detail share one session per scene and compute backend)");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")
@@ -564,6 +588,17 @@ int main(int argc, char** argv)
         "comma-separated accuracy scenes: builtin, checker-grazing, dense, bunny, sliver-fan, "
         "jittered-grid (\"\": none)");
     studyApp->add_option("--bunny", study.options.bunnyPath, "the Stanford bunny OBJ (skipped when absent)");
+    studyApp->add_option("--lod-scenes", study.lodScenes,
+                         "comma-separated level-of-detail scenes: sphere (builtin:dense:N, N = --lod-rings), "
+                         "bunny, bunny-fine (the bunny split to 16x its triangles) (default sphere,bunny; "
+                         "\"\": none)");
+    studyApp->add_option("--lod-errors", study.lodErrors,
+                         "comma-separated --lod-error-px values each LOD scene and camera is drawn with "
+                         "besides --lod off (default 0.25,0.5,1,2,4)");
+    studyApp
+        ->add_option("--lod-rings", study.options.lodRings,
+                     "the LOD sphere's rings: about 4 N^2 triangles (default 200; 5000: the 100M sphere)")
+        ->check(CLI::Range(4, kMaxSphereRings));
     studyApp->add_option("--warmup", study.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
     studyApp->add_option("--repeat", study.options.repeat, "timed runs")->check(CLI::Range(1, 100000));
     studyApp->add_option("--device", study.options.device, "device index within each backend");

@@ -146,6 +146,43 @@ std::string firstFailureTable(const nlohmann::json& stability)
     return md;
 }
 
+// What the "lod" rows' depth errors measure (lodImageDiff), for the JSON and the table.
+constexpr const char* kLodDepthMeaning =
+    "the depth AOV's window depth z/w: 0 at the camera's near plane, 1 at its far plane (the planes "
+    "enclose the scene's bounding sphere), non-linear in distance";
+
+// A PSNR cell: "exact" for an identical image ("inf" in the JSON), else dB to 2 decimals.
+std::string psnrCell(const nlohmann::json& psnr)
+{
+    return psnr.is_string() ? "exact" : fmt::format("{:.2f}", psnr.get<double>());
+}
+
+// The level-of-detail rows (measureLod) as a markdown table, under a heading that says what each
+// column compares.
+std::string lodTable(const nlohmann::json& lod)
+{
+    std::string md = fmt::format(
+        "\n## Level of detail against --lod off (coverage px: covered in one frame only; beyond 1 px: of "
+        "those, farther than 1 px from the --lod off silhouette; depth: |difference| over pixels both "
+        "cover, of {}; PSNR vs ref: against SSAA 4 x MSAA 16 of --lod off)\n\n"
+        "| scene | camera | backend | E px | triangles | visibility ms | coverage px | beyond 1 px | "
+        "depth max | depth mean | PSNR vs off | PSNR vs ref |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        kLodDepthMeaning);
+    for (const auto& r : lod) {
+        const nlohmann::json& e = r["error_px"];
+        md += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {} | {} | {:.2e} | {:.2e} | {} | {} |\n",
+                          r["scene"].get<std::string>(), r["camera"].get<std::string>(),
+                          r["backend"].get<std::string>(),
+                          e.is_string() ? e.get<std::string>() : fmt::format("{:g}", e.get<double>()),
+                          r["triangles"].get<uint64_t>(), r["visibility_ms"].get<double>(),
+                          r["coverage_px"].get<uint64_t>(), r["beyond_silhouette_px"].get<uint64_t>(),
+                          r["depth_max_error"].get<double>(), r["depth_mean_error"].get<double>(),
+                          psnrCell(r["psnr_vs_off"]), psnrCell(r["psnr_vs_reference"]));
+    }
+    return md;
+}
+
 }  // namespace
 
 ImageError imageError(const RgbaImage& image, const RgbaImage& reference)
@@ -207,6 +244,77 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
     return rows;
 }
 
+Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name, const Scene& scene,
+                                  const RenderSettings& base, const std::vector<float>& errors,
+                                  const std::function<void(const std::string&)>& progress)
+{
+    const std::string backend = device.info().backend;
+    auto tell = [&](const std::string& camera, const std::string& what) {
+        if (progress) progress(fmt::format("lod {} {} {} on {}", name, camera, what, backend));
+    };
+    auto session = RenderSession::create(device, scene);
+    if (!session) return session.error();
+    const std::vector<LodCamera> cameras = lodCameras(scene, base.width, base.height);
+    RenderSettings off = base;
+    off.lod = LOD_OFF;
+    // Every camera's --lod off frame and reference first, then every error: the session's buffers hold
+    // either the scene or the hierarchy's scene, and going from one to the other uploads it again (for
+    // the 100M sphere, gigabytes), so the frames switch once.
+    std::vector<RenderOutput> baselines;
+    std::vector<RgbaImage> references;
+    for (const LodCamera& c : cameras) {
+        tell(c.name, "off");
+        auto out = session->render(c.camera, off);
+        if (!out) return out.error();
+        tell(c.name, "reference");
+        auto reference = session->render(c.camera, referenceSettings(off));
+        if (!reference) return reference.error();
+        baselines.push_back(std::move(*out));
+        references.push_back(std::move(reference->color));
+    }
+    auto row = [&](size_t c, const RenderOutput& out, const nlohmann::json& errorPx) {
+        const RenderOutput& baseline = baselines[c];
+        const LodImageDiff d = lodImageDiff(out.aov, baseline.aov);
+        // The visibility time, as `raster bench` reports it: the frame less deferred shading, which
+        // costs the same whatever the triangles (one shading per pixel).
+        double shadeMs = 0.0;
+        for (const StageTiming& t : out.stages)
+            if (t.name == "shade") shadeMs = t.medianMs;
+        return nlohmann::json{{"scene", name},
+                              {"camera", cameras[c].name},
+                              {"camera_spec", orbitSpecString(cameras[c].pose)},
+                              {"backend", backend},
+                              {"error_px", errorPx},
+                              {"triangles", out.stats.trianglesIn},
+                              {"scene_triangles", scene.triangleCount()},
+                              {"ms", out.total.medianMs},
+                              {"visibility_ms", out.total.medianMs - shadeMs},
+                              {"coverage_px", d.coveragePx},
+                              {"beyond_silhouette_px", d.beyondSilhouettePx},
+                              {"baseline_silhouette_px", d.silhouettePx},
+                              {"depth_max_error", d.depthMaxError},
+                              {"depth_mean_error", d.depthMeanError},
+                              {"psnr_vs_off", psnrJson(imageError(out.color, baseline.color).psnr)},
+                              {"psnr_vs_reference", psnrJson(imageError(out.color, references[c]).psnr)}};
+    };
+    std::vector<nlohmann::json> perCamera(cameras.size(), nlohmann::json::array());
+    for (size_t c = 0; c < cameras.size(); ++c) perCamera[c].push_back(row(c, baselines[c], "off"));
+    for (size_t c = 0; c < cameras.size(); ++c)
+        for (float error : errors) {
+            tell(cameras[c].name, fmt::format("{:g} px", error));
+            RenderSettings on = off;
+            on.lod = LOD_ON;
+            on.lodErrorPx = error;
+            auto out = session->render(cameras[c].camera, on);
+            if (!out) return out.error();
+            perCamera[c].push_back(row(c, *out, error));
+        }
+    nlohmann::json rows = nlohmann::json::array();
+    for (nlohmann::json& camera : perCamera)
+        for (nlohmann::json& r : camera) rows.push_back(std::move(r));
+    return rows;
+}
+
 Result<QualityChoice> chooseQuality(const std::string& quality, const std::string& studyPath,
                                     ComputeDevice& device, const StudyScene& scene, RenderSettings base)
 {
@@ -243,6 +351,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     SR_TRY(checkNames(o.backends, {"cuda", "vulkan"}, "backend"));
     SR_TRY(checkNames(o.methods, rasterMethodNames(), "raster method"));
     SR_TRY(checkNames(o.scenes, studySceneNames(), "scene"));
+    SR_TRY(checkNames(o.lodScenes, lodSceneNames(), "LOD scene"));
     if (o.methods.empty()) return makeError(ExitCode::Usage, "study: no raster method to run (--methods)");
     const bool tty = isatty(fileno(stderr));
     auto progress = [&](const std::string& what) {
@@ -255,6 +364,15 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
         if (!scene) return scene.error();
         scenes.push_back(std::move(*scene));
     }
+    // The LOD scenes, built once for every backend (bunny-fine's subdivision, the 100M sphere).
+    std::vector<std::pair<std::string, Scene>> lodScenes;
+    for (const std::string& name : o.lodScenes) {
+        if (name != "sphere" && !std::filesystem::exists(o.bunnyPath)) continue;
+        progress(fmt::format("lod {} (building)", name));
+        auto scene = makeLodScene(name, o.lodRings, o.bunnyPath);
+        if (!scene) return scene.error();
+        lodScenes.emplace_back(name, std::move(*scene));
+    }
     // The cases depend on the axis and size alone: built once, drawn on every backend with every method.
     std::vector<Axis> axes;
     for (const std::string& axis : o.axes) {
@@ -266,22 +384,29 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     const bool vulkanStudied = std::find(o.backends.begin(), o.backends.end(), "vulkan") != o.backends.end();
     Oracle oracle(vulkanStudied ? o.device : -1);
 
+    // What the accuracy and level-of-detail renders share: the size, the timing and the shading.
+    RenderSettings base;
+    base.width = o.width;
+    base.height = o.height;
+    base.warmup = o.warmup;
+    base.repeat = o.repeat;
+    base.shadingMode = SHADING_BLINN_PHONG;
     nlohmann::json accuracy = nlohmann::json::array(), stability = nlohmann::json::array();
+    nlohmann::json lod = nlohmann::json::array();
     nlohmann::json devices = nlohmann::json::object();
     for (const std::string& backend : o.backends) {
         auto device = openDevice(backend, o.device);
         if (!device) return device.error();
         devices[backend] = (*device)->info().name;
         for (const StudyScene& s : scenes) {
-            RenderSettings base;
-            base.width = o.width;
-            base.height = o.height;
-            base.warmup = o.warmup;
-            base.repeat = o.repeat;
-            base.shadingMode = SHADING_BLINN_PHONG;
             auto rows = measureAccuracy(**device, s, base, o.methods, progress);
             if (!rows) return rows.error();
             for (auto& row : *rows) accuracy.push_back(std::move(row));
+        }
+        for (const auto& [name, scene] : lodScenes) {
+            auto rows = measureLod(**device, name, scene, base, o.lodErrors, progress);
+            if (!rows) return rows.error();
+            for (auto& row : *rows) lod.push_back(std::move(row));
         }
         for (size_t a = 0; a < axes.size(); ++a)
             for (size_t i = 0; i < axes[a].cases.size(); ++i) {
@@ -310,9 +435,11 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
             }
     }
     if (tty) fmt::print(stderr, "\r\033[K");
-    return nlohmann::json{{"date", today()},      {"devices", devices},    {"width", o.width},
-                          {"height", o.height},   {"methods", o.methods},  {"stress_size", o.stressSize},
-                          {"accuracy", accuracy}, {"stability", stability}};
+    return nlohmann::json{{"date", today()},      {"devices", devices},
+                          {"width", o.width},     {"height", o.height},
+                          {"methods", o.methods}, {"stress_size", o.stressSize},
+                          {"accuracy", accuracy}, {"stability", stability},
+                          {"lod", lod},           {"lod_depth", kLodDepthMeaning}};
 }
 
 std::string studyMarkdown(const nlohmann::json& study)
@@ -344,6 +471,7 @@ std::string studyMarkdown(const nlohmann::json& study)
             "\n## First failing value per axis and method (cracks + double hits + wrong depth order + oracle "
             "mismatches > 0)\n\n" +
             firstFailureTable(study["stability"]);
+    if (study.contains("lod") && !study["lod"].empty()) md += lodTable(study["lod"]);
     return md;
 }
 

@@ -14,8 +14,15 @@
 // Stability: every case of every stress axis (study/stress.h) with every raster method: its cracks,
 // double hits and wrong-depth-order pixels, and its oracle mismatches, the pixels whose visible
 // primitive differs from the conformant graphics pipeline's (vulkan-graphics: Mesa's rasterizer on
-// lavapipe, the GPU's on NVIDIA), which draws each case once for all methods and backends. One JSON
-// holds both halves; ci/study-chart draws them.
+// lavapipe, the GPU's on NVIDIA), which draws each case once for all methods and backends.
+//
+// Level of detail (issue 29, study/lod.h): each LOD scene (the sphere of --lod-rings rings, the bunny,
+// the bunny subdivided to 16 times its triangles) from a near and a far camera, drawn with --lod off and
+// with --lod on at every error of --lod-errors, each frame against the --lod off one (coverage pixels
+// that differ and those beyond 1 pixel of its silhouette, depth error, colour PSNR), and against the
+// --lod off frame's SSAA reference (colour PSNR), with the triangles drawn and the visibility time (the
+// GPU frame less the shade stage, as `raster bench` reports it). One JSON holds all three;
+// ci/study-chart draws them.
 #ifndef RASTER_STUDY_H
 #define RASTER_STUDY_H
 
@@ -28,6 +35,7 @@
 
 #include "base/result.h"
 #include "render/renderer.h"
+#include "study/lod.h"
 #include "study/scenes.h"
 #include "study/settings.h"
 
@@ -43,14 +51,22 @@ struct StudyOptions {
     // accuracy half is left out.
     std::vector<std::string> scenes = studySceneNames();
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
+    // The level-of-detail group: its scenes (lodSceneNames(); "bunny" and "bunny-fine" are skipped when
+    // bunnyPath does not exist; empty: the group is left out), the sphere's rings (builtin:dense:N: 200
+    // is 160k triangles, for lavapipe; 5000 the 100M sphere) and the errors (--lod-error-px) each scene
+    // and camera is drawn with besides --lod off.
+    std::vector<std::string> lodScenes{"sphere", "bunny"};
+    int lodRings = 200;
+    std::vector<float> lodErrors{0.25f, 0.5f, 1.0f, 2.0f, 4.0f};
     uint32_t warmup = 1;
     uint32_t repeat = 5;
     int device = -1;
 };
 
 // Runs the study: {"date", "devices", "width", "height", "methods", "accuracy": [...], "stability":
-// [...]} as ci/study-chart reads it. Progress goes to stderr when it is a terminal; so does the one-line
-// note when vulkan-graphics cannot run (oracle_mismatches is then null).
+// [...], "lod": [...], "lod_depth"} as ci/study-chart reads it (measureLod gives the "lod" rows;
+// "lod_depth" says what their depth errors measure). Progress goes to stderr when it is a terminal; so does
+// the one-line note when vulkan-graphics cannot run (oracle_mismatches is then null).
 Result<nlohmann::json> runStudy(const StudyOptions& options);
 
 // The accuracy rows (study/quality.h's format) of one scene on `device`: the reference and every
@@ -59,6 +75,20 @@ Result<nlohmann::json> runStudy(const StudyOptions& options);
 Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& scene,
                                        const RenderSettings& base, const std::vector<std::string>& methods,
                                        const std::function<void(const std::string&)>& progress = {});
+
+// The level-of-detail rows of one scene on `device` (study/lod.h), its near camera's then its far
+// camera's, each the --lod off frame (the baseline) and then one per error in `errors`, drawn with `base`
+// (size, shading, warmup and repeat) and --lod on at that error. One RenderSession draws them all, so the
+// hierarchy is built once per scene and device. Each row: {"scene", "camera", "camera_spec" (the --camera
+// that draws the frame), "backend", "error_px" ("off" for the baseline, else the error), "triangles"
+// (drawn: the cut's with --lod on), "scene_triangles", "ms" (median GPU frame), "visibility_ms" (ms less
+// the shade stage), "coverage_px", "beyond_silhouette_px", "baseline_silhouette_px", "depth_max_error",
+// "depth_mean_error" (LodImageDiff against the baseline), "psnr_vs_off" and "psnr_vs_reference" (dB,
+// "inf" for an identical image; the reference is the baseline's frame at SSAA 4 x MSAA 16,
+// referenceSettings)}. `progress` hears what is being drawn.
+Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name, const Scene& scene,
+                                  const RenderSettings& base, const std::vector<float>& errors,
+                                  const std::function<void(const std::string&)>& progress = {});
 
 // `raster render --quality TARGET [--study FILE]`: the setting to render `scene` with on `device`, and
 // the line that reports it (study/quality.h). With a study file, its rows for the scene's name and the
@@ -81,8 +111,9 @@ struct ImageError {
 ImageError imageError(const RgbaImage& image, const RgbaImage& reference);
 
 // The markdown summary printed after a study: per scene and backend the settings with their time and
-// PSNR, per axis the failures of each case and method, and the first failing value per axis, backend
-// and method ("none up to X" when no case fails; the cases run in order of increasing stress).
+// PSNR, per axis the failures of each case and method, the first failing value per axis, backend and
+// method ("none up to X" when no case fails; the cases run in order of increasing stress), and, when the
+// study has "lod" rows, the level-of-detail table.
 std::string studyMarkdown(const nlohmann::json& study);
 
 }  // namespace sr

@@ -3,6 +3,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -81,7 +82,12 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_CLEAR,
          groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
-        {STAGE_CLUSTERS, groupsFor(p.clusterCount, CLUSTERS_PER_GROUP)},
+        {STAGE_LOD_CUT, p.lodScale > 0.0f ? groupsFor(p.clusterCount, GROUP_SIZE) : 0u},
+        {STAGE_CLUSTERS, p.lodScale > 0.0f
+                             ? std::min(groupsFor(p.clusterCount, CLUSTERS_PER_GROUP),
+                                        work.groups.rasterChunk != 0 ? uint32_t(LOD_CLUSTER_GROUPS_CPU)
+                                                                     : uint32_t(LOD_CLUSTER_GROUPS))
+                             : groupsFor(p.clusterCount, CLUSTERS_PER_GROUP)},
         {STAGE_SETUP,
          groupsFor(uint64_t(p.triangleCount) + p.lineCount + p.pointCount - p.setupFirstPrimitive,
                    GROUP_SIZE)},
@@ -455,10 +461,13 @@ Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, cons
         return makeError(ExitCode::Usage,
                          "--lod on draws triangles; it does not combine with --primitives lines or points or "
                          "--wireframe");
+    double buildMs = 0.0;
     if (!lod_) {
+        const auto start = std::chrono::steady_clock::now();
         auto state = std::make_shared<LodState>();
         state->hierarchy = buildLodHierarchy(*scene_);
         state->scene = lodScene(*scene_, state->hierarchy);
+        buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         forgetDeviceBuffers();
         auto session = RenderSession::create(*device_, state->scene);
         if (!session) return session.error();
@@ -471,6 +480,7 @@ Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, cons
     if (!out) return out;
     for (uint32_t& id : out->aov.id) id = lodAovId(id, lod_->hierarchy);
     for (uint32_t& id : out->samples.id) id = lodAovId(id, lod_->hierarchy);
+    out->stats.lodBuildMs = buildMs;
     return out;
 }
 
@@ -597,6 +607,7 @@ Result<uint32_t> RenderSession::frameClusters(const RenderSettings& settings, bo
             SR_TRY(uploadVector(*device_, BUF_CLUSTER_DATA, data));
             sizes_[BUF_CLUSTERS] = records.size() * sizeof(GpuCluster);
             sizes_[BUF_CLUSTER_DATA] = data.size() * sizeof(uint32_t);
+            SR_TRY(ensureSize(BUF_LOD_CUT, records.size() * sizeof(uint32_t)));
             clustersUploaded_ = true;
         }
         return uint32_t(lodHierarchy_->clusters.clusters.size());

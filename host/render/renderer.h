@@ -81,6 +81,7 @@ struct RenderStats {
     // trianglesIn), and the scene's own triangles, which --lod off would have drawn.
     uint64_t lodTriangles = 0;
     uint64_t lodSceneTriangles = 0;
+    double lodBuildMs = 0.0;    // host time building the hierarchy and its scene (the frame that built them)
     uint32_t redraws = 0;       // frames redrawn after growing an overflowing list or for a skipped stage
     ListCapacities capacities;  // final capacities of the lists
     // Whether the counts after the inputs (culled, clipped, rasterized, ...) were measured: false for

@@ -340,24 +340,19 @@ void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
     clusters.reserve(set.clusters.size());
     data.reserve(set.vertices.size() + 2 * set.triangleIds.size() +
                  (lod ? CLUSTER_LOD_WORDS * set.clusters.size() : 0));
+    // With level of detail, every cluster's words first (stage lod_cut reads them by cluster index).
+    if (lod)
+        for (size_t k = 0; k < set.clusters.size(); ++k) {
+            const ClusterLod& l = (*lod)[k];
+            const float words[10] = {
+                l.own.sphere.x,    l.own.sphere.y,    l.own.sphere.z,    l.own.sphere.w,    l.own.error,
+                l.parent.sphere.x, l.parent.sphere.y, l.parent.sphere.z, l.parent.sphere.w, l.parent.error};
+            for (float w : words) data.push_back(floatBits(w));
+            data.push_back(set.clusters[k].triangleCount);
+            data.push_back(0u);
+        }
     for (size_t k = 0; k < set.clusters.size(); ++k) {
         const Cluster& c = set.clusters[k];
-        if (lod) {
-            const ClusterLod& l = (*lod)[k];
-            const float words[CLUSTER_LOD_WORDS] = {l.own.sphere.x,
-                                                    l.own.sphere.y,
-                                                    l.own.sphere.z,
-                                                    l.own.sphere.w,
-                                                    l.own.error,
-                                                    l.parent.sphere.x,
-                                                    l.parent.sphere.y,
-                                                    l.parent.sphere.z,
-                                                    l.parent.sphere.w,
-                                                    l.parent.error,
-                                                    0.0f,
-                                                    0.0f};
-            for (float w : words) data.push_back(floatBits(w));
-        }
         GpuCluster g{};
         g.sphere = c.sphere;
         g.cone = c.cone;
