@@ -367,10 +367,20 @@ LodHierarchy buildLodHierarchy(const Scene& scene)
             results[g] = simplifyGroup(scene, work, groups[g], parts[work[groups[g][0]].part].second);
         });
 
+        // A group that does not simplify (most of it on its locked border) leaves its clusters to the next
+        // level, where they are grouped again with other neighbours; the clusters in no group go on too.
         std::vector<WorkCluster> next;
+        std::vector<bool> grouped(work.size(), false);
+        for (const auto& g : groups)
+            for (uint32_t m : g) grouped[m] = true;
+        bool simplified = false;
         for (size_t g = 0; g < groups.size(); ++g) {
             GroupResult& r = results[g];
-            if (!r.simplified) continue;
+            if (!r.simplified) {
+                for (uint32_t m : groups[g]) next.push_back(std::move(work[m]));
+                continue;
+            }
+            simplified = true;
             // The group's bound: its members' spheres and errors, plus its own simplification's error.
             std::vector<glm::vec4> spheres;
             double error = 0.0;
@@ -422,7 +432,9 @@ LodHierarchy buildLodHierarchy(const Scene& scene)
             }
             r = GroupResult{};
         }
-        if (next.empty()) break;
+        if (!simplified) break;
+        for (uint32_t k = 0; k < work.size(); ++k)
+            if (!grouped[k] && std::isfinite(work[k].sphere.w)) next.push_back(std::move(work[k]));
         work = std::move(next);
         h.levels = level + 1;
     }
