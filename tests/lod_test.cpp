@@ -6,12 +6,12 @@
 // error is at least theirs) and hold their clusters' vertices; a group's border (borderEdges) is the
 // border of what it was simplified to. Then cuts, for cameras near and far and
 // errors from a quarter pixel to 64 pixels: every scene triangle is drawn exactly once through the
-// hierarchy (a level-0 cluster, or every cluster that replaced its group, recursively), and no drawn
-// cluster overlaps the clusters it was made from. On the devices: a closed sphere drawn with its back
-// faces has an even number of hits on every sample (a crack makes it odd) at every error and distance,
-// far views draw fewer triangles, --lod off after --lod on draws today's frame, the two backends draw
-// the same cut, and lavapipe's graphics pipeline, drawing the cut the host takes with the same test,
-// agrees with the compute pipeline.
+// hierarchy (a level-0 cluster, or every cluster that replaced its group, recursively), no drawn
+// cluster overlaps the clusters it was made from, and a block that lod_cut skips whole holds none of it. On
+// the devices: a closed sphere drawn with its back faces has an even number of hits on every sample (a crack
+// makes it odd) at every error and distance, far views draw fewer triangles, --lod off after --lod on draws
+// today's frame, the two backends draw the same cut, and lavapipe's graphics pipeline, drawing the cut the
+// host takes with the same test, agrees with the compute pipeline.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -196,6 +196,8 @@ enum class Fate { Drawn, Finer, Coarser };
 // For every scene triangle, how many times the cut draws it: through its level-0 cluster when that is
 // drawn, else through the clusters made from the group it is simplified in, each of which must draw its
 // share exactly once (recursively). 1 everywhere is a cut without holes or overlaps.
+size_t skippedBlocks = 0, cuts = 0;  // over checkCut's calls: the block test must be at work
+
 void checkCut(const LodHierarchy& h, const RasterParams& p, const std::string& what)
 {
     const size_t clusters = h.clusters.clusters.size();
@@ -240,6 +242,18 @@ void checkCut(const LodHierarchy& h, const RasterParams& p, const std::string& w
         drawn += fate[k] == Fate::Drawn ? h.clusters.clusters[k].triangleCount : 0;
     }
     EXPECT_GT(drawn, 0u) << what;
+    // A block that lod_cut skips whole holds no cluster of the cut.
+    for (size_t first = 0; first < clusters; first += CLUSTER_LOD_BLOCK) {
+        const size_t count = std::min<size_t>(CLUSTER_LOD_BLOCK, clusters - first);
+        const LodBlock b = lodBlock(h.bounds.data() + first, count);
+        if (!b.skippable || !lodBlockSkipped(p, b.parent.sphere, b.parent.error, b.own.sphere, b.own.error))
+            continue;
+        ++skippedBlocks;
+        for (size_t k = first; k < first + count; ++k) {
+            ASSERT_NE(fate[k], Fate::Drawn) << what << " cluster " << k << " in a skipped block";
+        }
+    }
+    ++cuts;
 }
 
 CameraMatrices orbitAt(const Scene& scene, float azimuth, float radii, uint32_t w, uint32_t h)
@@ -275,6 +289,8 @@ TEST(LodHierarchy, EveryCutDrawsEveryTriangleOnce)
                          name + " at " + std::to_string(radii) + " radii, " + std::to_string(error) + " px");
             }
     }
+    std::printf("%zu blocks skipped whole over %zu cuts\n", skippedBlocks, cuts);
+    EXPECT_GT(skippedBlocks, cuts);
 }
 
 class LodPipelineTest : public BackendTest {};

@@ -107,8 +107,47 @@ SR_FN uint clusterCull(RasterParams params, GpuCluster c)
 // The containment makes w_min of a parent no larger than of its members, so the choice is monotonic (a
 // member too coarse has a parent too coarse); the host widens parent spheres by a relative 2^-10 to keep
 // that through the float rounding of w(centre).
+// Blocks of CLUSTER_LOD_BLOCK consecutive clusters (a lod_cut group) carry bounds of their clusters' bounds,
+// so that a group can skip its clusters without reading them: a sphere holding every parent sphere with
+// the largest parent error, and a sphere holding every own sphere with the smallest own error. No cluster
+// of the block is in the cut where no parent bound is too coarse (the block's parent sphere is no nearer
+// than any of them and its error no smaller) or where every own bound is (the farthest clip w of the
+// block's own sphere is at least every own sphere's nearest, and its error no larger). Both tests are made
+// with a slack for the float rounding of the clip w of either sphere, so that a skipped block holds no
+// cluster that clusterLodDrawn would draw. A block with a bound that is not finite is never skipped.
+#define CLUSTER_LOD_BLOCK GROUP_SIZE
+SR_FN bool lodBlockSkipped(RasterParams params, vec4 parentSphere, float parentMaxError, vec4 ownSphere,
+                           float ownMinError)
+{
+    vec4 wRow = params.clusterPlanes[CLUSTER_PLANE_W];
+    // Every parent fine enough: the block's nearest clip w, less the slack, still at or past the largest
+    // error's threshold.
+    SR_PRECISE float pCentre =
+        ((wRow.x * parentSphere.x + wRow.y * parentSphere.y) + wRow.z * parentSphere.z) + wRow.w;
+    SR_PRECISE float pReach = parentSphere.w * params.lodWLength;
+    SR_PRECISE float pSlack = 2.0e-6f * (((abs(wRow.x * parentSphere.x) + abs(wRow.y * parentSphere.y)) +
+                                          abs(wRow.z * parentSphere.z)) + abs(wRow.w) + pReach);
+    SR_PRECISE float pNearest = (pCentre - pReach) - pSlack;
+    SR_PRECISE float pAllowed = parentMaxError * params.lodScale;
+    if (pNearest >= pAllowed) return true;
+    // Every own bound too coarse: the block's farthest clip w, plus the slack, short of the smallest
+    // error's threshold (an own error of 0, the scene's clusters, is never too coarse).
+    if (!(ownMinError > 0.0f)) return false;
+    SR_PRECISE float oCentre =
+        ((wRow.x * ownSphere.x + wRow.y * ownSphere.y) + wRow.z * ownSphere.z) + wRow.w;
+    SR_PRECISE float oReach = ownSphere.w * params.lodWLength;
+    SR_PRECISE float oSlack = 2.0e-6f * (((abs(wRow.x * ownSphere.x) + abs(wRow.y * ownSphere.y)) +
+                                          abs(wRow.z * ownSphere.z)) + abs(wRow.w) + oReach);
+    SR_PRECISE float oFarthest = (oCentre + oReach) + oSlack;
+    SR_PRECISE float oAllowed = ownMinError * params.lodScale;
+    return oFarthest < oAllowed;
+}
+
 // Cluster k's words at the head of BUF_CLUSTER_DATA, from k * CLUSTER_LOD_WORDS (float bits unless said):
 // own sphere xyz r, own error, parent sphere xyz r, parent error, its triangle count (uint), one unused.
+// After them (from clusterCount * CLUSTER_LOD_WORDS) block b's CLUSTER_LOD_WORDS: parent sphere xyz r,
+// largest parent error, own sphere xyz r, smallest own error, 1 where the block is never skipped (uint),
+// one unused.
 // Stage lod_cut (cuda/lod_cut.cuh, compute_glsl/lod_cut.comp) takes the cut with a thread per cluster and
 // lists the clusters drawn for stage clusters.
 #define CLUSTER_LOD_WORDS 12u
@@ -122,7 +161,7 @@ SR_FN bool lodTooCoarse(RasterParams params, vec4 sphere, float error)
     SR_PRECISE float wCentre = ((wRow.x * sphere.x + wRow.y * sphere.y) + wRow.z * sphere.z) + wRow.w;
     SR_PRECISE float wNearest = wCentre - sphere.w * params.lodWLength;
     SR_PRECISE float allowed = error * params.lodScale;
-    return wNearest < allowed;
+    return !(wNearest >= allowed);  // a sphere that is not finite is too coarse: its parents are drawn
 }
 
 // Whether the level-of-detail cut draws a cluster with these bounds (see above).

@@ -339,7 +339,7 @@ void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
     data.clear();
     clusters.reserve(set.clusters.size());
     data.reserve(set.vertices.size() + 2 * set.triangleIds.size() +
-                 (lod ? CLUSTER_LOD_WORDS * set.clusters.size() : 0));
+                 (lod ? CLUSTER_LOD_WORDS * (set.clusters.size() * 2 + 1) : 0));
     // With level of detail, every cluster's words first (stage lod_cut reads them by cluster index).
     if (lod)
         for (size_t k = 0; k < set.clusters.size(); ++k) {
@@ -349,6 +349,18 @@ void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
                 l.parent.sphere.x, l.parent.sphere.y, l.parent.sphere.z, l.parent.sphere.w, l.parent.error};
             for (float w : words) data.push_back(floatBits(w));
             data.push_back(set.clusters[k].triangleCount);
+            data.push_back(0u);
+        }
+    // Then every block's bounds of its clusters' bounds (lodBlock).
+    if (lod)
+        for (size_t first = 0; first < set.clusters.size(); first += CLUSTER_LOD_BLOCK) {
+            const LodBlock b = lodBlock(lod->data() + first,
+                                        std::min<size_t>(CLUSTER_LOD_BLOCK, set.clusters.size() - first));
+            const float words[10] = {
+                b.parent.sphere.x, b.parent.sphere.y, b.parent.sphere.z, b.parent.sphere.w, b.parent.error,
+                b.own.sphere.x,    b.own.sphere.y,    b.own.sphere.z,    b.own.sphere.w,    b.own.error};
+            for (float w : words) data.push_back(floatBits(w));
+            data.push_back(b.skippable ? 0u : 1u);
             data.push_back(0u);
         }
     for (size_t k = 0; k < set.clusters.size(); ++k) {

@@ -75,7 +75,7 @@ bool clusterConeBackFacing(const Cluster& c, const glm::vec3& eye);
 // cluster's vertex list, then two words per triangle: its scene id, its corners 8 bits each with
 // CLUSTER_TRI_DOUBLE_SIDED from the scene's triangle flags `triFlags`).
 // With `lod` (one per cluster, host/scene/lod.h), BUF_CLUSTER_DATA begins with every cluster's
-// CLUSTER_LOD_WORDS level-of-detail words (common/shared/cluster.h).
+// CLUSTER_LOD_WORDS level-of-detail words, then every block's (common/shared/cluster.h).
 struct ClusterLod;
 void gpuClusters(const ClusterSet& set, const std::vector<uint32_t>& triFlags,
                  std::vector<GpuCluster>& clusters, std::vector<uint32_t>& data,

@@ -444,6 +444,29 @@ LodHierarchy buildLodHierarchy(const Scene& scene)
     return h;
 }
 
+LodBlock lodBlock(const ClusterLod* bounds, size_t count)
+{
+    LodBlock block;
+    std::vector<glm::vec4> parents, owns;
+    block.parent.error = 0.0f;
+    block.own.error = INFINITY;
+    for (size_t k = 0; k < count; ++k) {
+        const ClusterLod& b = bounds[k];
+        for (const glm::vec4& sphere : {b.parent.sphere, b.own.sphere})
+            block.skippable = block.skippable && std::isfinite(sphere.x) && std::isfinite(sphere.y) &&
+                              std::isfinite(sphere.z) && std::isfinite(sphere.w);
+        block.skippable = block.skippable && std::isfinite(b.parent.error);
+        parents.push_back(b.parent.sphere);
+        owns.push_back(b.own.sphere);
+        block.parent.error = std::max(block.parent.error, b.parent.error);
+        block.own.error = std::min(block.own.error, b.own.error);
+    }
+    if (!block.skippable) return block;
+    block.parent.sphere = enclosingSphere(parents);
+    block.own.sphere = enclosingSphere(owns);
+    return block;
+}
+
 uint64_t LodHierarchy::deviceBytes() const
 {
     const uint64_t words = clusters.vertices.size() + 2 * clusters.triangleIds.size() +

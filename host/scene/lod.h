@@ -80,6 +80,16 @@ LodHierarchy buildLodHierarchy(const Scene& scene);
 // follow them, their ids moved up by as many).
 Scene lodScene(const Scene& scene, const LodHierarchy& lod);
 
+// The bounds of a block of clusters (common/shared/cluster.h's lodBlockSkipped): a sphere holding every
+// parent sphere and the largest parent error, a sphere holding every own sphere and the smallest own
+// error; `skippable` false where a bound is not finite (the block is never skipped).
+struct LodBlock {
+    LodBound parent;
+    LodBound own;
+    bool skippable = true;
+};
+LodBlock lodBlock(const ClusterLod* bounds, size_t count);
+
 // RasterParams' level-of-detail fields (lodScale, lodWLength) for an error of `errorPx` output pixels;
 // the clip transform, width, height, ssaa and clusterPlanes already set (setClusterParams).
 void setLodParams(RasterParams& p, float errorPx);
