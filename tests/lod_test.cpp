@@ -391,6 +391,29 @@ TEST_P(LodPipelineTest, LodWithTessellationIsRefused)
     EXPECT_NE(out.error().message.find("--lod"), std::string::npos) << out.error().message;
 }
 
+// A vertex that is not finite: its clusters never simplify (they are roots, always drawn), so its
+// triangles are dropped and counted invalid as without level of detail, and the rest is drawn.
+TEST_P(LodPipelineTest, NonFiniteVerticesAreCountedInvalidAsWithoutIt)
+{
+    Scene scene = namedScene("builtin:dense:24");
+    scene.positions[scene.indices[300]].x = NAN;
+    scene.positions[scene.indices[900]].y = INFINITY;
+    const CameraMatrices camera = orbitAt(scene, 10.0f, 6.0f, 96, 96);
+    RenderSettings off = testSettings(96, 96);
+    off.clusters = CLUSTERS_ON;
+    const RenderOutput without = render(scene, off, camera);
+    for (float error : {0.25f, 4.0f}) {
+        RenderSettings s = lodSettings(96, 96, error);
+        const RenderOutput with = render(scene, s, camera);
+        EXPECT_GT(with.stats.invalid, 0u) << error;
+        EXPECT_EQ(with.stats.invalid, without.stats.invalid) << error;
+        EXPECT_LT(with.stats.lodTriangles, scene.triangleCount()) << error;
+        size_t covered = 0;
+        for (uint32_t id : with.aov.id) covered += id != EMPTY_ID;
+        EXPECT_GT(covered, 200u) << error;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, LodPipelineTest, ::testing::Values("vulkan", "cuda"));
 
 // lavapipe's graphics pipeline drawing the host's cut against the compute pipeline drawing its own: the
