@@ -62,6 +62,22 @@ def test_camera_distance_in_bounding_radii_matches_the_cli(vulkan, tmp_path):
     assert frame.stats["camera"]["spec"] == "orbit:30,20,2.5r"
 
 
+def test_level_of_detail_is_a_keyword_and_matches_the_cli(vulkan, tmp_path):
+    # lod="on" draws the cut the command line's --lod on draws (the same image), fewer triangles than the
+    # sphere has, and the id array still names the scene's triangles.
+    scene = raster.Scene.load("builtin:dense")
+    frame = vulkan.render(scene, W, H, "orbit:20,25,2.5r", lod="on", lod_error_px=2.0)
+    full = vulkan.render(scene, W, H, "orbit:20,25,2.5r")
+    assert 0 < frame.stats["lod"]["triangles"] < frame.stats["lod"]["scene_triangles"]
+    assert "lod" not in full.stats
+    covered = frame.ids != raster.EMPTY_ID
+    assert covered.sum() > 100 and (frame.ids[covered] < frame.stats["lod"]["scene_triangles"]).all()
+    png = tmp_path / "cli.png"
+    run_cli("render", "builtin:dense", "--backend", "vulkan", "--width", W, "--height", H, "--camera",
+            "orbit:20,25,2.5r", "--lod", "on", "--lod-error-px", 2, "--msaa", 1, "--warmup", 0, "-q", "-o", png)
+    np.testing.assert_array_equal(frame.color, read_png(png))
+
+
 def test_rows_from_the_top_with_explicit_matrices(vulkan):
     # A triangle in the upper half of NDC (y < 0 is up in Vulkan's clip space) covers only top rows.
     pos = np.array([[-0.5, -0.9, 0.5], [0.5, -0.9, 0.5], [0.0, -0.2, 0.5]], np.float32)
