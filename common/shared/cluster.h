@@ -125,8 +125,10 @@ SR_FN bool lodBlockSkipped(RasterParams params, vec4 parentSphere, float parentM
     SR_PRECISE float pCentre =
         ((wRow.x * parentSphere.x + wRow.y * parentSphere.y) + wRow.z * parentSphere.z) + wRow.w;
     SR_PRECISE float pReach = parentSphere.w * params.lodWLength;
-    SR_PRECISE float pSlack = 2.0e-6f * (((abs(wRow.x * parentSphere.x) + abs(wRow.y * parentSphere.y)) +
-                                          abs(wRow.z * parentSphere.z)) + abs(wRow.w) + pReach);
+    SR_PRECISE float pSlack =
+        2.0e-6f *
+        (((abs(wRow.x * parentSphere.x) + abs(wRow.y * parentSphere.y)) + abs(wRow.z * parentSphere.z)) +
+         abs(wRow.w) + pReach);
     SR_PRECISE float pNearest = (pCentre - pReach) - pSlack;
     SR_PRECISE float pAllowed = parentMaxError * params.lodScale;
     if (pNearest >= pAllowed) return true;
@@ -136,8 +138,9 @@ SR_FN bool lodBlockSkipped(RasterParams params, vec4 parentSphere, float parentM
     SR_PRECISE float oCentre =
         ((wRow.x * ownSphere.x + wRow.y * ownSphere.y) + wRow.z * ownSphere.z) + wRow.w;
     SR_PRECISE float oReach = ownSphere.w * params.lodWLength;
-    SR_PRECISE float oSlack = 2.0e-6f * (((abs(wRow.x * ownSphere.x) + abs(wRow.y * ownSphere.y)) +
-                                          abs(wRow.z * ownSphere.z)) + abs(wRow.w) + oReach);
+    SR_PRECISE float oSlack =
+        2.0e-6f * (((abs(wRow.x * ownSphere.x) + abs(wRow.y * ownSphere.y)) + abs(wRow.z * ownSphere.z)) +
+                   abs(wRow.w) + oReach);
     SR_PRECISE float oFarthest = (oCentre + oReach) + oSlack;
     SR_PRECISE float oAllowed = ownMinError * params.lodScale;
     return oFarthest < oAllowed;
