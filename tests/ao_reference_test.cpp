@@ -10,6 +10,7 @@
 // nothing. The estimate is stratified over 64 x 64 rays, so it is within a few thousandths.
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,14 @@ double aoAtOrigin(const Scene& scene, double radius)
     return referenceAo(bvh, glm::dvec3(0.0), glm::dvec3(0, 0, 1), radius, kSide, kBias);
 }
 
+// The estimate at the origin of `scene` against its closed form, printed for the record.
+void expectClosedForm(const Scene& scene, double radius, double expected, const std::string& what)
+{
+    const double ao = aoAtOrigin(scene, radius);
+    std::printf("%s: %.4f, closed form %.4f\n", what.c_str(), ao, expected);
+    EXPECT_NEAR(ao, expected, kTolerance) << what;
+}
+
 TEST(ReferenceAo, APlaneAloneIsUnoccluded)
 {
     Scene scene;
@@ -73,10 +82,8 @@ TEST(ReferenceAo, AStepOfHeightHAtDistanceD)
         // The step's face x = d, 1e5 units along y each way (so that almost no ray passes its ends
         // within the radius), and its top z = h.
         addQuad(scene, {d, -1e5, 0}, {d, 1e5, 0}, {d, 1e5, h}, {d, -1e5, h});
-        const double expected = 0.5 * (1.0 + d / std::sqrt(d * d + h * h));
-        const double ao = aoAtOrigin(scene, 1e4);
-        std::printf("step d %g H %g: %.4f, closed form %.4f\n", d, h, ao, expected);
-        EXPECT_NEAR(ao, expected, kTolerance) << "d " << d << " H " << h;
+        expectClosedForm(scene, 1e4, 0.5 * (1.0 + d / std::sqrt(d * d + h * h)),
+                         "step d " + std::to_string(d) + " H " + std::to_string(h));
     }
 }
 
@@ -94,10 +101,8 @@ TEST(ReferenceAo, UnderASphereOfRadiusRAtHeightH)
         Scene scene;
         addFloor(scene, 100.0);
         addSphere(scene, {0, 0, h}, r, 96);
-        const double expected = 1.0 - (r / h) * (r / h);
-        const double ao = aoAtOrigin(scene, 50.0);
-        std::printf("sphere r %g h %g: %.4f, closed form %.4f\n", r, h, ao, expected);
-        EXPECT_NEAR(ao, expected, kTolerance) << "r " << r << " h " << h;
+        expectClosedForm(scene, 50.0, 1.0 - (r / h) * (r / h),
+                         "sphere r " + std::to_string(r) + " h " + std::to_string(h));
     }
 }
 

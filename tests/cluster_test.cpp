@@ -20,13 +20,6 @@
 namespace sr::test {
 namespace {
 
-Scene sceneNamed(const std::string& name)
-{
-    auto scene = name.rfind("builtin", 0) == 0 ? builtinSceneNamed(name) : loadScene(glmark2Model(name));
-    EXPECT_TRUE(scene.ok()) << name << ": " << (scene.ok() ? "" : scene.error().message);
-    return scene.ok() ? std::move(*scene) : Scene{};
-}
-
 // Whether vertices a and b are the same to visibility: positions bitwise equal.
 bool samePosition(const Scene& scene, uint32_t a, uint32_t b)
 {
@@ -80,7 +73,7 @@ void checkClusters(const Scene& scene, const ClusterSet& set, const std::string&
 TEST(Clusters, EveryTriangleInExactlyOneClusterWithinTheLimitsAndTheBounds)
 {
     for (const char* name : {"builtin", "builtin:dense", "builtin:checker", "bunny.obj"}) {
-        Scene scene = sceneNamed(name);
+        Scene scene = namedScene(name);
         ASSERT_GT(scene.indices.size(), 0u) << name;
         ClusterSet set = buildClusters(scene);
         ASSERT_FALSE(set.clusters.empty()) << name;
@@ -112,7 +105,7 @@ bool triangleFacesAway(const Scene& scene, uint32_t id, const glm::vec3& eye)
 TEST(Clusters, ConeCullingNeverCullsATriangleThatFacesTheViewer)
 {
     for (const char* name : {"builtin", "builtin:dense", "bunny.obj"}) {
-        Scene scene = sceneNamed(name);
+        Scene scene = namedScene(name);
         ClusterSet set = buildClusters(scene);
         glm::vec3 lo(INFINITY), hi(-INFINITY);
         for (const glm::vec4& p : scene.positions) {
@@ -196,7 +189,7 @@ RasterParams orbitParams(const Scene& scene, float azimuth, float elevation, flo
 TEST(Clusters, ClusterCullingDropsOnlyWhatSetupDrops)
 {
     for (const char* name : {"builtin", "builtin:dense", "bunny.obj"}) {
-        Scene scene = sceneNamed(name);
+        Scene scene = namedScene(name);
         ClusterSet set = buildClusters(scene);
         std::vector<GpuCluster> records;
         std::vector<uint32_t> data;
@@ -273,7 +266,7 @@ TEST(Clusters, DenseSphereSpecs)
 // scenes without triangles.
 TEST(Clusters, NonFiniteVerticesNeverCullAndEmptyScenesHaveNoClusters)
 {
-    Scene scene = sceneNamed("builtin");
+    Scene scene = namedScene("builtin");
     scene.positions[scene.indices[0]] = glm::vec4(NAN, 0.0f, 0.0f, 1.0f);
     // Degenerate triangles (a repeated corner, or twice the same triangle) are clustered like any other.
     for (uint32_t i : {0u, 0u, 1u, 5u, 6u, 7u, 5u, 6u, 7u}) scene.indices.push_back(i);

@@ -33,13 +33,6 @@
 namespace sr::test {
 namespace {
 
-Scene namedScene(const std::string& name)
-{
-    auto scene = name.rfind("builtin", 0) == 0 ? builtinSceneNamed(name) : loadScene(glmark2Model(name));
-    EXPECT_TRUE(scene.ok()) << name << ": " << (scene.ok() ? "" : scene.error().message);
-    return scene.ok() ? std::move(*scene) : Scene{};
-}
-
 bool sameBound(const LodBound& a, const LodBound& b)
 {
     return std::memcmp(&a.sphere, &b.sphere, sizeof a.sphere) == 0 &&

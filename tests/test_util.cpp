@@ -304,6 +304,13 @@ std::string glmark2Model(const std::string& name)
     return std::string(root ? root : "/usr/share/glmark2/models") + "/" + name;
 }
 
+Scene namedScene(const std::string& name)
+{
+    auto scene = name.rfind("builtin", 0) == 0 ? builtinSceneNamed(name) : loadScene(glmark2Model(name));
+    EXPECT_TRUE(scene.ok()) << name << ": " << (scene.ok() ? "" : scene.error().message);
+    return scene.ok() ? std::move(*scene) : Scene{};
+}
+
 ToolRun runTool(const std::string& args, const std::string& workDir, const std::string& wrapper)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.

@@ -209,6 +209,9 @@ size_t countId(const AovImage& aov, uint32_t id);
 // A model of Debian's glmark2-data (/usr/share/glmark2/models/NAME); SR_GLMARK2_MODELS names another
 // folder (the GPU machine has no Debian packages: ci/gpu-bundle carries the bunny).
 std::string glmark2Model(const std::string& name);
+// A built-in scene by name ("builtin...", builtinSceneNamed) or a glmark2 model by file name; an empty
+// scene after a failure that the test reports.
+Scene namedScene(const std::string& name);
 
 struct ToolRun {
     int exitCode = -1;

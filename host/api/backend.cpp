@@ -36,10 +36,6 @@ Result<RenderOutput> renderGraphicsLod(const Scene& scene, const CameraMatrices&
                                        const RenderSettings& s, int device)
 {
     SR_TRY(checkRenderInputs(scene, s));
-    if (s.tessellate != TESS_OFF || scene.display)
-        return makeError(ExitCode::Usage,
-                         "--lod on does not combine with --tessellate, --primitives lines or "
-                         "points or --wireframe");
     const LodHierarchy lod = buildLodHierarchy(scene);
     const Scene full = lodScene(scene, lod);
     RasterParams p = frameParams(full, camera, s, {}, {});

@@ -241,6 +241,12 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
     // Each value and their combinations are checked by the settings schema, the one place that knows
     // their ranges.
     SR_TRY(checkSettings(settings));
+    // Level of detail simplifies triangles: a display form (lines, points, the wireframe overlay) has
+    // none of its own to simplify.
+    if (settings.lod == LOD_ON && scene.display)
+        return makeError(ExitCode::Usage,
+                         "--lod on draws triangles; it does not combine with --primitive-mode "
+                         "lines or points or --wireframe");
     return checkSceneInputs(scene);
 }
 
@@ -452,15 +458,6 @@ struct RenderSession::LodState {
 
 Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, const RenderSettings& settings)
 {
-    if (settings.tessellate != TESS_OFF)
-        return makeError(
-            ExitCode::Usage,
-            "--lod on draws the scene's triangles at the screen's resolution; it does not combine "
-            "with --tessellate (turn one of them off)");
-    if (scene_->display)
-        return makeError(ExitCode::Usage,
-                         "--lod on draws triangles; it does not combine with --primitives lines or points or "
-                         "--wireframe");
     double buildMs = 0.0;
     if (!lod_) {
         const auto start = std::chrono::steady_clock::now();

@@ -243,7 +243,7 @@ std::vector<Setting> makeSchema()
         "geometry", "lod", &RenderSettings::lod, {{"off", LOD_OFF}, {"on", LOD_ON}},
         "level of detail: draw each part of a mesh at the coarsest level of its cluster hierarchy (built "
         "at load time with meshoptimizer, borders locked: no cracks) whose error projects within "
-        "--lod-error-px; off draws every triangle. Not with --tessellate, --primitives lines/points or "
+        "--lod-error-px; off draws every triangle. Not with --tessellate, --primitive-mode lines/points or "
         "--wireframe"));
     t.push_back(floatSetting("geometry", "lod-error-px", &RenderSettings::lodErrorPx, 0.015625, 1024.0, 0.0,
                              "with --lod on: the geometric error allowed on screen, in output pixels"));
@@ -513,6 +513,11 @@ Status checkSettings(const RenderSettings& settings)
     if ((settings.tessellate == TESS_FLAT || settings.tessellate == TESS_PN) && settings.tessMaxLevel < 1)
         return makeError(ExitCode::Usage, "--tess-max-level {} is outside 1..{}", settings.tessMaxLevel,
                          TESS_MAX_LEVEL);
+    if (settings.lod == LOD_ON && settings.tessellate != TESS_OFF)
+        return makeError(
+            ExitCode::Usage,
+            "--lod on simplifies the scene's triangles and --tessellate refines them; they do not "
+            "combine (turn one of them off)");
     if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
         return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
     return okStatus();
