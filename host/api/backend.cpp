@@ -1,8 +1,6 @@
 // backend.cpp - the one place where the backend is chosen at run time.
 #include "api/backend.h"
 
-#include <algorithm>
-
 #include "render/tessellate.h"
 #include "scene/lod.h"
 #include "vulkan/vulkan_graphics.h"
@@ -30,8 +28,8 @@ namespace {
 // The graphics pipeline's frame with level of detail: the host builds the same hierarchy, takes the same
 // cut with the same shared test (clusterLodDrawn, from the same parameters as the compute stages), and
 // draws the cut's triangles in the order of their ids in lodScene (the compute pipeline's visibility
-// keeps the lower id on equal depth; the graphics pipeline keeps the first drawn), then names them as
-// the compute path does (lodAovId).
+// keeps the lower id on equal depth; the graphics pipeline keeps the first drawn), each at its place in
+// lodScene, then names them as the compute path does (lodAovId).
 Result<RenderOutput> renderGraphicsLod(const Scene& scene, const CameraMatrices& camera,
                                        const RenderSettings& s, int device)
 {
@@ -41,40 +39,28 @@ Result<RenderOutput> renderGraphicsLod(const Scene& scene, const CameraMatrices&
     RasterParams p = frameParams(full, camera, s, {}, {});
     setClusterParams(p, uint32_t(lod.clusters.clusters.size()), s.rasterMethod);
     setLodParams(p, s.lodErrorPx);
-    std::vector<uint32_t> cut;  // ids in `full`
-    if (lod.clusters.clusters.empty()) {
-        cut.resize(scene.triangleCount());
-        for (uint32_t t = 0; t < cut.size(); ++t) cut[t] = t;
-    }
+    // Every triangle of `full` keeps its place, so that the graphics pipeline's primitive ids are the
+    // compute pipeline's (the id view colours by them); a triangle outside the cut is drawn as its first
+    // corner three times, which covers nothing.
+    std::vector<bool> inCut(full.triangleCount(), lod.clusters.clusters.empty());
+    uint64_t cutTriangles = lod.clusters.clusters.empty() ? scene.triangleCount() : 0;
     for (size_t k = 0; k < lod.clusters.clusters.size(); ++k) {
         if (!lodClusterDrawn(p, lod, k)) continue;
         const Cluster& c = lod.clusters.clusters[k];
-        cut.insert(cut.end(), lod.clusters.triangleIds.begin() + c.triangleOffset,
-                   lod.clusters.triangleIds.begin() + c.triangleOffset + c.triangleCount);
+        for (uint32_t t = 0; t < c.triangleCount; ++t)
+            inCut[lod.clusters.triangleIds[c.triangleOffset + t]] = true;
+        cutTriangles += c.triangleCount;
     }
-    std::sort(cut.begin(), cut.end());
     Scene drawn = full;
-    drawn.indices.clear();
-    drawn.triFlags.clear();
-    drawn.triMaterials.clear();
-    for (uint32_t id : cut) {
-        drawn.indices.insert(drawn.indices.end(), full.indices.begin() + 3 * size_t(id),
-                             full.indices.begin() + 3 * size_t(id) + 3);
-        drawn.triFlags.push_back(full.triFlags[id]);
-        if (!full.materials.empty()) drawn.triMaterials.push_back(full.triMaterials[id]);
-    }
+    for (size_t t = 0; t < inCut.size(); ++t)
+        if (!inCut[t]) drawn.indices[3 * t + 1] = drawn.indices[3 * t + 2] = drawn.indices[3 * t];
     RenderSettings plain = s;
     plain.lod = LOD_OFF;
     auto out = renderVulkanGraphics(drawn, camera, plain, device);
     if (!out) return out;
-    const auto drawnTriangles = uint32_t(cut.size());
-    auto name = [&](uint32_t id) {
-        if (id == EMPTY_ID) return id;
-        return id < drawnTriangles ? lodAovId(cut[id], lod) : id - drawnTriangles + lod.sceneTriangles;
-    };
-    for (uint32_t& id : out->aov.id) id = name(id);
-    for (uint32_t& id : out->samples.id) id = name(id);
-    out->stats.lodTriangles = out->stats.trianglesIn = cut.size();
+    for (uint32_t& id : out->aov.id) id = lodAovId(id, lod);
+    for (uint32_t& id : out->samples.id) id = lodAovId(id, lod);
+    out->stats.lodTriangles = out->stats.trianglesIn = cutTriangles;
     out->stats.lodSceneTriangles = scene.triangleCount();
     return out;
 }
