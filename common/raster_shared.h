@@ -11,6 +11,7 @@
 //   texture.h      textures: level of detail, level and texel selection, wrap modes, filters
 //   shade.h        stage shade: perspective-correct barycentrics and derivatives, lighting, sRGB
 //   cluster.h      stage clusters: whole clusters culled only where setup would cull every triangle
+//   ao.h           stages ao_gbuffer, ao, ao_denoise: ground-truth-checked GTAO ambient occlusion
 //   stages.h       the stage table: every stage's id, name, group size and launch (C++ and CUDA only)
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index
 // threads, load buffers, call these functions and do the atomics.
@@ -57,7 +58,9 @@ SR_NAMESPACE_BEGIN
 #define BUF_TEXCOORDS 19  // vec4 per vertex: (u, v) of TEXCOORD_0, then (u, v) of TEXCOORD_1
 #define BUF_TEXTURES 20   // GpuTexture per texture
 #define BUF_TEXELS 21     // uint per texel, RGBA8 (R in the low byte): every level of every texture
-#define BUF_SRGB_TABLE 22  // float[256]: the linear value of each sRGB-encoded byte (decode table)
+#define BUF_SRGB_TABLE \
+    22  // float[256]: the linear value of each sRGB-encoded byte (decode table); in Vulkan a uniform
+        // buffer (vec4[64], std140), which keeps the storage buffers within lavapipe's 32 per stage
 #define BUF_POINTS 23      // uint per point: its vertex (point k is primitive triangleCount + lineCount + k)
 #define BUF_LINES \
     24  // uint pair per line segment: its two vertices (segment k is primitive triangleCount + k)
@@ -78,25 +81,28 @@ SR_NAMESPACE_BEGIN
                              // triangle: its scene triangle id, its local corners (8 bits each)
 #define BUF_LOD_CUT 32       // uint: the clusters the level-of-detail cut draws (COUNTER_LOD_CLUSTERS of
                              // them, in no particular order; written by stage lod_cut)
-#define BUF_COUNT 33
+#define BUF_AO 33  // float planes of samplePlane entries (RasterParams.aoMode != AO_OFF, shared/ao.h):
+                   // AO_PLANE_DISTANCE, AO_PLANE_NORMAL (3 planes), AO_PLANE_RAW, AO_PLANE_DENOISED
+#define BUF_COUNT 34
 // CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
 // them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
 // loop with a branch per lane and component), but fetches texels of a buffer view with vector gathers;
 // the CPU builds of the stages (SR_CPU_BUILD) read their hot data through these.
-#define VIEW_SETUP_TRIS 33     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
-#define VIEW_BIN_ENTRIES 34    // BUF_BIN_ENTRIES as R32UI
-#define VIEW_VISIBILITY 35     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
-#define VIEW_INDICES 36        // BUF_INDICES as R32UI
-#define VIEW_POSITIONS 37      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
-#define VIEW_NORMALS 38        // BUF_NORMALS as RGBA32UI
-#define VIEW_COLORS 39         // BUF_COLORS as RGBA32UI
-#define VIEW_TEXCOORDS 40      // BUF_TEXCOORDS as RGBA32UI
-#define VIEW_TRI_MATERIALS 41  // BUF_TRI_MATERIALS as R32UI
-#define VIEW_MATERIALS 42      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
-#define VIEW_TEXTURES 43       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
-#define VIEW_TEXELS 44         // BUF_TEXELS as R32UI
-#define VIEW_SRGB_TABLE 45     // BUF_SRGB_TABLE as R32UI (float bits)
-#define VIEW_COUNT 13
+#define VIEW_SETUP_TRIS 34     // BUF_SETUP_TRIS as RGBA32UI, three texels per TriSetup
+#define VIEW_BIN_ENTRIES 35    // BUF_BIN_ENTRIES as R32UI
+#define VIEW_VISIBILITY 36     // BUF_VISIBILITY as RG32UI: a key's low word (the id), then its high word
+#define VIEW_INDICES 37        // BUF_INDICES as R32UI
+#define VIEW_POSITIONS 38      // BUF_POSITIONS as RGBA32UI (float bits: the fetch is exact)
+#define VIEW_NORMALS 39        // BUF_NORMALS as RGBA32UI
+#define VIEW_COLORS 40         // BUF_COLORS as RGBA32UI
+#define VIEW_TEXCOORDS 41      // BUF_TEXCOORDS as RGBA32UI
+#define VIEW_TRI_MATERIALS 42  // BUF_TRI_MATERIALS as R32UI
+#define VIEW_MATERIALS 43      // BUF_MATERIALS as RGBA32UI, six texels per GpuMaterial
+#define VIEW_TEXTURES 44       // BUF_TEXTURES as RGBA32UI, two texels per GpuTexture
+#define VIEW_TEXELS 45         // BUF_TEXELS as R32UI
+#define VIEW_SRGB_TABLE 46     // BUF_SRGB_TABLE as R32UI (float bits)
+#define VIEW_AO 47             // BUF_AO as R32UI (float bits): the AO stages' CPU builds read their planes
+#define VIEW_COUNT 14
 
 // Counters in BUF_COUNTERS, cleared by the clear stage every frame. The list counters count every
 // append, also past the capacity: the host compares them with the capacities, grows and redraws.
@@ -137,6 +143,20 @@ SR_NAMESPACE_BEGIN
 #define LOD_CLUSTER_GROUPS_CPU 64  // the same on a CPU device
 #define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)
 #define CLUSTER_PLANE_W 10         // RasterParams.clusterPlanes[10]: clip w as a plane (not normalised)
+// Ambient occlusion (shared/ao.h).
+#define AO_OFF 0u        // no ambient occlusion
+#define AO_GTAO 1u       // GTAO over the visibility buffer (stages ao_gbuffer, ao, ao_denoise)
+#define AO_REFERENCE 2u  // ray-cast ground truth from the host (host/ao/ao_reference.h), shaded by shade
+#define AO_PLANE_DISTANCE 0u  // BUF_AO: view distance (-z) of the pixel's surface, 0 where it has none
+#define AO_PLANE_NORMAL 1u    // BUF_AO: its unit view-space normal, x, y, z in planes 1, 2, 3 (ao_gbuffer)
+#define AO_PLANE_RAW 4u       // BUF_AO: GTAO's visibility (stage ao; --ao reference: from the host)
+#define AO_PLANE_DENOISED 5u  // BUF_AO: the same after stage ao_denoise
+#define AO_PLANES 6u
+#define AO_MAX_SLICES 16u
+#define AO_MAX_STEPS 32u
+#define AO_MAX_RADIUS_PX 512.0f  // the screen radius GTAO searches is clamped to this many raster pixels
+#define AO_FALLOFF 0.2f          // a sample's weight falls from 1 to 0 over the outer fifth of the radius
+#define AO_DENOISE_PLANE 0.02f   // ao_denoise averages neighbours within this x distance of the pixel's plane
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
 // Bin entries per raster_tiles work item on a CPU device at one sample per pixel. llvmpipe ends every
 // loop of a shader invocation after 65,535 iterations in all (its loop limiter), and one entry costs an
@@ -267,6 +287,7 @@ SR_NAMESPACE_BEGIN
 #define SHADING_HIT_COUNT 7u  // debug: how many triangles covered each pixel (needs DEBUG_COUNT_HITS)
 #define SHADING_TEXCOORD 8u   // debug: the material's texture coordinates as red and green (fract)
 #define SHADING_MIP 9u        // debug: the texture LOD (lambda) of the base colour as a colour ramp
+#define SHADING_AO 10u        // the ambient occlusion alone (white where unoccluded; needs an --ao mode)
 
 // RasterParams.debugFlags bits.
 #define DEBUG_COUNT_HITS 1u  // raster stages also count every covered pixel in BUF_HIT_COUNT
@@ -294,6 +315,12 @@ struct RasterParams {
     vec4 clusterEye;
     vec4 clusterCone;
     vec4 clusterPlanes[CLUSTER_PLANE_COUNT + 1];
+    // Ambient occlusion (shared/ao.h's aoViewPoint): the projection's terms that give a pixel's view-space
+    // point from its depth z, x = (ndc.x w - P20 z - P30) / P00 and y likewise, w = P23 z + P33 (P is
+    // clipFromView, GLM's [column][row]). aoUnprojectX: 1 / P00, P20, P30, P23; aoUnprojectY: 1 / P11,
+    // P21, P31, P33.
+    vec4 aoUnprojectX;
+    vec4 aoUnprojectY;
     uint width;             // framebuffer width in pixels, 1..MAX_FRAMEBUFFER_DIM
     uint height;            // framebuffer height in pixels
     uint vertexCount;       // entries in the per-vertex buffers
@@ -341,6 +368,25 @@ struct RasterParams {
     // how fast clip w changes per world unit (0 for an orthographic camera).
     float lodScale;
     float lodWLength;
+    // Ambient occlusion (shared/ao.h; RenderSettings::ao). aoMode AO_OFF: no AO stage runs and shade reads
+    // no BUF_AO; AO_GTAO: stages ao_gbuffer, ao (and ao_denoise) fill it; AO_REFERENCE: the host fills
+    // AO_PLANE_RAW.
+    uint aoMode;
+    uint aoPlane;        // the plane of BUF_AO shade reads: AO_PLANE_DENOISED after ao_denoise, else AO_PLANE_RAW
+    uint aoSlices;       // GTAO's slice directions per pixel, 1..AO_MAX_SLICES
+    uint aoSteps;        // its depth samples per side of a slice, 1..AO_MAX_STEPS
+    float aoRadius;      // the occlusion radius in view-space units (> 0 with AO on)
+    float aoPixelScale;  // raster pixels per view-space unit at clip w = 1 (aoRadius projects to
+                         // aoRadius aoPixelScale / w pixels)
+    // Reciprocals the AO stages need per pixel or sample, made once on the host with recipDet (the same
+    // bits a stage would compute): 1 / aoSlices, 1 / aoSteps, 1 / (AO_FALLOFF aoRadius), 1 / width,
+    // 1 / height.
+    float aoInvSlices;
+    float aoInvSteps;
+    float aoInvFalloff;
+    float aoInvWidth;
+    float aoInvHeight;
+    uint aoPad0;
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour, alpha and emission.
@@ -406,7 +452,7 @@ struct TessSource {
 
 #if defined(__cplusplus)
 static_assert(sizeof(TessSource) == 16, "TessSource must match std430");
-static_assert(sizeof(RasterParams) == 3 * 64 + (7 + CLUSTER_PLANE_COUNT + 1) * 16 + 40 * 4,
+static_assert(sizeof(RasterParams) == 3 * 64 + (9 + CLUSTER_PLANE_COUNT + 1) * 16 + 52 * 4,
               "RasterParams must match std140");
 static_assert(sizeof(GpuCluster) == 64, "GpuCluster must match std430");
 static_assert(sizeof(GpuMaterial) == 96, "GpuMaterial must match std430");
@@ -427,6 +473,7 @@ SR_NAMESPACE_END
 #include "shared/shade.h"
 #include "shared/tessellate.h"
 #include "shared/cluster.h"
+#include "shared/ao.h"
 
 #if defined(__cplusplus)
 #include "shared/stages.h"

@@ -47,12 +47,14 @@ layout(std430, set = 0, binding = BUF_TRI_MATERIALS) readonly buffer TriMaterial
 layout(std430, set = 0, binding = BUF_TEXCOORDS) readonly buffer TexcoordsBlock { vec4 texcoords[]; };
 layout(std430, set = 0, binding = BUF_TEXTURES) readonly buffer TexturesBlock { GpuTexture textures[]; };
 layout(std430, set = 0, binding = BUF_TEXELS) readonly buffer TexelsBlock { uint texels[]; };
-layout(std430, set = 0, binding = BUF_SRGB_TABLE) readonly buffer SrgbTableBlock { float srgbTable[]; };
+// A uniform buffer (raster_shared.h): entry i is srgbTable4[i / 4][i % 4].
+layout(std140, set = 0, binding = BUF_SRGB_TABLE) uniform SrgbTableBlock { vec4 srgbTable4[64]; };
 layout(std430, set = 0, binding = BUF_POINTS) readonly buffer PointsBlock { uint points[]; };
 layout(std430, set = 0, binding = BUF_LINES) readonly buffer LinesBlock { uint lines[]; };
 layout(std430, set = 0, binding = BUF_CLUSTERS) readonly buffer ClustersBlock { GpuCluster clusters[]; };
 layout(std430, set = 0, binding = BUF_CLUSTER_DATA) readonly buffer ClusterDataBlock { uint clusterData[]; };
 layout(std430, set = 0, binding = BUF_LOD_CUT) buffer LodCutBlock { uint lodCut[]; };
+layout(std430, set = 0, binding = BUF_AO) buffer AoBlock { float ao[]; };
 
 // The CPU builds (SR_CPU_BUILD) read their hot data through the texel views (VIEW_*, raster_shared.h),
 // which llvmpipe gathers as vectors, where a storage-buffer load at an index it cannot prove uniform is a
@@ -72,6 +74,7 @@ layout(set = 0, binding = VIEW_MATERIALS) uniform usamplerBuffer materialsView;
 layout(set = 0, binding = VIEW_TEXTURES) uniform usamplerBuffer texturesView;
 layout(set = 0, binding = VIEW_TEXELS) uniform usamplerBuffer texelsView;
 layout(set = 0, binding = VIEW_SRGB_TABLE) uniform usamplerBuffer srgbTableView;
+layout(set = 0, binding = VIEW_AO) uniform usamplerBuffer aoView;
 
 // setupTris[slot] through its view.
 TriSetup fetchSetupRecord(uint slot)
@@ -107,7 +110,15 @@ GpuTexture fetchTexture(uint k)
 }
 #endif
 
-#if SHADE_CPU
+// The AO stages' CPU builds (AO_CPU) read the scene, the keys and BUF_AO's planes through the views too.
+#if defined(AO_CPU)
+#define LOAD_KEY(i) fetchKey(i)
+#define LOAD_AO(i) uintBitsToFloat(texelFetch(aoView, int(i)).x)
+#else
+#define LOAD_KEY(i) visibility[i]
+#define LOAD_AO(i) ao[i]
+#endif
+#if SHADE_CPU || defined(AO_CPU)
 #define LOAD_KEY_ID(i) texelFetch(visibilityView, int(i)).x
 #define LOAD_INDEX(i) texelFetch(indicesView, int(i)).x
 #define LOAD_POSITION(i) uintBitsToFloat(texelFetch(positionsView, int(i)))
@@ -130,7 +141,7 @@ GpuTexture fetchTexture(uint k)
 #define LOAD_MATERIAL(k) materials[k]
 #define LOAD_TEXTURE(k) textures[k]
 #define LOAD_TEXEL(i) texels[i]
-#define LOAD_SRGB(i) srgbTable[i]
+#define LOAD_SRGB(i) srgbTable4[(i) >> 2u][(i) & 3u]
 #endif
 
 // The depth test and id write of one covered pixel in a single 64-bit atomicMin (see packVisibility),

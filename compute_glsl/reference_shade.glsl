@@ -33,6 +33,10 @@ vec3 referenceShade(uint id)
     uint i2 = indices[3u * id + 2u];
     SurfacePoint s = surfaceAt(params, int(gl_FragCoord.x), int(gl_FragCoord.y), positions[i0],
                                positions[i1], positions[i2], normals[i0], normals[i1], normals[i2]);
+    // Ambient occlusion: what the host computed from this pipeline's own G-buffer (prepareAo).
+    if (params.aoMode != AO_OFF)
+        s.ao = aoShaded(
+            ao[params.aoPlane * params.samplePlane + uint(gl_FragCoord.y) * params.width + uint(gl_FragCoord.x)]);
     vec4 white = vec4(1.0f);
     bool hasColors = params.hasColors != 0u;
     vec4 base = surfaceColor(s, hasColors ? colors[i0] : white, hasColors ? colors[i1] : white,

@@ -40,6 +40,8 @@ vec3 shadePrimitive(uint id, int x, int y)
     uint i2 = LOAD_INDEX(3u * id + 2u);
     SurfacePoint s = surfaceAt(params, x, y, LOAD_POSITION(i0), LOAD_POSITION(i1), LOAD_POSITION(i2),
                                LOAD_NORMAL(i0), LOAD_NORMAL(i1), LOAD_NORMAL(i2));
+    if (params.aoMode != AO_OFF)
+        s.ao = aoShaded(ao[params.aoPlane * params.samplePlane + uint(y) * params.width + uint(x)]);
     vec2 uv;
     float lambda;
     vec4 base = materialBaseColor(id, i0, i1, i2, s, uv, lambda);

@@ -41,6 +41,7 @@ struct Buffers {
     const GpuCluster* clusters;      // BUF_CLUSTERS
     const uint* clusterData;         // BUF_CLUSTER_DATA
     uint* lodCut;                    // BUF_LOD_CUT
+    float* ao;                       // BUF_AO
     // tess_emit's writable view of the per-vertex and per-triangle buffers, BUF_TESS_IDS and
     // BUF_TESS_MATERIALS (the stages above read the same memory through the const pointers).
     TessWriter tess;

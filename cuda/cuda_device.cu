@@ -172,6 +172,7 @@ private:
         b.clusters = as<GpuCluster>(BUF_CLUSTERS);
         b.clusterData = as<uint>(BUF_CLUSTER_DATA);
         b.lodCut = as<uint>(BUF_LOD_CUT);
+        b.ao = as<float>(BUF_AO);
         TessWriter& w = b.tess;
         w.positions = as<vec4>(BUF_POSITIONS);
         w.normals = as<vec4>(BUF_NORMALS);

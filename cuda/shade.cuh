@@ -23,6 +23,8 @@ __device__ inline vec3 shadePrimitive(const RasterParams& params, const Buffers&
     uint i2 = b.indices[3u * id + 2u];
     SurfacePoint s = surfaceAt(params, x, y, b.positions[i0], b.positions[i1], b.positions[i2], b.normals[i0],
                                b.normals[i1], b.normals[i2]);
+    if (params.aoMode != AO_OFF)
+        s.ao = aoShaded(b.ao[params.aoPlane * params.samplePlane + uint(y) * params.width + uint(x)]);
     vec2 uv;
     float lambda;
     vec4 base = materialBaseColor(params, b, id, i0, i1, i2, s, uv, lambda);

@@ -434,6 +434,11 @@ PYBIND11_MODULE(_raster, m)
                                    raster::Frame& f = self.cast<FrameHolder&>().frame;
                                    return view(self, f.normal, {f.height, f.width, 3});
                                })
+        .def_property_readonly("ao",
+                               [](py::object self) {
+                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   return view(self, f.ao, {f.height, f.width});
+                               })
         .def_property_readonly("sample_ids",
                                [](py::object self) {
                                    raster::Frame& f = self.cast<FrameHolder&>().frame;

@@ -4,6 +4,8 @@
 // in CI) and compared with the PNG and EXR that CUDA produced on a GPU (ci/gpu-check --goldens).
 // Criteria (README, "Goldens"): coverage and triangle ids identical, depth bit-identical, colour within
 // 1/255 per channel. A golden whose provenance does not say it came from CUDA fails.
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -12,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/compare.h"
+#include "io/image_io.h"
 #include "test_util.h"
 
 namespace sr::test {
@@ -88,6 +91,17 @@ TEST_P(GoldenTest, VulkanComputeMatchesCudaGolden)
     EXPECT_EQ(aov->coverageMismatches, 0u) << scene.name;
     EXPECT_EQ(aov->idMismatches, 0u) << scene.name;
     EXPECT_EQ(aov->maxDepthDiff, 0.0) << scene.name << " at " << aov->maxX << "," << aov->maxY;
+
+    // Ambient occlusion (an --ao scene): the AO channel CUDA wrote and lavapipe's within 1/255.
+    auto goldenAov = readAovExr(golden + ".exr");
+    auto ownAov = readAovExr(out + ".exr");
+    ASSERT_TRUE(goldenAov.ok() && ownAov.ok());
+    ASSERT_EQ(goldenAov->hasAo(), ownAov->hasAo()) << scene.name;
+    ASSERT_EQ(goldenAov->ao.size(), ownAov->ao.size()) << scene.name;
+    double aoDiff = 0.0;
+    for (size_t i = 0; i < ownAov->ao.size(); ++i)
+        aoDiff = std::max(aoDiff, std::abs(double(goldenAov->ao[i]) - ownAov->ao[i]));
+    EXPECT_LE(aoDiff, 1.0 / 255.0) << scene.name;
 
     CompareTolerance colour;
     colour.colorLsb = 1;

@@ -16,6 +16,7 @@
 #include "scene/primitive_mode.h"
 #include "scene/scene.h"
 #include "test_util.h"
+#include "settings/schema.h"
 #include "viewer/controls.h"
 #include "scene/orbit.h"
 #include "viewer/script.h"
@@ -344,6 +345,22 @@ TEST(ViewerControls, MCyclesTheAntiAliasingPresets)
         settings.ssaa = p.ssaa;
         EXPECT_TRUE(checkRenderInputs(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), settings).ok()) << p.name;
     }
+}
+
+TEST(ViewerControls, ATogglesAmbientOcclusion)
+{
+    ViewerState s = startState();
+    ASSERT_EQ(s.settings.ao, AO_OFF);
+    EXPECT_TRUE(isBoundKey('a'));
+    EXPECT_TRUE(onKey(s, 'a'));
+    EXPECT_EQ(s.settings.ao, AO_GTAO);
+    s.settings.shadingMode = SHADING_AO;
+    EXPECT_TRUE(checkSettings(s.settings).ok());
+    EXPECT_TRUE(onKey(s, 'a'));
+    EXPECT_EQ(s.settings.ao, AO_OFF);
+    // --shading ao without AO is refused: turning AO off leaves it for the first key's mode.
+    EXPECT_EQ(s.settings.shadingMode, kShadingKeyModes[0]);
+    EXPECT_TRUE(checkSettings(s.settings).ok());
 }
 
 TEST(ViewerControls, WTogglesTheWireframeAndPCyclesThePrimitiveMode)

@@ -166,9 +166,10 @@ SR_FN vec3 shadeLight(uint mode, vec3 albedo, vec3 n, vec3 v, vec3 l, vec4 light
 
 // Full shading of one covered pixel from its interpolated attributes.
 // viewPos/viewNormal/color: perspective-correct interpolations; faceNormal: geometric normal of the
-// triangle in view space (unnormalised); albedo: linear base colour.
+// triangle in view space (unnormalised); albedo: linear base colour; occlusion: the ambient occlusion at the
+// pixel (shared/ao.h; 1 without), which scales the ambient term of every lit mode.
 SR_FN vec3 shadePixel(RasterParams params, uint triId, vec3 viewPos, vec3 viewNormal, vec3 faceNormal,
-                      vec3 albedo)
+                      vec3 albedo, float occlusion)
 {
     uint mode = params.shadingMode;
     if (mode == SHADING_PRIMITIVE_ID) return idColor(triId);
@@ -184,10 +185,12 @@ SR_FN vec3 shadePixel(RasterParams params, uint triId, vec3 viewPos, vec3 viewNo
                         0.0f, 1.0f);
         return vec3(s * s);
     }
+    if (mode == SHADING_AO) return vec3(occlusion);
     vec3 l = vec3(params.lightDirView.x, params.lightDirView.y, params.lightDirView.z);
-    if (mode == SHADING_FLAT)
-        return shadeLight(SHADING_LAMBERT, albedo, fn, v, l, params.lightColor, 1.0f, 0.0f);
-    return shadeLight(mode, albedo, n, v, l, params.lightColor, params.shadeExtra.x, params.shadeExtra.w);
+    vec4 light =
+        vec4(params.lightColor.x, params.lightColor.y, params.lightColor.z, params.lightColor.w * occlusion);
+    if (mode == SHADING_FLAT) return shadeLight(SHADING_LAMBERT, albedo, fn, v, l, light, 1.0f, 0.0f);
+    return shadeLight(mode, albedo, n, v, l, light, params.shadeExtra.x, params.shadeExtra.w);
 }
 
 // SHADING_HIT_COUNT: background where nothing covered the pixel, green for exactly one triangle (what a
@@ -215,6 +218,7 @@ struct SurfacePoint {
     vec3 viewPos;     // view-space position
     vec3 viewNormal;  // interpolated view-space vertex normal (not normalised)
     vec3 faceNormal;  // geometric normal of the triangle in view space (not normalised)
+    float ao;         // ambient occlusion at the pixel (shared/ao.h): 1 until the shade stage reads it
 };
 
 // The surface of triangle (pos*, nrm*) at NDC point `ndc`, from its world-space vertex positions and
@@ -248,6 +252,7 @@ SR_FN SurfacePoint surfaceAtNdc(RasterParams params, vec2 ndc, bool extrapolate,
     vec3 e1 = vec3(p1.x - p0.x, p1.y - p0.y, p1.z - p0.z);
     vec3 e2 = vec3(p2.x - p0.x, p2.y - p0.y, p2.z - p0.z);
     s.faceNormal = cross(e1, e2);
+    s.ao = 1.0f;
     return s;
 }
 
@@ -306,7 +311,7 @@ SR_FN vec3 shadeSurface(RasterParams params, uint triId, SurfacePoint s, vec4 ba
     if (mode == SHADING_TEXCOORD) return vec3(fract(uv.x), fract(uv.y), 0.0f);
     if (mode == SHADING_MIP) return mipColor(lambda);
     vec3 color = shadePixel(params, triId, s.viewPos, s.viewNormal, s.faceNormal,
-                            vec3(baseColor.x, baseColor.y, baseColor.z));
+                            vec3(baseColor.x, baseColor.y, baseColor.z), s.ao);
     bool lit = mode == SHADING_LAMBERT || mode == SHADING_PHONG || mode == SHADING_BLINN_PHONG ||
                mode == SHADING_FLAT;
     return lit ? color + emissive : color;

@@ -52,6 +52,13 @@
     X(BIN_FILL,         bin_fill,         binFill,        GROUP_SIZE,            METHOD)                  \
     /* per active 8x8 screen tile: resolve its bin in registers, no atomics */                            \
     X(RASTER_TILES,     raster_tiles,     rasterTiles,    TILE_SIZE * TILE_SIZE, METHOD)                  \
+    /* Ambient occlusion (RasterParams.aoMode == AO_GTAO; shared/ao.h), per raster pixel: */              \
+    /* view distance and normal of its nearest sample's surface */                                        \
+    X(AO_GBUFFER,       ao_gbuffer,       aoGbuffer,      GROUP_SIZE,            PLAIN)                   \
+    /* GTAO: horizons along aoSlices directions, aoSteps samples a side */                                \
+    X(AO,               ao,               ao,             GROUP_SIZE,            PLAIN)                   \
+    /* depth-aware 5 x 5 filter of the AO (unless --ao-denoise off) */                                    \
+    X(AO_DENOISE,       ao_denoise,       aoDenoise,      GROUP_SIZE,            PLAIN)                   \
     /* per pixel: resolve the visibility key and shade */                                                 \
     X(SHADE,            shade,            shade,          GROUP_SIZE,            SHADE)                   \
     /* Tessellation, before the others (a frame of its own: tess_count and the scans run first, the */    \

@@ -459,6 +459,7 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
             f.normal[3 * i + 2] = out.aov.normalZ[i];
         }
     }
+    f.ao = std::move(out.aov.ao);
     f.rasterWidth = out.samples.rasterWidth;
     f.rasterHeight = out.samples.rasterHeight;
     f.samples = out.samples.samples;
@@ -588,6 +589,7 @@ sr::AovImage aovImage(const Frame& f)
     aov.id = f.id;
     aov.depth = f.depth;
     const size_t n = size_t(f.width) * f.height;
+    if (f.ao.size() == n) aov.ao = f.ao;
     if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
         for (auto* plane :
              {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})

@@ -292,97 +292,106 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                     std::unique_ptr<ComputeDevice> lodDevice;
                     std::optional<RenderSession> lodSession;
                     for (uint32_t clusters : o.clusters)
-                        for (float lodError : o.lod) {
-                            if (lodError > 0.0f && backend == "vulkan-graphics") continue;
-                            const std::string clusterMode = choiceName(setting("clusters"), clusters);
-                            if (tty)
-                                fmt::print(
-                                    stderr,
-                                    "\r\033[Kbench: {} {}x{} {}x MSAA on {}, clusters {}, lod {} ({} "
-                                    "triangles)",
-                                    s.name, w, h, msaa, backend, clusterMode,
-                                    lodError > 0.0f ? fmt::format("{} px", lodError) : std::string("off"),
-                                    s.scene.primitiveCount());
-                            RenderSettings r;
-                            r.msaa = msaa;
-                            r.width = w;
-                            r.height = h;
-                            r.warmup = o.warmup;
-                            r.repeat = o.repeat;
-                            r.cullMode = CULL_BACK;
-                            r.shadingMode = SHADING_LAMBERT;
-                            r.textureFilter = s.textureFilter;
-                            r.clusters = clusters;
-                            Result<RenderOutput> out = makeError(ExitCode::Runtime, "not rendered");
-                            if (lodError > 0.0f) {
-                                r.lod = LOD_ON;
-                                r.lodErrorPx = lodError;
-                                if (!lodSession) {
-                                    auto dev = backend == "cuda" ? makeCudaDevice(o.device)
-                                                                 : makeVulkanDevice(o.device);
-                                    if (!dev) return dev.error();
-                                    lodDevice = std::move(*dev);
-                                    auto session = RenderSession::create(*lodDevice, s.scene);
-                                    if (!session) return session.error();
-                                    lodSession.emplace(std::move(*session));
+                        for (float lodError : o.lod)
+                            for (uint32_t aoMode : o.ao) {
+                                if ((lodError > 0.0f || aoMode != AO_OFF) && backend == "vulkan-graphics")
+                                    continue;
+                                const std::string clusterMode = choiceName(setting("clusters"), clusters);
+                                if (tty)
+                                    fmt::print(
+                                        stderr,
+                                        "\r\033[Kbench: {} {}x{} {}x MSAA on {}, clusters {}, lod {} ({} "
+                                        "triangles)",
+                                        s.name, w, h, msaa, backend, clusterMode,
+                                        lodError > 0.0f ? fmt::format("{} px", lodError) : std::string("off"),
+                                        s.scene.primitiveCount());
+                                RenderSettings r;
+                                r.msaa = msaa;
+                                r.width = w;
+                                r.height = h;
+                                r.warmup = o.warmup;
+                                r.repeat = o.repeat;
+                                r.cullMode = CULL_BACK;
+                                r.shadingMode = SHADING_LAMBERT;
+                                r.textureFilter = s.textureFilter;
+                                r.clusters = clusters;
+                                r.ao = aoMode;
+                                Result<RenderOutput> out = makeError(ExitCode::Runtime, "not rendered");
+                                if (lodError > 0.0f) {
+                                    r.lod = LOD_ON;
+                                    r.lodErrorPx = lodError;
+                                    if (!lodSession) {
+                                        auto dev = backend == "cuda" ? makeCudaDevice(o.device)
+                                                                     : makeVulkanDevice(o.device);
+                                        if (!dev) return dev.error();
+                                        lodDevice = std::move(*dev);
+                                        auto session = RenderSession::create(*lodDevice, s.scene);
+                                        if (!session) return session.error();
+                                        lodSession.emplace(std::move(*session));
+                                    }
+                                    out = lodSession->render(s.camera, r);
+                                } else {
+                                    out = renderOn(backend, o.device, s, r);
                                 }
-                                out = lodSession->render(s.camera, r);
-                            } else {
-                                out = renderOn(backend, o.device, s, r);
+                                if (!out) return out.error();
+                                double ms = out->total.medianMs;
+                                // Visibility time: the whole frame less deferred shading (the graphics
+                                // baseline has none).
+                                double shadeMs = 0.0, aoMs = 0.0;
+                                for (const StageTiming& t : out->stages) {
+                                    if (t.name == "shade") shadeMs = t.medianMs;
+                                    if (t.name == "ao_gbuffer" || t.name == "ao" || t.name == "ao_denoise")
+                                        aoMs += t.medianMs;
+                                }
+                                // The whole shaded frame: the compute backends' total; the graphics pipeline
+                                // draws it once more with its fragment shader shading (what a user of either
+                                // gets).
+                                double frameMs = ms;
+                                if (backend == "vulkan-graphics") {
+                                    auto frame = renderOn(backend, o.device, s, r, true);
+                                    if (!frame) return frame.error();
+                                    frameMs = frame->total.medianMs;
+                                }
+                                double pixels = double(w) * h;
+                                size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
+                                                     ? out->peakDeviceBytes - sceneBytes(s.scene)
+                                                     : 0;
+                                runs.push_back(
+                                    {{"scene", s.name},
+                                     {"resolution", {w, h}},
+                                     {"msaa", msaa},
+                                     {"backend", backend},
+                                     {"device", out->device.name},
+                                     {"driver", out->device.driver},
+                                     {"triangles", s.scene.primitiveCount()},
+                                     {"triangle_area_px", s.triangleArea},
+                                     // null where the backend does not count it (vulkan-graphics)
+                                     {"rasterized", out->stats.pipelineCounts
+                                                        ? nlohmann::json(out->stats.rasterized)
+                                                        : nlohmann::json(nullptr)},
+                                     {"stages_ms", stagesJson(out->stages)},
+                                     {"gpu_total_ms", timingJson(out->total)},
+                                     {"visibility_ms", ms - shadeMs},
+                                     {"frame_ms", frameMs},
+                                     {"triangles_per_s",
+                                      ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
+                                     {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
+                                     {"peak_device_bytes", out->peakDeviceBytes},
+                                     {"scene_bytes", sceneBytes(s.scene)},
+                                     {"working_bytes", working},
+                                     {"working_budget_bytes", 40.0 * double(s.scene.primitiveCount()) +
+                                                                  8.0 * pixels + 8.0 * pixels * msaa},
+                                     {"redraws", out->stats.redraws},
+                                     {"clusters", clusterMode},
+                                     {"cluster_count", out->stats.clusters},
+                                     {"clusters_culled", out->stats.clustersCulled},
+                                     {"lod_error_px",
+                                      lodError > 0.0f ? nlohmann::json(lodError) : nlohmann::json(nullptr)},
+                                     {"lod_triangles", out->stats.trianglesIn},
+                                     {"lod_build_ms", out->stats.lodBuildMs},
+                                     {"ao", choiceName(setting("ao"), aoMode)},
+                                     {"ao_ms", aoMs}});
                             }
-                            if (!out) return out.error();
-                            double ms = out->total.medianMs;
-                            // Visibility time: the whole frame less deferred shading (the graphics baseline
-                            // has none).
-                            double shadeMs = 0.0;
-                            for (const StageTiming& t : out->stages)
-                                if (t.name == "shade") shadeMs = t.medianMs;
-                            // The whole shaded frame: the compute backends' total; the graphics pipeline
-                            // draws it once more with its fragment shader shading (what a user of either
-                            // gets).
-                            double frameMs = ms;
-                            if (backend == "vulkan-graphics") {
-                                auto frame = renderOn(backend, o.device, s, r, true);
-                                if (!frame) return frame.error();
-                                frameMs = frame->total.medianMs;
-                            }
-                            double pixels = double(w) * h;
-                            size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
-                                                 ? out->peakDeviceBytes - sceneBytes(s.scene)
-                                                 : 0;
-                            runs.push_back({{"scene", s.name},
-                                            {"resolution", {w, h}},
-                                            {"msaa", msaa},
-                                            {"backend", backend},
-                                            {"device", out->device.name},
-                                            {"driver", out->device.driver},
-                                            {"triangles", s.scene.primitiveCount()},
-                                            {"triangle_area_px", s.triangleArea},
-                                            // null where the backend does not count it (vulkan-graphics)
-                                            {"rasterized", out->stats.pipelineCounts
-                                                               ? nlohmann::json(out->stats.rasterized)
-                                                               : nlohmann::json(nullptr)},
-                                            {"stages_ms", stagesJson(out->stages)},
-                                            {"gpu_total_ms", timingJson(out->total)},
-                                            {"visibility_ms", ms - shadeMs},
-                                            {"frame_ms", frameMs},
-                                            {"triangles_per_s",
-                                             ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
-                                            {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
-                                            {"peak_device_bytes", out->peakDeviceBytes},
-                                            {"scene_bytes", sceneBytes(s.scene)},
-                                            {"working_bytes", working},
-                                            {"working_budget_bytes", 40.0 * double(s.scene.primitiveCount()) +
-                                                                         8.0 * pixels + 8.0 * pixels * msaa},
-                                            {"redraws", out->stats.redraws},
-                                            {"clusters", clusterMode},
-                                            {"cluster_count", out->stats.clusters},
-                                            {"clusters_culled", out->stats.clustersCulled},
-                                            {"lod_error_px", lodError > 0.0f ? nlohmann::json(lodError)
-                                                                             : nlohmann::json(nullptr)},
-                                            {"lod_triangles", out->stats.trianglesIn},
-                                            {"lod_build_ms", out->stats.lodBuildMs}});
-                        }
                 }
             }
         }

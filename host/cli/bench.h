@@ -36,6 +36,9 @@ struct BenchOptions {
     // compute backends (the runs with level of detail share one session per scene and backend, so the
     // hierarchy is built once; vulkan-graphics runs --lod off alone).
     std::vector<float> lod{0.0f};
+    // Ambient occlusion (AO_OFF, AO_GTAO), each a run of every scene; a run's "ao_ms" is its AO stages'
+    // GPU time (ao_gbuffer + ao + ao_denoise).
+    std::vector<uint32_t> ao{AO_OFF};
     uint32_t sweepTriangles = 1u << 20;  // per sweep scene
     int denseRings = 1600;               // tessellated sphere: ~4 rings^2 triangles (10.2M)
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";

@@ -11,7 +11,7 @@
 //   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
 //                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
 //                [--repeat N] [--lod-scenes sphere,bunny,bunny-fine] [--lod-errors E,...] [--lod-rings N]
-//                [--json F]
+//                [--ao-scenes builtin,bunny-plane,stress-grazing,stress-near] [--json F]
 //   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
 //                [--io-threads N] [--queue N] [--summary F] [SETTINGS as defaults under the manifest's]
 //   raster settings [--format markdown|json]
@@ -178,7 +178,19 @@ Status runRender(RenderCommand& cmd)
     const std::string prefix = kStudyScenePrefix;
     std::optional<CameraMatrices> studyCamera;
     Result<Scene> scene = makeError(ExitCode::Usage, "no scene");
-    if (cmd.scenePath.compare(0, prefix.size(), prefix) == 0) {
+    const std::vector<std::string>& aoScenes = aoSceneNames();
+    const bool aoStudyScene =
+        cmd.scenePath.compare(0, prefix.size(), prefix) == 0 &&
+        std::find(aoScenes.begin(), aoScenes.end(), cmd.scenePath.substr(prefix.size())) != aoScenes.end() &&
+        cmd.scenePath != prefix + "builtin";
+    if (aoStudyScene) {
+        // The ambient-occlusion group's scenes (study/ao.h): "study:bunny-plane", "study:stress-grazing", ...
+        auto study =
+            makeAoScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
+        if (!study) return study.error();
+        scene = std::move(study->scene);
+        if (cameraSpec->kind == CameraSpec::Kind::Auto && !turntable) studyCamera = study->camera;
+    } else if (cmd.scenePath.compare(0, prefix.size(), prefix) == 0) {
         auto study =
             makeStudyScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
         if (!study) return study.error();
@@ -324,6 +336,7 @@ struct BenchCommand {
     std::string msaa;
     std::string clusters;
     std::string lod;
+    std::string ao;
     std::string jsonPath;
     BenchOptions options;
 };
@@ -381,6 +394,17 @@ Status runBenchCommand(BenchCommand& cmd)
             o.lod.push_back(error->get<float>());
         }
     }
+    if (!cmd.ao.empty()) {
+        o.ao.clear();
+        for (const std::string& a : splitList(cmd.ao)) {
+            auto mode = choiceValue(setting("ao"), a, "--ao entry");
+            if (!mode) return mode.error();
+            if (*mode == AO_REFERENCE)
+                return makeError(ExitCode::Usage,
+                                 "bench --ao: off or gtao (the reference is the host's, untimed)");
+            o.ao.push_back(*mode);
+        }
+    }
     auto bench = runBench(o);
     if (!bench) return bench.error();
     if (!cmd.jsonPath.empty()) SR_TRY(writeJson(cmd.jsonPath, *bench));
@@ -395,6 +419,7 @@ struct StudyCommand {
     std::string scenes = fmt::format("{}", fmt::join(studySceneNames(), ","));
     std::string lodScenes = fmt::format("{}", fmt::join(StudyOptions{}.lodScenes, ","));
     std::string lodErrors = fmt::format("{:g}", fmt::join(StudyOptions{}.lodErrors, ","));
+    std::string aoScenes = fmt::format("{}", fmt::join(StudyOptions{}.aoScenes, ","));
     std::string jsonPath;
     StudyOptions options;
 };
@@ -406,6 +431,7 @@ Status runStudyCommand(StudyCommand& cmd)
     cmd.options.methods = splitList(cmd.methods);
     cmd.options.scenes = splitList(cmd.scenes);
     cmd.options.lodScenes = splitList(cmd.lodScenes);
+    cmd.options.aoScenes = splitList(cmd.aoScenes);
     auto lodErrors = parseLodErrors(cmd.lodErrors);
     if (!lodErrors) return lodErrors.error();
     cmd.options.lodErrors = *lodErrors;
@@ -529,6 +555,10 @@ int main(int argc, char** argv)
         "--lod", bench.lod,
         "comma-separated: off or a --lod-error-px value, each run on every scene (default off; "
         "the runs with level of detail share one session per scene and compute backend)");
+    benchApp->add_option(
+        "--ao", bench.ao,
+        "comma-separated: off, gtao (default off), each run on every scene; a run reports its "
+        "AO stages' time as ao_ms");
     benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")
@@ -592,6 +622,10 @@ int main(int argc, char** argv)
                          "comma-separated level-of-detail scenes: sphere (builtin:dense:N, N = --lod-rings), "
                          "bunny, bunny-fine (the bunny split to 16x its triangles) (default sphere,bunny; "
                          "\"\": none)");
+    studyApp->add_option("--ao-scenes", study.aoScenes,
+                         "comma-separated ambient-occlusion scenes: builtin, bunny-plane, stress-grazing, "
+                         "stress-near (default all; \"\": none), each drawn with --ao reference and the GTAO "
+                         "sweep");
     studyApp->add_option("--lod-errors", study.lodErrors,
                          "comma-separated --lod-error-px values each LOD scene and camera is drawn with "
                          "besides --lod off (default 0.25,0.5,1,2,4)");

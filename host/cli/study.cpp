@@ -315,6 +315,94 @@ Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name
     return rows;
 }
 
+Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scene, const RenderSettings& base,
+                                 const std::function<void(const std::string&)>& progress)
+{
+    const std::string backend = device.info().backend;
+    auto session = RenderSession::create(device, scene.scene);
+    if (!session) return session.error();
+    RenderSettings settings = base;
+    settings.shadingMode = SHADING_AO;
+    const double defaultRadius = aoWorldRadius(scene.scene, base);
+    // The reference at each radius the sweep uses, once.
+    std::map<float, RenderOutput> references;
+    for (const AoSetting& a : aoStudySettings()) {
+        if (references.count(a.radiusScale)) continue;
+        if (progress)
+            progress(fmt::format("ao {} reference x{:g} on {}", scene.name, a.radiusScale, backend));
+        RenderSettings r = settings;
+        r.ao = AO_REFERENCE;
+        r.aoRadius = float(defaultRadius * a.radiusScale);
+        r.warmup = 0;
+        r.repeat = 1;
+        auto out = session->render(scene.camera, r);
+        if (!out) return out.error();
+        references.emplace(a.radiusScale, std::move(*out));
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    for (const AoSetting& a : aoStudySettings()) {
+        if (progress)
+            progress(fmt::format("ao {} {}x{} x{:g}{} on {}", scene.name, a.slices, a.steps, a.radiusScale,
+                                 a.denoise ? "" : " raw", backend));
+        RenderSettings g = settings;
+        g.ao = AO_GTAO;
+        g.aoSlices = a.slices;
+        g.aoSteps = a.steps;
+        g.aoDenoise = a.denoise ? AO_DENOISE_ON : AO_DENOISE_OFF;
+        g.aoRadius = float(defaultRadius * a.radiusScale);
+        auto out = session->render(scene.camera, g);
+        if (!out) return out.error();
+        double aoMs = 0.0, shadeMs = 0.0;
+        for (const StageTiming& t : out->stages) {
+            if (t.name == "ao_gbuffer" || t.name == "ao" || t.name == "ao_denoise") aoMs += t.medianMs;
+            if (t.name == "shade") shadeMs = t.medianMs;
+        }
+        const AoImageError e = aoImageError(out->aov, references.at(a.radiusScale).aov);
+        rows.push_back({{"scene", scene.name},
+                        {"camera_spec", scene.cameraSpec},
+                        {"backend", backend},
+                        {"slices", a.slices},
+                        {"steps", a.steps},
+                        {"radius_scale", a.radiusScale},
+                        {"radius", g.aoRadius},
+                        {"denoise", a.denoise},
+                        {"ao_ms", aoMs},
+                        {"shade_ms", shadeMs},
+                        {"pixels", e.pixels},
+                        {"mean_error", e.meanError},
+                        {"max_error", e.maxError},
+                        {"psnr", e.psnr}});
+    }
+    return rows;
+}
+
+// The ambient-occlusion rows as a markdown table; a row on its scene's Pareto front (no other row of the
+// scene at the default radius both faster and closer to the reference) is marked.
+std::string aoTable(const nlohmann::json& ao)
+{
+    std::string md =
+        "\n## Ambient occlusion: GTAO against the ray-traced reference (AO image: mean and max |error|, PSNR "
+        "with peak 1; ms: the AO stages' GPU time; * on the scene's error-time Pareto front)\n\n"
+        "| scene | backend | slices | steps | radius | denoise | AO ms | shade ms | mean error | max error | "
+        "PSNR dB | Pareto |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : ao) {
+        bool front = r["radius_scale"].get<double>() == 1.0;
+        for (const auto& o : ao)
+            if (front && o["scene"] == r["scene"] && o["backend"] == r["backend"] &&
+                o["radius_scale"].get<double>() == 1.0 &&
+                o["ao_ms"].get<double>() < r["ao_ms"].get<double>() &&
+                o["mean_error"].get<double>() < r["mean_error"].get<double>())
+                front = false;
+        md += fmt::format(
+            "| {} | {} | {} | {} | x{:g} | {} | {:.3f} | {:.3f} | {:.4f} | {:.3f} | {:.1f} | {} |\n",
+            r["scene"].get<std::string>(), r["backend"].get<std::string>(), r["slices"].get<int>(),
+            r["steps"].get<int>(), r["radius_scale"].get<double>(), r["denoise"].get<bool>() ? "on" : "off",
+            r["ao_ms"].get<double>(), r["shade_ms"].get<double>(), r["mean_error"].get<double>(),
+            r["max_error"].get<double>(), r["psnr"].get<double>(), front ? "*" : "");
+    }
+    return md;
+}
+
 Result<QualityChoice> chooseQuality(const std::string& quality, const std::string& studyPath,
                                     ComputeDevice& device, const StudyScene& scene, RenderSettings base)
 {
@@ -352,6 +440,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     SR_TRY(checkNames(o.methods, rasterMethodNames(), "raster method"));
     SR_TRY(checkNames(o.scenes, studySceneNames(), "scene"));
     SR_TRY(checkNames(o.lodScenes, lodSceneNames(), "LOD scene"));
+    SR_TRY(checkNames(o.aoScenes, aoSceneNames(), "AO scene"));
     if (o.methods.empty()) return makeError(ExitCode::Usage, "study: no raster method to run (--methods)");
     const bool tty = isatty(fileno(stderr));
     auto progress = [&](const std::string& what) {
@@ -373,6 +462,13 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
         if (!scene) return scene.error();
         lodScenes.emplace_back(name, std::move(*scene));
     }
+    std::vector<AoStudyScene> aoScenes;
+    for (const std::string& name : o.aoScenes) {
+        if (name == "bunny-plane" && !std::filesystem::exists(o.bunnyPath)) continue;
+        auto scene = makeAoScene(name, o.width, o.height, o.bunnyPath);
+        if (!scene) return scene.error();
+        aoScenes.push_back(std::move(*scene));
+    }
     // The cases depend on the axis and size alone: built once, drawn on every backend with every method.
     std::vector<Axis> axes;
     for (const std::string& axis : o.axes) {
@@ -392,7 +488,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     base.repeat = o.repeat;
     base.shadingMode = SHADING_BLINN_PHONG;
     nlohmann::json accuracy = nlohmann::json::array(), stability = nlohmann::json::array();
-    nlohmann::json lod = nlohmann::json::array();
+    nlohmann::json lod = nlohmann::json::array(), ao = nlohmann::json::array();
     nlohmann::json devices = nlohmann::json::object();
     for (const std::string& backend : o.backends) {
         auto device = openDevice(backend, o.device);
@@ -407,6 +503,11 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
             auto rows = measureLod(**device, name, scene, base, o.lodErrors, progress);
             if (!rows) return rows.error();
             for (auto& row : *rows) lod.push_back(std::move(row));
+        }
+        for (const AoStudyScene& scene : aoScenes) {
+            auto rows = measureAo(**device, scene, base, progress);
+            if (!rows) return rows.error();
+            for (auto& row : *rows) ao.push_back(std::move(row));
         }
         for (size_t a = 0; a < axes.size(); ++a)
             for (size_t i = 0; i < axes[a].cases.size(); ++i) {
@@ -435,11 +536,17 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
             }
     }
     if (tty) fmt::print(stderr, "\r\033[K");
-    return nlohmann::json{{"date", today()},      {"devices", devices},
-                          {"width", o.width},     {"height", o.height},
-                          {"methods", o.methods}, {"stress_size", o.stressSize},
-                          {"accuracy", accuracy}, {"stability", stability},
-                          {"lod", lod},           {"lod_depth", kLodDepthMeaning}};
+    return nlohmann::json{{"date", today()},
+                          {"devices", devices},
+                          {"width", o.width},
+                          {"height", o.height},
+                          {"methods", o.methods},
+                          {"stress_size", o.stressSize},
+                          {"accuracy", accuracy},
+                          {"stability", stability},
+                          {"lod", lod},
+                          {"lod_depth", kLodDepthMeaning},
+                          {"ao", ao}};
 }
 
 std::string studyMarkdown(const nlohmann::json& study)
@@ -472,6 +579,7 @@ std::string studyMarkdown(const nlohmann::json& study)
             "mismatches > 0)\n\n" +
             firstFailureTable(study["stability"]);
     if (study.contains("lod") && !study["lod"].empty()) md += lodTable(study["lod"]);
+    if (study.contains("ao") && !study["ao"].empty()) md += aoTable(study["ao"]);
     return md;
 }
 

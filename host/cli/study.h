@@ -37,6 +37,7 @@
 #include "render/renderer.h"
 #include "study/lod.h"
 #include "study/scenes.h"
+#include "study/ao.h"
 #include "study/settings.h"
 
 namespace sr {
@@ -58,6 +59,10 @@ struct StudyOptions {
     std::vector<std::string> lodScenes{"sphere", "bunny"};
     int lodRings = 200;
     std::vector<float> lodErrors{0.25f, 0.5f, 1.0f, 2.0f, 4.0f};
+    // The ambient-occlusion group (issue 30, study/ao.h): its scenes (aoSceneNames(); "bunny-plane" is
+    // skipped when bunnyPath does not exist; empty: the group is left out), each drawn with --ao reference
+    // at every radius of aoStudySettings() and with --ao gtao at every setting of it.
+    std::vector<std::string> aoScenes = aoSceneNames();
     uint32_t warmup = 1;
     uint32_t repeat = 5;
     int device = -1;
@@ -86,6 +91,14 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
 // "depth_mean_error" (LodImageDiff against the baseline), "psnr_vs_off" and "psnr_vs_reference" (dB,
 // "inf" for an identical image; the reference is the baseline's frame at SSAA 4 x MSAA 16,
 // referenceSettings)}. `progress` hears what is being drawn.
+// The ambient-occlusion rows of one scene on `device` (study/ao.h): the reference (--ao reference, the
+// host's rays) at each radius of aoStudySettings(), then every setting drawn with --ao gtao and
+// --shading ao, with `base`'s size, warmup and repeat: {"scene", "camera_spec", "backend", "slices",
+// "steps", "radius_scale", "radius", "denoise", "ao_ms" (the AO stages' median GPU time), "shade_ms",
+// "pixels", "mean_error", "max_error", "psnr"} (aoImageError against the reference at its radius).
+Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scene, const RenderSettings& base,
+                                 const std::function<void(const std::string&)>& progress = {});
+
 Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name, const Scene& scene,
                                   const RenderSettings& base, const std::vector<float>& errors,
                                   const std::function<void(const std::string&)>& progress = {});

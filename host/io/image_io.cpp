@@ -90,6 +90,11 @@ const ChannelGroup kChannelGroups[] = {
      {"R", "G", "B", "A"},
      {&AovImage::colorR, &AovImage::colorG, &AovImage::colorB, &AovImage::colorA},
      TINYEXR_PIXELTYPE_HALF},
+    {"ao",
+     1,
+     {"ao", nullptr, nullptr, nullptr},
+     {&AovImage::ao, nullptr, nullptr, nullptr},
+     TINYEXR_PIXELTYPE_FLOAT},
 };
 
 // One channel of the file being written.

@@ -40,6 +40,9 @@ struct AovImage {
     // EXR `R`, `G`, `B`, `A` (HALF in the file): the frame's linear colour, as linearColorAov decodes it
     // from the 8-bit sRGB image (the pipeline keeps no other copy of it).
     std::vector<float> colorR, colorG, colorB, colorA;
+    // EXR `ao`: the ambient occlusion shade used (--ao gtao or reference), 1 = unoccluded; the mean of the
+    // pixel's raster pixels with SSAA. Empty without AO.
+    std::vector<float> ao;
 
     // EXR `id.s<k>` (UINT) and `Z.s<k>` (FLOAT), written only when asked for (--aov-samples): the id and
     // depth of every sample of the pixel, k = (j * ssaa + i) * msaa + s for sample s of raster pixel
@@ -51,6 +54,7 @@ struct AovImage {
     bool hasUv() const { return !uvU.empty(); }
     bool hasNormal() const { return !normalX.empty(); }
     bool hasColor() const { return !colorR.empty(); }
+    bool hasAo() const { return !ao.empty(); }
 };
 
 // Which backend and device made an image, so that `raster compare` can apply the tolerance documented for

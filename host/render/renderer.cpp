@@ -2,6 +2,9 @@
 // CUDA and Vulkan backends.
 #include "render/renderer.h"
 
+#include "ao/ao_image.h"
+#include "ao/ao_reference.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,6 +99,10 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
         {STAGE_BIN_FILL, work.binBig ? p.binGroups : 0u},
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
+        {STAGE_AO_GBUFFER, p.aoMode == AO_GTAO ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
+        {STAGE_AO, p.aoMode == AO_GTAO ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
+        {STAGE_AO_DENOISE,
+         p.aoMode == AO_GTAO && p.aoPlane == AO_PLANE_DENOISED ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
         {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE)},
     };
     for (Dispatch& d : dispatches) {
@@ -212,7 +219,41 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     p.tessBlocks = groupsFor(p.triangleCount, SCAN_GROUP_SIZE);
     // Generated vertices are shared by their triangles: the vertex stage transforms them once.
     if (s.tessellate != TESS_OFF) p.transformInSetup = 0u;
+    if (s.ao != AO_OFF) {
+        // View-space points from depth (shared/ao.h's aoViewPoint) need the projection alone; GLM's
+        // matrices are [column][row].
+        const glm::mat4& proj = camera.clipFromView;
+        p.aoUnprojectX = glm::vec4(1.0f / proj[0][0], proj[2][0], proj[3][0], proj[2][3]);
+        p.aoUnprojectY = glm::vec4(1.0f / proj[1][1], proj[2][1], proj[3][1], proj[3][3]);
+        p.aoMode = s.ao;
+        p.aoPlane = s.ao == AO_GTAO && s.aoDenoise == AO_DENOISE_ON ? AO_PLANE_DENOISED : AO_PLANE_RAW;
+        p.aoSlices = s.aoSlices;
+        p.aoSteps = s.aoSteps;
+        p.aoRadius = float(aoWorldRadius(scene, s) * aoViewScale(camera.viewFromWorld));
+        // Pixels per view unit at w = 1: half the raster's extent times the projection's scale, the
+        // smaller of the two axes (they agree for square pixels).
+        p.aoPixelScale =
+            0.5f * std::min(float(p.width) * std::abs(proj[0][0]), float(p.height) * std::abs(proj[1][1]));
+        p.aoInvSlices = recipDet(float(p.aoSlices));
+        p.aoInvSteps = recipDet(float(p.aoSteps));
+        p.aoInvFalloff = recipDet(AO_FALLOFF * p.aoRadius);
+        p.aoInvWidth = recipDet(float(p.width));
+        p.aoInvHeight = recipDet(float(p.height));
+    }
     return p;
+}
+
+double aoWorldRadius(const Scene& scene, const RenderSettings& s)
+{
+    if (s.aoRadius > 0.0f) return s.aoRadius;
+    const glm::dvec3 extent = glm::dvec3(scene.boundsMax) - glm::dvec3(scene.boundsMin);
+    const double radius = 0.5 * glm::length(extent);
+    return kAoRadiusFraction * (radius > 0.0 ? radius : 1.0);
+}
+
+double aoViewScale(const glm::mat4& viewFromWorld)
+{
+    return std::cbrt(std::abs(glm::determinant(glm::dmat3(glm::dmat4(viewFromWorld)))));
 }
 
 RasterParams outputParams(const RasterParams& params)
@@ -234,6 +275,21 @@ double median(std::vector<double> values)
     std::sort(values.begin(), values.end());
     size_t n = values.size();
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::vector<float> resolveAo(const std::vector<float>& raster, uint32_t width, uint32_t height, uint32_t ssaa)
+{
+    std::vector<float> out(uint64_t(width) * height);
+    const uint64_t rasterWidth = uint64_t(width) * ssaa;
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            double sum = 0.0;
+            for (uint32_t j = 0; j < ssaa; ++j)
+                for (uint32_t i = 0; i < ssaa; ++i)
+                    sum += raster[(uint64_t(y) * ssaa + j) * rasterWidth + uint64_t(x) * ssaa + i];
+            out[uint64_t(y) * width + x] = float(sum / (double(ssaa) * ssaa));
+        }
+    return out;
 }
 
 Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
@@ -532,6 +588,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     SR_TRY(sizeFrame(settings, f));
     SR_TRY(draw(camera, settings, f));
     drawn_ = true;
+    if (settings.ao == AO_REFERENCE) SR_TRY(shadeReferenceAo(settings, f));
     timings(f);
     statistics(f);
     SR_TRY(download(settings, f));
@@ -572,6 +629,14 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     SR_TRY(ensureSize(BUF_TILE_BINS, f.tiles * sizeof(uint32_t)));
     SR_TRY(ensureSize(BUF_ACTIVE_TILES, f.tiles * sizeof(uint32_t)));
     SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(f.tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
+    // Ambient occlusion's planes (BUF_AO), only when it is on.
+    SR_TRY(ensureSize(BUF_AO, settings.ao != AO_OFF ? AO_PLANES * f.rasterPixels * sizeof(float) : 16));
+    if (settings.ao == AO_REFERENCE) {
+        // The frame's shade reads AO_PLANE_RAW before the host has filled it (shadeReferenceAo shades
+        // again).
+        const std::vector<float> unoccluded(AO_PLANES * f.rasterPixels, 1.0f);
+        SR_TRY(device_->upload(BUF_AO, unoccluded.data(), unoccluded.size() * sizeof(float)));
+    }
     SR_TRY(allocateLists());
 
     f.tessellating = settings.tessellate != TESS_OFF;
@@ -759,6 +824,26 @@ Result<bool> RenderSession::growLists(const uint32_t* counters)
     return grown;
 }
 
+// --ao reference: the ground truth of every raster pixel computed on the host from the frame's
+// visibility keys (host/ao/ao_image.h), uploaded to plane AO_PLANE_RAW of BUF_AO, and the frame shaded
+// again with it. Not timed: the rays are the host's.
+Status RenderSession::shadeReferenceAo(const RenderSettings& settings, FrameState& f)
+{
+    if (!aoBvh_) aoBvh_ = std::make_shared<AoBvh>(*scene_);
+    std::vector<uint64_t> visibility(f.samples);
+    SR_TRY(device_->download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
+    const std::vector<float> ao = referenceAoImage(
+        *scene_, *aoBvh_, f.params, visibility, aoWorldRadius(*scene_, settings), settings.aoReferenceRays);
+    std::vector<float> planes(AO_PLANES * f.rasterPixels, 1.0f);
+    std::copy(ao.begin(), ao.end(), planes.begin() + int64_t(AO_PLANE_RAW * f.rasterPixels));
+    SR_TRY(device_->upload(BUF_AO, planes.data(), planes.size() * sizeof(float)));
+    std::vector<Dispatch> shade;
+    for (const Dispatch& d : frameDispatches(f.params, f.work))
+        if (d.stage == STAGE_SHADE) shade.push_back(d);
+    std::vector<double> ms;
+    return device_->run(f.params, shade, ms);
+}
+
 // The timed runs' GPU times per stage and in all, the last frame's parameters, the device's peak memory.
 void RenderSession::timings(FrameState& f) const
 {
@@ -820,6 +905,16 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
     if (countsHits(settings)) {
         out.hitCount.resize(f.samples);
         SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), f.samples * sizeof(uint32_t)));
+    }
+    if (settings.ao != AO_OFF) {
+        // The plane shade read, at the raster's resolution; an output pixel takes the mean of its ssaa x
+        // ssaa raster pixels, as its colour does.
+        std::vector<float> planes(AO_PLANES * f.rasterPixels);
+        SR_TRY(device.download(BUF_AO, planes.data(), planes.size() * sizeof(float)));
+        planes.erase(planes.begin(), planes.begin() + int64_t(f.params.aoPlane * f.rasterPixels));
+        planes.resize(f.rasterPixels);
+        for (float& v : planes) v = aoShaded(v);
+        out.aov.ao = resolveAo(planes, settings.width, settings.height, settings.ssaa);
     }
     // The AOVs read sample 0 of the raster grid, the first plane; every plane only when asked for.
     std::vector<uint64_t> visibility(settings.aovSamples ? f.samples : f.rasterPixels);

@@ -139,6 +139,8 @@ Status checkSceneInputs(const Scene& scene);
 // The session owns the device's buffers while it lives: the scene and the device must outlive it, and
 // nothing else (another session, renderScene) may use the device in between, or the scene's buffers
 // would be overwritten.
+class AoBvh;
+
 class RenderSession {
 public:
     // Checks the scene (checkSceneInputs) and uploads it.
@@ -186,6 +188,7 @@ private:
     Result<bool> growLists(const uint32_t* counters);
     void timings(FrameState& f) const;
     void statistics(FrameState& f) const;
+    Status shadeReferenceAo(const RenderSettings& settings, FrameState& f);
     Status download(const RenderSettings& settings, FrameState& f);
     Status remap(const RenderSettings& settings, FrameState& f);
 
@@ -208,6 +211,7 @@ private:
     struct LodState;
     std::shared_ptr<LodState> lod_;               // renderLod's hierarchy, scene and session
     const LodHierarchy* lodHierarchy_ = nullptr;  // on LodState's session: its scene's clusters
+    std::shared_ptr<AoBvh> aoBvh_;  // --ao reference's BVH of the scene, built by its first frame
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline
@@ -237,6 +241,16 @@ void finishTessellatedDisplay(const TessellatedDisplay& t, RenderOutput& out);
 
 // The per-frame constants every backend uses for this scene, camera and settings, with the compute
 // pipeline's list capacities and the group counts of its list-walking stages.
+// Ambient occlusion's radius in world units (RenderSettings::aoRadius, or kAoRadiusFraction of the
+// scene's bounding radius when that is 0), and how many view-space units a world unit is under
+// viewFromWorld (1 unless --model scales the scene): RasterParams.aoRadius is their product.
+double aoWorldRadius(const Scene& scene, const RenderSettings& settings);
+// The output resolution's AO (width x height) from the raster's (ssaa times that per side): the mean of
+// each pixel's ssaa x ssaa raster pixels, as its colour is resolved.
+std::vector<float> resolveAo(const std::vector<float>& raster, uint32_t width, uint32_t height,
+                             uint32_t ssaa);
+double aoViewScale(const glm::mat4& viewFromWorld);
+
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
                          const ListCapacities& capacities, const GroupCounts& groups);
 

@@ -142,8 +142,9 @@ Scene tessellatedSphere(int rings);
 constexpr int kMaxSphereRings = 7723;
 // Procedural scenes by name: "builtin" (the scene above), "builtin:dense" (a sphere of ~65k triangles,
 // sub-pixel at small resolutions), "builtin:huge" (the built-in objects on a 200,000-unit ground plane),
-// "builtin:checker", "builtin:cutout" (textures) and "builtin:lowpoly" (the built-in objects with a 4-ring
-// sphere and a 12 x 6 torus: what --tessellate pn smooths).
+// "builtin:checker", "builtin:cutout" (textures), "builtin:lowpoly" (the built-in objects with a 4-ring
+// sphere and a 12 x 6 torus: what --tessellate pn smooths) and "builtin:ao" (ambient occlusion's stress
+// scene: a thin plate and a thin post standing on a floor, a box floating above it, a low step).
 Result<Scene> builtinSceneNamed(const std::string& name);
 
 // Drops triangles, segments and points with out-of-range indices or non-finite positions (counting them

@@ -102,6 +102,22 @@ void addCube(Scene& scene, const glm::vec3& center, float half, float yaw)
     }
 }
 
+// An axis-aligned box of half extents `half` about `center`, a quad per face.
+void addBox(Scene& scene, const glm::vec3& center, const glm::vec3& half, const glm::vec4& color)
+{
+    const glm::vec3 faces[6][3] = {
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+        {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
+    };
+    for (const auto& face : faces) {
+        glm::vec3 n = face[0], s = face[1], t = face[2];
+        addGrid(scene, 1, 1, color, [=](float u, float v) {
+            return SurfacePoint{center + half * (n + (2.0f * u - 1.0f) * s + (2.0f * v - 1.0f) * t), n};
+        });
+    }
+}
+
 void addTorus(Scene& scene, const glm::vec3& center, float major, float minor, int ring = 48, int tube = 20)
 {
     // Lying flat around +y: u goes round the ring, v round the tube; du x dv points outwards.
@@ -217,6 +233,18 @@ Scene builtinScene()
     return finalized(std::move(scene), "built-in scene");
 }
 
+Scene aoStressScene()
+{
+    Scene scene;
+    addGround(scene, 3.0f, 8);
+    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
+    addBox(scene, {-1.0f, 0.4f, 0.0f}, {0.5f, 0.4f, 0.01f}, grey);    // a thin plate standing on the floor
+    addBox(scene, {0.3f, 0.75f, 0.8f}, {0.04f, 0.75f, 0.04f}, grey);  // a thin post
+    addBox(scene, {1.1f, 0.9f, -0.6f}, {0.35f, 0.35f, 0.35f}, grey);  // a box floating above the floor
+    addBox(scene, {-0.2f, 0.15f, -1.2f}, {0.6f, 0.15f, 0.3f}, grey);  // a low step
+    return finalized(std::move(scene), "built-in ambient occlusion stress scene");
+}
+
 Scene tessellatedSphere(int rings)
 {
     Scene scene;
@@ -262,10 +290,11 @@ Result<Scene> builtinSceneNamed(const std::string& name)
     if (name == "builtin:checker") return checkerScene();
     if (name == "builtin:cutout") return cutoutScene();
     if (name == "builtin:lowpoly") return lowPolyScene();
+    if (name == "builtin:ao") return aoStressScene();
     return makeError(
         ExitCode::Usage,
         "unknown built-in scene '{}': expected builtin, builtin:dense, builtin:dense:N, builtin:huge, "
-        "builtin:checker, builtin:cutout or builtin:lowpoly",
+        "builtin:checker, builtin:cutout, builtin:lowpoly or builtin:ao",
         name);
 }
 

@@ -46,6 +46,15 @@ constexpr uint32_t CLUSTERS_OFF = 2;
 constexpr uint32_t LOD_OFF = 0;
 constexpr uint32_t LOD_ON = 1;
 
+// --ao (RenderSettings::ao; common/shared/ao.h): AO_OFF, AO_GTAO or AO_REFERENCE (raster_shared.h). The
+// default radius, when --ao-radius is 0 (auto), is this fraction of the scene's bounding-sphere radius:
+// large enough for a model's contact shadows on its floor and its own creases, small enough that AO
+// stays local (a room-sized occluder darkens only what lies within a tenth of the scene of it).
+constexpr float kAoRadiusFraction = 0.1f;
+// --ao-denoise (RenderSettings::aoDenoise): whether stage ao_denoise runs.
+constexpr uint32_t AO_DENOISE_OFF = 0;
+constexpr uint32_t AO_DENOISE_ON = 1;
+
 struct RenderSettings {
     uint32_t width = 512;
     uint32_t height = 512;
@@ -106,6 +115,16 @@ struct RenderSettings {
     // triangle by a scene triangle at its first corner. Not with tessellation or a display scene.
     uint32_t lod = LOD_OFF;
     float lodErrorPx = 0.5f;
+    // Ambient occlusion (AO_*): gtao runs stages ao_gbuffer, ao and (aoDenoise) ao_denoise over the
+    // visibility buffer; reference casts aoReferenceRays^2 rays per raster pixel on the host
+    // (host/ao/ao_reference.h). Either scales the ambient term of the lit shading modes; SHADING_AO shows
+    // it alone. aoRadius: world units, 0 = kAoRadiusFraction of the scene's bounding radius.
+    uint32_t ao = AO_OFF;
+    float aoRadius = 0.0f;
+    uint32_t aoSlices = 2;
+    uint32_t aoSteps = 4;
+    uint32_t aoDenoise = AO_DENOISE_ON;
+    uint32_t aoReferenceRays = 16;  // rays per side of the reference's stratified grid (16: 256 rays)
 };
 
 // One render as a user describes it: the pipeline's settings, the camera and model specs and how the

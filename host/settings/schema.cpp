@@ -134,10 +134,12 @@ std::vector<Setting> makeSchema()
                        {"id", SHADING_PRIMITIVE_ID},
                        {"hits", SHADING_HIT_COUNT},
                        {"texcoord", SHADING_TEXCOORD},
-                       {"mip", SHADING_MIP}},
+                       {"mip", SHADING_MIP},
+                       {"ao", SHADING_AO}},
                       "the shading model; hits (debug): triangles covering each pixel, green = 1, red = 2, "
                       "white = more; texcoord (debug): the base colour texture's (u, v) as red, green; mip "
-                      "(debug): its level of detail, blue = 0 or magnified, cyan, green, yellow, red = 4+"));
+                      "(debug): its level of detail, blue = 0 or magnified, cyan, green, yellow, red = 4+; "
+                      "ao: the ambient occlusion alone (with --ao gtao or reference)"));
     t.push_back(choiceSetting("shading", "cull", &RenderSettings::cullMode,
                               {{"back", CULL_BACK}, {"front", CULL_FRONT}, {"none", CULL_NONE}},
                               "which faces are culled (glTF doubleSided materials never are)"));
@@ -152,6 +154,27 @@ std::vector<Setting> makeSchema()
                              "of the light colour"));
     t.push_back(
         vec3Setting("shading", "background", &RenderSettings::background, "R,G,B linear background colour"));
+    // ambient occlusion
+    t.push_back(choiceSetting(
+        "ambient occlusion", "ao", &RenderSettings::ao,
+        {{"off", AO_OFF}, {"gtao", AO_GTAO}, {"reference", AO_REFERENCE}},
+        "ambient occlusion, which scales the ambient term: gtao, screen-space GTAO over the visibility "
+        "buffer on the device; reference, the ground truth, cosine-weighted rays against the scene's "
+        "triangles on the host (slow)"));
+    t.push_back(
+        floatSetting("ambient occlusion", "ao-radius", &RenderSettings::aoRadius, 0.0, 1e20, 0.0,
+                     "the occlusion radius in world units; 0: a tenth of the scene's bounding radius"));
+    t.push_back(uintSetting("ambient occlusion", "ao-slices", &RenderSettings::aoSlices, 1, AO_MAX_SLICES,
+                            "gtao: slice directions per pixel (cost is slices x steps)"));
+    t.push_back(uintSetting("ambient occlusion", "ao-steps", &RenderSettings::aoSteps, 1, AO_MAX_STEPS,
+                            "gtao: depth samples per side of a slice"));
+    t.push_back(
+        choiceSetting("ambient occlusion", "ao-denoise", &RenderSettings::aoDenoise,
+                      {{"on", AO_DENOISE_ON}, {"off", AO_DENOISE_OFF}},
+                      "gtao: average the 4x4 sampling pattern out with a depth-aware 5x5 filter (off: "
+                      "the raw pattern)"));
+    t.push_back(uintSetting("ambient occlusion", "ao-reference-rays", &RenderSettings::aoReferenceRays, 1, 64,
+                            "reference: a stratified N x N grid of rays per pixel"));
     // textures
     t.push_back(
         choiceSetting("textures", "texture-filter", &RenderSettings::textureFilter,
@@ -518,6 +541,13 @@ Status checkSettings(const RenderSettings& settings)
             ExitCode::Usage,
             "--lod on simplifies the scene's triangles and --tessellate refines them; they do not "
             "combine (turn one of them off)");
+    if (settings.ao == AO_REFERENCE && (settings.tessellate != TESS_OFF || settings.lod == LOD_ON))
+        return makeError(ExitCode::Usage,
+                         "--ao reference casts rays against the scene's own triangles; it does not combine "
+                         "with --tessellate or --lod on (use --ao gtao)");
+    if (settings.shadingMode == SHADING_AO && settings.ao == AO_OFF)
+        return makeError(ExitCode::Usage,
+                         "--shading ao shows the ambient occlusion: it needs --ao gtao or --ao reference");
     if (!(settings.lineDepthBias >= 0.0f && settings.lineDepthBias < 1.0f))
         return makeError(ExitCode::Usage, "line depth bias {} is outside [0, 1)", settings.lineDepthBias);
     return okStatus();

@@ -100,6 +100,7 @@ bool isBoundKey(char key)
 {
     switch (key) {
     case 'm':
+    case 'a':
     case 'w':
     case 'p':
     case 'b':
@@ -122,6 +123,13 @@ bool onKey(ViewerState& state, char key)
     case 'm':
         // From the command line's own setting (-1) the cycle starts at the first preset.
         applyAaPreset(state, (state.aaPreset + 1) % int(kAaPresets.size()));
+        return true;
+    case 'a':
+        // Ambient occlusion on (GTAO, the settings' radius, slices and steps) or off; from --ao reference,
+        // off first.
+        state.settings.ao = state.settings.ao == AO_OFF ? AO_GTAO : AO_OFF;
+        if (state.settings.ao == AO_OFF && state.settings.shadingMode == SHADING_AO)
+            state.settings.shadingMode = kShadingKeyModes[0];
         return true;
     case 'w':
         state.wireframe = !state.wireframe;

@@ -81,7 +81,8 @@ struct ViewerState {
 ViewerState makeViewerState(const OrbitCamera& camera, const RenderSettings& settings, bool wireframe,
                             PrimitiveMode mode, uint32_t backendCount = 1);
 
-// Key `key` pressed: 1-9 shading (kShadingKeyModes), m next AA preset, w wireframe overlay on / off, p
+// Key `key` pressed: 1-9 shading (kShadingKeyModes), m next AA preset, a ambient occlusion (GTAO) on /
+// off (leaving --shading ao for the first key's mode when it goes off), w wireframe overlay on / off, p
 // primitive mode triangles -> lines -> points -> triangles, b next backend (when there are several), r
 // camera and model reset (the auto camera for the current size, the identity), s save, q and Escape
 // quit. The model keys: j / l move the model left / right and i / k up / down in the view plane (the

@@ -554,9 +554,9 @@ Status VulkanContext::createDescriptorObjects()
     for (uint32_t i = 0; i < count; ++i) {
         bindings[i] = VkDescriptorSetLayoutBinding{};
         bindings[i].binding = i;
-        bindings[i].descriptorType = i == BUF_PARAMS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                     : i < BUF_COUNT ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                                                     : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        bindings[i].descriptorType = i >= BUF_COUNT      ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                     : uniformBinding(i) ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                         : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = kBindingStages;
     }
@@ -572,8 +572,8 @@ Status VulkanContext::createDescriptorObjects()
     layoutInfo.pSetLayouts = &setLayout_;
     SR_VK_CHECK(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_));
 
-    VkDescriptorPoolSize poolSizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, BUF_COUNT - 1},
+    VkDescriptorPoolSize poolSizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kUniformBindings},
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, BUF_COUNT - kUniformBindings},
                                          {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VIEW_COUNT}};
     return createSingleSet(device_, poolSizes, texelViews() ? 3 : 2, setLayout_, descriptorPool_,
                            descriptorSet_);
@@ -932,7 +932,7 @@ void VulkanContext::writeDescriptorSet(const VkBuffer (&buffers)[BUF_COUNT], con
         }
         infos[i] = VkDescriptorBufferInfo{buffers[i], 0, VK_WHOLE_SIZE};
         writes[i].descriptorType =
-            i == BUF_PARAMS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            uniformBinding(i) ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &infos[i];
     }
     vkUpdateDescriptorSets(device_, count, writes, 0, nullptr);

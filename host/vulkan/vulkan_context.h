@@ -52,6 +52,17 @@ Error vkError(VkResult result, std::string_view what, const char* file, int line
 // any buffer, so a shader indexing element 0 of a placeholder buffer stays in bounds.
 constexpr VkDeviceSize kMinBufferBytes = 16;
 
+// The bindings of set 0 that are uniform buffers (BUF_PARAMS, and BUF_SRGB_TABLE, which as a uniform
+// buffer keeps the storage buffers within lavapipe's maxPerStageDescriptorStorageBuffers of 32); the
+// others below BUF_COUNT are storage buffers.
+constexpr bool uniformBinding(uint32_t binding)
+{
+    return binding == BUF_PARAMS || binding == BUF_SRGB_TABLE;
+}
+constexpr uint32_t kUniformBindings = 2;
+// The table of one uniform buffer is read as vec4[64] (std140): its buffer holds at least that.
+constexpr VkDeviceSize kSrgbTableBytes = 256 * sizeof(float);
+
 VkDeviceSize roundUp(VkDeviceSize value, VkDeviceSize multiple);
 
 // A descriptor pool sized for exactly one set of `layout` (its bindings' counts in `sizes`) and that set.

@@ -39,6 +39,9 @@ namespace {
 #include "setup_lines_points_cpu.spv.h"
 #include "clusters_cpu.spv.h"
 #include "raster_tiles_chunked.spv.h"
+#include "ao_cpu.spv.h"
+#include "ao_denoise_cpu.spv.h"
+#include "ao_gbuffer_cpu.spv.h"
 #include "shade_cpu.spv.h"
 #include "bin_count_fixed4.spv.h"
 #include "bin_fill_fixed4.spv.h"
@@ -131,21 +134,15 @@ struct TexelView {
     VkFormat format;
     VkDeviceSize texelBytes;
 };
-constexpr TexelView kTexelViews[VIEW_COUNT] = {{BUF_SETUP_TRIS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_BIN_ENTRIES, VK_FORMAT_R32_UINT, 4},
-                                               {BUF_VISIBILITY, VK_FORMAT_R32G32_UINT, 8},
-                                               {BUF_INDICES, VK_FORMAT_R32_UINT, 4},
-                                               {BUF_POSITIONS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_NORMALS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_COLORS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_TEXCOORDS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_TRI_MATERIALS, VK_FORMAT_R32_UINT, 4},
-                                               {BUF_MATERIALS, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_TEXTURES, VK_FORMAT_R32G32B32A32_UINT, 16},
-                                               {BUF_TEXELS, VK_FORMAT_R32_UINT, 4},
-                                               {BUF_SRGB_TABLE, VK_FORMAT_R32_UINT, 4}};
-static_assert(VIEW_SETUP_TRIS == BUF_COUNT && VIEW_SRGB_TABLE == BUF_COUNT + VIEW_COUNT - 1,
-              "kTexelViews order");
+constexpr TexelView kTexelViews[VIEW_COUNT] = {
+    {BUF_SETUP_TRIS, VK_FORMAT_R32G32B32A32_UINT, 16}, {BUF_BIN_ENTRIES, VK_FORMAT_R32_UINT, 4},
+    {BUF_VISIBILITY, VK_FORMAT_R32G32_UINT, 8},        {BUF_INDICES, VK_FORMAT_R32_UINT, 4},
+    {BUF_POSITIONS, VK_FORMAT_R32G32B32A32_UINT, 16},  {BUF_NORMALS, VK_FORMAT_R32G32B32A32_UINT, 16},
+    {BUF_COLORS, VK_FORMAT_R32G32B32A32_UINT, 16},     {BUF_TEXCOORDS, VK_FORMAT_R32G32B32A32_UINT, 16},
+    {BUF_TRI_MATERIALS, VK_FORMAT_R32_UINT, 4},        {BUF_MATERIALS, VK_FORMAT_R32G32B32A32_UINT, 16},
+    {BUF_TEXTURES, VK_FORMAT_R32G32B32A32_UINT, 16},   {BUF_TEXELS, VK_FORMAT_R32_UINT, 4},
+    {BUF_SRGB_TABLE, VK_FORMAT_R32_UINT, 4},           {BUF_AO, VK_FORMAT_R32_UINT, 4}};
+static_assert(VIEW_SETUP_TRIS == BUF_COUNT && VIEW_AO == BUF_COUNT + VIEW_COUNT - 1, "kTexelViews order");
 static_assert(sizeof(GpuMaterial) == 96 && sizeof(GpuTexture) == 32, "texels per record in buffers.glsl");
 
 // Everything a later submission may do with a buffer: compute stages read and write it, transfers
@@ -357,6 +354,12 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     if (stage == STAGE_BIN_FILL) spirv = m.binFill;
     if (stage == STAGE_RASTER_TILES) spirv = info_.isCpu ? m.rasterTilesChunked : m.rasterTiles;
     if (stage == STAGE_SHADE && info_.isCpu) spirv = StageSpirv{kSpv_shade_cpu, sizeof kSpv_shade_cpu};
+    // The AO stages' CPU builds read through the texel views (AO_CPU, compute_glsl/buffers.glsl).
+    if (stage == STAGE_AO_GBUFFER && info_.isCpu)
+        spirv = StageSpirv{kSpv_ao_gbuffer_cpu, sizeof kSpv_ao_gbuffer_cpu};
+    if (stage == STAGE_AO && info_.isCpu) spirv = StageSpirv{kSpv_ao_cpu, sizeof kSpv_ao_cpu};
+    if (stage == STAGE_AO_DENOISE && info_.isCpu)
+        spirv = StageSpirv{kSpv_ao_denoise_cpu, sizeof kSpv_ao_denoise_cpu};
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
@@ -435,7 +438,8 @@ Status VulkanDevice::ensureBindings()
         // the stages of this run touch it.
         context_.destroyBuffer(b);
         descriptorsDirty_ = true;
-        SR_TRY(context_.allocateBuffer(b, kMinBufferBytes, usage(i), {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
+        SR_TRY(context_.allocateBuffer(b, i == BUF_SRGB_TABLE ? kSrgbTableBytes : kMinBufferBytes, usage(i),
+                                       {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
     }
     if (!descriptorsDirty_) return okStatus();
     VkBuffer handles[BUF_COUNT];
@@ -454,6 +458,7 @@ Status VulkanDevice::ensureBindings()
 VkBufferUsageFlags VulkanDevice::usage(uint32_t buffer) const
 {
     VkBufferUsageFlags flags = kStorageUsage;
+    if (uniformBinding(buffer)) flags |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
     if (context_.texelViews())
         for (const TexelView& v : kTexelViews)
             if (v.buffer == buffer) flags |= VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;

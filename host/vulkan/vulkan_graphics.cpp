@@ -36,6 +36,9 @@
 #include <string>
 #include <vector>
 
+#include "ao/ao_host.h"
+#include "ao/ao_image.h"
+#include "ao/ao_reference.h"
 #include "render/aov.h"
 #include "render/materials.h"
 #include "vulkan/vulkan_context.h"
@@ -289,6 +292,11 @@ public:
     Status readBack(RenderOutput& out, bool allSamples);
     // Device memory this render allocated outside the context's accounting (multisampled attachments).
     size_t ownDeviceBytes() const { return size_t(targetBytes_); }
+    // Ambient occlusion (params.aoMode != AO_OFF): draws a frame for its G-buffer, the ids and depths of
+    // every sample the graphics pipeline rasterized; runs the AO stages' shared code on it on the host
+    // (host/ao/ao_host.h; --ao reference: the rays of host/ao/ao_image.h) and uploads the result to
+    // BUF_AO, which the fragment shader's shading reads from then on. Returns the AO per raster pixel.
+    Result<std::vector<float>> prepareAo(const Scene& scene, const RenderSettings& settings);
 
 private:
     // Every sample of an anti-aliased frame: per raster pixel the mean linear colour of its samples,
@@ -701,6 +709,13 @@ Status GraphicsRender::uploadScene(const Scene& scene)
         hasTexcoords_ = VK_TRUE;
     }
 
+    // Ambient occlusion: BUF_AO's planes AO_PLANE_RAW and AO_PLANE_DENOISED hold the frame's AO once
+    // prepareAo has run (unoccluded until then), so the shading reads it whichever plane aoPlane names.
+    if (params_.aoMode != AO_OFF) {
+        const std::vector<float> unoccluded(AO_PLANES * size_t(params_.samplePlane), 1.0f);
+        SR_TRY(uploadSceneBuffer(BUF_AO, unoccluded.data(), unoccluded.size() * sizeof(float), 0));
+    }
+
     // Written once by the host before the first submission, which makes the write visible.
     SR_TRY(ctx_.allocateBuffer(buffers_[BUF_PARAMS], roundUp(sizeof(RasterParams), kMinBufferBytes),
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -711,7 +726,9 @@ Status GraphicsRender::uploadScene(const Scene& scene)
 
     // The shaders declare every binding of the compute pipeline (buffers.glsl); the ones the draw
     // never reads share one small buffer so that the set is complete.
-    SR_TRY(ctx_.allocateBuffer(placeholder_, kMinBufferBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    // It also stands in for BUF_SRGB_TABLE, a uniform buffer the shaders read as 64 vec4s.
+    SR_TRY(ctx_.allocateBuffer(placeholder_, kSrgbTableBytes,
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT}));
     VkBuffer handles[BUF_COUNT];
     for (uint32_t i = 0; i < BUF_COUNT; ++i)
@@ -1472,6 +1489,35 @@ void GraphicsRender::resolve(SampleFrame& frame, RenderOutput& out, bool allSamp
             SampleAovs{params_.width, params_.height, samples_, std::move(frame.id), std::move(frame.depth)};
 }
 
+Result<std::vector<float>> GraphicsRender::prepareAo(const Scene& scene, const RenderSettings& settings)
+{
+    double ms = 0.0;
+    SR_TRY(drawFrame(ms));
+    RenderOutput gbuffer;
+    SR_TRY(readBack(gbuffer, true));
+    // The graphics pipeline's samples as the compute pipeline's visibility keys (sample-major planes).
+    const SampleAovs& samples = gbuffer.samples;
+    std::vector<uint64_t> visibility(samples.id.size(), ~uint64_t(0));
+    for (size_t i = 0; i < visibility.size(); ++i)
+        if (samples.id[i] != EMPTY_ID) visibility[i] = packVisibility(samples.depth[i], samples.id[i]);
+    std::vector<float> ao;
+    if (params_.aoMode == AO_REFERENCE) {
+        const AoBvh bvh(scene);
+        ao = referenceAoImage(scene, bvh, params_, visibility, aoWorldRadius(scene, settings),
+                              settings.aoReferenceRays);
+    } else {
+        const AoGbufferPlanes planes = aoGbufferOnHost(scene, params_, visibility);
+        ao = gtaoOnHost(params_, planes);
+        if (params_.aoPlane == AO_PLANE_DENOISED) ao = aoDenoiseOnHost(params_, planes, ao);
+    }
+    std::vector<float> planes(AO_PLANES * size_t(params_.samplePlane), 1.0f);
+    for (uint32_t plane : {AO_PLANE_RAW, AO_PLANE_DENOISED})
+        std::copy(ao.begin(), ao.end(), planes.begin() + std::ptrdiff_t(plane * size_t(params_.samplePlane)));
+    SR_TRY(ctx_.upload(buffers_[BUF_AO].buffer, planes.data(), planes.size() * sizeof(float),
+                       kSceneReaderStages, kSceneReaderAccess));
+    return ao;
+}
+
 Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scene,
                                        const CameraMatrices& camera, const RenderSettings& settings,
                                        int deviceIndex)
@@ -1488,6 +1534,12 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
 
     GraphicsRender render(context);
     SR_TRY(render.init(scene, out.params, settings.visibilityOnly));
+    std::vector<float> ao;
+    if (settings.ao != AO_OFF) {
+        auto prepared = render.prepareAo(scene, settings);
+        if (!prepared) return prepared.error();
+        ao = std::move(*prepared);
+    }
     std::vector<double> drawMs;
     for (uint32_t frame = 0; frame < settings.warmup + settings.repeat; ++frame) {
         double ms = 0.0;
@@ -1495,6 +1547,10 @@ Result<RenderOutput> renderWithContext(VulkanContext& context, const Scene& scen
         if (frame >= settings.warmup) drawMs.push_back(ms);
     }
     SR_TRY(render.readBack(out, settings.aovSamples));
+    if (!ao.empty()) {
+        for (float& v : ao) v = aoShaded(v);
+        out.aov.ao = resolveAo(ao, settings.width, settings.height, settings.ssaa);
+    }
     // The surface channels describe the sample the id and depth AOVs come from (aovSampleIndex).
     if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
 

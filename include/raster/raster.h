@@ -248,6 +248,9 @@ struct Frame {
     // perspective-correct barycentrics of the triangle's vertices 1 and 2 (2 per pixel), base colour
     // texture coordinates (2), unit view-space shading normal facing the viewer (3); 0 where empty.
     std::vector<float> bary, uv, normal;
+    // Ambient occlusion shade used, 1 = unoccluded (setting "ao" gtao or reference; empty when off): the
+    // mean over the pixel's raster pixels with SSAA.
+    std::vector<float> ao;
     // Every sample's id and depth (setting "aov-samples"): sample s of raster pixel p at index
     // s * rasterWidth * rasterHeight + p; the raster grid is the image times "ssaa" per side.
     uint32_t rasterWidth = 0, rasterHeight = 0, samples = 0;

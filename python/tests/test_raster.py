@@ -78,6 +78,22 @@ def test_level_of_detail_is_a_keyword_and_matches_the_cli(vulkan, tmp_path):
     np.testing.assert_array_equal(frame.color, read_png(png))
 
 
+def test_ambient_occlusion_is_a_keyword_an_array_and_matches_the_cli(vulkan, tmp_path):
+    # ao="gtao" fills frame.ao (float32, 1 = open), shading="ao" shows it, and the image is the one the
+    # command line's --ao gtao draws; without AO there is no array.
+    scene = raster.Scene.load("builtin")
+    frame = vulkan.render(scene, W, H, "orbit:30,30,2.2r", ao="gtao", ao_slices=3, shading="ao")
+    assert frame.ao.dtype == np.float32 and frame.ao.shape == (H, W)
+    covered = frame.ids != raster.EMPTY_ID
+    assert ((frame.ao >= 0) & (frame.ao <= 1)).all() and frame.ao[covered].min() < 0.9
+    assert vulkan.render(scene, W, H, "orbit:30,30,2.2r").ao is None
+    png = tmp_path / "cli.png"
+    run_cli("render", "builtin", "--backend", "vulkan", "--width", W, "--height", H, "--camera",
+            "orbit:30,30,2.2r", "--ao", "gtao", "--ao-slices", 3, "--shading", "ao", "--msaa", 1, "--warmup", 0,
+            "-q", "-o", png)
+    np.testing.assert_array_equal(frame.color, read_png(png))
+
+
 def test_rows_from_the_top_with_explicit_matrices(vulkan):
     # A triangle in the upper half of NDC (y < 0 is up in Vulkan's clip space) covers only top rows.
     pos = np.array([[-0.5, -0.9, 0.5], [0.5, -0.9, 0.5], [0.0, -0.2, 0.5]], np.float32)

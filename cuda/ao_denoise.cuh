@@ -1,0 +1,40 @@
+// ao_denoise.cuh - stage `ao_denoise` (RasterParams.aoMode == AO_GTAO, aoPlane == AO_PLANE_DENOISED): per
+// raster pixel, the 5 x 5 tent-weighted mean of plane AO_PLANE_RAW of BUF_AO over the neighbours on the
+// pixel's own surface (aoDenoiseWeight, common/shared/ao.h), into plane AO_PLANE_DENOISED; it averages the 4
+// x 4 slice pattern out and keeps edges. blocks = ceil(samplePlane / GROUP_SIZE).
+namespace sr {
+
+__device__ inline void aoDenoiseStage(const RasterParams& params, const Buffers& b)
+{
+    uint i = globalThreadId();
+    uint plane = params.samplePlane;
+    if (i >= plane) return;
+    float dist = b.ao[AO_PLANE_DISTANCE * plane + i];
+    if (dist == 0.0f) {
+        b.ao[AO_PLANE_DENOISED * plane + i] = 1.0f;
+        return;
+    }
+    int x = int(i % params.width);
+    int y = int(i / params.width);
+    AoPixel a = aoPixelAt(params, x, y, dist,
+                          vec3(b.ao[AO_PLANE_NORMAL * plane + i], b.ao[(AO_PLANE_NORMAL + 1u) * plane + i],
+                               b.ao[(AO_PLANE_NORMAL + 2u) * plane + i]));
+    float sum = 0.0f;
+    float weights = 0.0f;
+    for (int dy = -2; dy <= 2; ++dy) {
+        for (int dx = -2; dx <= 2; ++dx) {
+            int qx = x + dx;
+            int qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= int(params.width) || qy >= int(params.height)) continue;
+            uint q = uint(qy) * params.width + uint(qx);
+            float d = b.ao[AO_PLANE_DISTANCE * plane + q];
+            if (d == 0.0f) continue;
+            float w = aoDenoiseWeight(a, dist, aoViewPoint(params, qx, qy, d), dx, dy);
+            sum += w * b.ao[AO_PLANE_RAW * plane + q];
+            weights += w;
+        }
+    }
+    b.ao[AO_PLANE_DENOISED * plane + i] = aoDenoiseResolve(sum, weights);
+}
+
+}  // namespace sr

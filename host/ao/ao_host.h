@@ -1,0 +1,37 @@
+// ao_host.h - the GTAO stages (ao_gbuffer, ao, ao_denoise) run on the host through the same shared code
+// as cuda/ao*.cuh and compute_glsl/ao*.comp (common/shared/ao.h is valid C++, and the host is built
+// without contraction, so it computes the same bits). The vulkan-graphics reference backend runs them on
+// the G-buffer its graphics pipeline drew (host/vulkan/vulkan_graphics.cpp), and the tests compare the
+// devices with them.
+#ifndef RASTER_AO_HOST_H
+#define RASTER_AO_HOST_H
+
+#include <cstdint>
+#include <vector>
+
+#include "raster_shared.h"
+
+namespace sr {
+
+struct Scene;
+
+// BUF_AO's first four planes (AO_PLANE_DISTANCE, AO_PLANE_NORMAL x, y, z), params.samplePlane entries each.
+using AoGbufferPlanes = std::vector<float>;
+
+// Stage ao_gbuffer from the frame's visibility keys (every sample plane) and the scene it drew.
+AoGbufferPlanes aoGbufferOnHost(const Scene& scene, const RasterParams& params,
+                                const std::vector<uint64_t>& visibility);
+// Stage ao: plane 0 of BUF_AO.
+std::vector<float> gtaoOnHost(const RasterParams& params, const AoGbufferPlanes& gbuffer);
+// Stage ao_denoise: plane 1 of BUF_AO from plane 0.
+std::vector<float> aoDenoiseOnHost(const RasterParams& params, const AoGbufferPlanes& gbuffer,
+                                   const std::vector<float>& raw);
+
+// The surface AO sees at raster pixel (x, y): its nearest sample's triangle (the smallest key, as
+// ao_gbuffer takes it) at the pixel centre; false where no triangle covers it.
+bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
+                 uint32_t x, uint32_t y, SurfacePoint& surface);
+
+}  // namespace sr
+
+#endif  // RASTER_AO_HOST_H

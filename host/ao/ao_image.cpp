@@ -1,0 +1,56 @@
+// ao_image.cpp - see ao_image.h.
+#include "ao/ao_image.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "ao/ao_host.h"
+#include "ao/ao_reference.h"
+#include "scene/scene.h"
+
+namespace sr {
+
+bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
+                    uint32_t x, uint32_t y, glm::dvec3& point, glm::dvec3& normal)
+{
+    SurfacePoint s;
+    if (!aoSurfaceAt(scene, params, visibility, x, y, s)) return false;
+    const glm::vec4 g = aoGbufferOf(s);
+    // View space back to the world: the point through the inverse, the normal through the transpose of
+    // the inverse transpose (normalFromWorld's inverse), renormalised.
+    const glm::dmat4 worldFromView = glm::inverse(glm::dmat4(params.viewFromWorld));
+    const glm::dvec3 viewPoint = glm::dvec3(s.viewPos.x, s.viewPos.y, s.viewPos.z);
+    point = glm::dvec3(worldFromView * glm::dvec4(viewPoint, 1.0));
+    const glm::dmat3 normalFromView = glm::transpose(glm::dmat3(glm::dmat4(params.viewFromWorld)));
+    normal = glm::normalize(normalFromView * glm::dvec3(g.y, g.z, g.w));
+    return true;
+}
+
+std::vector<float> referenceAoImage(const Scene& scene, const AoBvh& bvh, const RasterParams& params,
+                                    const std::vector<uint64_t>& visibility, double radius, uint32_t side)
+{
+    const uint32_t width = params.width, height = params.height;
+    std::vector<float> ao(uint64_t(width) * height, 1.0f);
+    const glm::dvec3 extent = glm::dvec3(scene.boundsMax) - glm::dvec3(scene.boundsMin);
+    const double bias = 1e-6 * std::max({extent.x, extent.y, extent.z, 1e-30});
+    std::atomic<uint32_t> nextRow{0};
+    auto work = [&] {
+        for (uint32_t y = nextRow++; y < height; y = nextRow++)
+            for (uint32_t x = 0; x < width; ++x) {
+                glm::dvec3 p, n;
+                if (aoSurfaceWorld(scene, params, visibility, x, y, p, n))
+                    ao[uint64_t(y) * width + x] = float(referenceAo(bvh, p, n, radius, side, bias));
+            }
+    };
+    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 64u));
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    return ao;
+}
+
+}  // namespace sr
