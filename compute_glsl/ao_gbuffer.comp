@@ -26,10 +26,11 @@ void main()
         uint i0 = LOAD_INDEX(3u * id);
         uint i1 = LOAD_INDEX(3u * id + 1u);
         uint i2 = LOAD_INDEX(3u * id + 2u);
-        SurfacePoint s = surfaceAt(params, int(i % params.width), int(i / params.width), LOAD_POSITION(i0),
-                                   LOAD_POSITION(i1), LOAD_POSITION(i2), LOAD_NORMAL(i0), LOAD_NORMAL(i1),
-                                   LOAD_NORMAL(i2));
-        g = aoGbufferOf(s);
+        vec4 pos0 = LOAD_POSITION(i0), pos1 = LOAD_POSITION(i1), pos2 = LOAD_POSITION(i2);
+        vec4 nrm0 = LOAD_NORMAL(i0), nrm1 = LOAD_NORMAL(i1), nrm2 = LOAD_NORMAL(i2);
+        SurfacePoint s =
+            surfaceAt(params, int(i % params.width), int(i / params.width), pos0, pos1, pos2, nrm0, nrm1, nrm2);
+        g = aoGbufferOf(params, s.bary, pos0, pos1, pos2, nrm0, nrm1, nrm2);
     }
     ao[AO_PLANE_DISTANCE * plane + i] = g.x;
     ao[AO_PLANE_NORMAL * plane + i] = g.y;

@@ -20,10 +20,11 @@ __device__ inline void aoGbufferStage(const RasterParams& params, const Buffers&
         uint i0 = b.indices[3u * id];
         uint i1 = b.indices[3u * id + 1u];
         uint i2 = b.indices[3u * id + 2u];
-        SurfacePoint s =
-            surfaceAt(params, int(i % params.width), int(i / params.width), b.positions[i0], b.positions[i1],
-                      b.positions[i2], b.normals[i0], b.normals[i1], b.normals[i2]);
-        g = aoGbufferOf(s);
+        vec4 pos0 = b.positions[i0], pos1 = b.positions[i1], pos2 = b.positions[i2];
+        vec4 nrm0 = b.normals[i0], nrm1 = b.normals[i1], nrm2 = b.normals[i2];
+        SurfacePoint s = surfaceAt(params, int(i % params.width), int(i / params.width), pos0, pos1, pos2,
+                                   nrm0, nrm1, nrm2);
+        g = aoGbufferOf(params, s.bary, pos0, pos1, pos2, nrm0, nrm1, nrm2);
     }
     b.ao[AO_PLANE_DISTANCE * plane + i] = g.x;
     b.ao[AO_PLANE_NORMAL * plane + i] = g.y;

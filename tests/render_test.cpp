@@ -269,8 +269,10 @@ TEST_P(RenderTest, TimingsAndMemoryAreReported)
     s.warmup = 1;
     s.repeat = 3;
     RenderOutput out = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
-    // Every pipeline stage; the tess_* stages (numbered after them) only in tessellated frames, first.
-    ASSERT_EQ(out.stages.size(), size_t(STAGE_TESS_COUNT));
+    // Every pipeline stage; the AO stages only with --ao gtao; the tess_* stages (numbered after them)
+    // only in tessellated frames, first.
+    constexpr size_t kAoStages = 3;
+    ASSERT_EQ(out.stages.size(), size_t(STAGE_TESS_COUNT) - kAoStages);
     for (const StageTiming& t : out.stages) {
         EXPECT_LE(t.minMs, t.medianMs);
         EXPECT_LE(t.medianMs, t.maxMs);
@@ -279,10 +281,17 @@ TEST_P(RenderTest, TimingsAndMemoryAreReported)
     EXPECT_GE(out.peakDeviceBytes, 32u * 32u * 12u);  // visibility + framebuffer at least
     s.tessellate = TESS_FLAT;
     RenderOutput tess = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
-    ASSERT_EQ(tess.stages.size(), size_t(STAGE_COUNT));
+    ASSERT_EQ(tess.stages.size(), size_t(STAGE_COUNT) - kAoStages);
     EXPECT_EQ(tess.stages[0].name, "tess_count");
     EXPECT_EQ(tess.stages[3].name, "tess_emit");
     EXPECT_EQ(tess.stages[4].name, "clear");
+    s.tessellate = TESS_OFF;
+    s.ao = AO_GTAO;
+    RenderOutput ao = render(clipSpaceScene(clipQuad(-1, -1, 1, 1, 0.5f)), s);
+    ASSERT_EQ(ao.stages.size(), size_t(STAGE_TESS_COUNT));
+    EXPECT_EQ(ao.stages[STAGE_AO_GBUFFER].name, "ao_gbuffer");
+    EXPECT_EQ(ao.stages[STAGE_AO_DENOISE].name, "ao_denoise");
+    EXPECT_EQ(ao.stages[STAGE_SHADE].name, "shade");
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RenderTest, ::testing::Values("vulkan", "cuda"),

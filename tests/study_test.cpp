@@ -475,7 +475,8 @@ TEST(StudyAo, TheGroupMeasuresGtaoAgainstTheReference)
                     << scene << " " << slices << "x" << steps;
     auto row = [&](const std::string& scene, double radiusScale) {
         for (const auto& r : rows)
-            if (r["scene"] == scene && r["slices"] == 2 && r["steps"] == 4 && r["denoise"] == true &&
+            if (r["scene"] == scene && r["slices"] == RenderSettings{}.aoSlices &&
+                r["steps"] == RenderSettings{}.aoSteps && r["denoise"] == true &&
                 r["radius_scale"].get<double>() == radiusScale)
                 return r;
         ADD_FAILURE() << "no default row " << scene;

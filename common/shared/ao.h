@@ -154,18 +154,46 @@ SR_FN vec3 aoViewPoint(RasterParams params, int px, int py, float dist)
     return aoViewPointNdc(params, pixelCenterNdc(px, py, params.width, params.height), dist);
 }
 
-// Stage ao_gbuffer: what AO knows of the surface of a raster pixel, from the surface shade lights there
-// (surfaceAt): x the view distance -z (at least 1e-30, so that 0 means no surface), yzw the unit normal
-// shadePixel lights with (the interpolated vertex normal, or the face normal where that is zero, turned
-// to the viewer's side of the face), normalised with deterministic operations.
-SR_FN vec4 aoGbufferOf(SurfacePoint s)
+// b0 x0 + b1 x1 + b2 x2 per component, each product rounded, summed in that order.
+SR_FN vec3 interpolateDet(vec3 b, vec3 x0, vec3 x1, vec3 x2)
 {
-    vec3 toEye = vec3(0.0f - s.viewPos.x, 0.0f - s.viewPos.y, 0.0f - s.viewPos.z);
-    vec3 fn = normalizeDet(s.faceNormal, vec3(0.0f, 0.0f, 1.0f));
+    SR_PRECISE float x = x0.x * b.x + x1.x * b.y + x2.x * b.z;
+    SR_PRECISE float y = x0.y * b.x + x1.y * b.y + x2.y * b.z;
+    SR_PRECISE float z = x0.z * b.x + x1.z * b.y + x2.z * b.z;
+    return vec3(x, y, z);
+}
+
+// Stage ao_gbuffer: what AO knows of the surface of a raster pixel, at the barycentrics `bary` of the
+// surface shade lights there (surfaceAt's, themselves computed bit for bit alike everywhere) of the
+// triangle with world-space corners pos* and normals nrm*: x the view distance -z (at least 1e-30, so
+// that 0 means no surface), yzw the unit normal shadePixel lights with (the interpolated vertex normal,
+// or the face normal where that is zero, turned to the viewer's side of the face). Everything is
+// recomputed here with deterministic operations, not taken from SurfacePoint, whose interpolations GLSL
+// may fuse and whose vertex normals come from GLSL's sqrt and division (a few ulp apart between
+// devices): the G-buffer, and with it the AO, has the same bits on every backend.
+SR_FN vec4 aoGbufferOf(RasterParams params, vec3 bary, vec4 pos0, vec4 pos1, vec4 pos2, vec4 nrm0, vec4 nrm1,
+                       vec4 nrm2)
+{
+    vec4 p0 = mulPoint(params.viewFromWorld, pos0);
+    vec4 p1 = mulPoint(params.viewFromWorld, pos1);
+    vec4 p2 = mulPoint(params.viewFromWorld, pos2);
+    vec4 m0 = mulPoint(params.normalFromWorld, vec4(nrm0.x, nrm0.y, nrm0.z, 0.0f));
+    vec4 m1 = mulPoint(params.normalFromWorld, vec4(nrm1.x, nrm1.y, nrm1.z, 0.0f));
+    vec4 m2 = mulPoint(params.normalFromWorld, vec4(nrm2.x, nrm2.y, nrm2.z, 0.0f));
+    vec3 zero = vec3(0.0f);
+    vec3 viewPos =
+        interpolateDet(bary, vec3(p0.x, p0.y, p0.z), vec3(p1.x, p1.y, p1.z), vec3(p2.x, p2.y, p2.z));
+    vec3 viewNormal = interpolateDet(bary, normalizeDet(vec3(m0.x, m0.y, m0.z), zero),
+                                     normalizeDet(vec3(m1.x, m1.y, m1.z), zero),
+                                     normalizeDet(vec3(m2.x, m2.y, m2.z), zero));
+    vec3 e1 = vec3(p1.x - p0.x, p1.y - p0.y, p1.z - p0.z);
+    vec3 e2 = vec3(p2.x - p0.x, p2.y - p0.y, p2.z - p0.z);
+    vec3 toEye = vec3(0.0f - viewPos.x, 0.0f - viewPos.y, 0.0f - viewPos.z);
+    vec3 fn = normalizeDet(crossDet(e1, e2), vec3(0.0f, 0.0f, 1.0f));
     if (dotDet(fn, toEye) < 0.0f) fn = vec3(0.0f - fn.x, 0.0f - fn.y, 0.0f - fn.z);
-    vec3 n = normalizeDet(s.viewNormal, fn);
+    vec3 n = normalizeDet(viewNormal, fn);
     if (dotDet(n, fn) < 0.0f) n = vec3(0.0f - n.x, 0.0f - n.y, 0.0f - n.z);
-    return vec4(max(0.0f - s.viewPos.z, 1e-30f), n.x, n.y, n.z);
+    return vec4(max(0.0f - viewPos.z, 1e-30f), n.x, n.y, n.z);
 }
 
 // What GTAO knows of its pixel.

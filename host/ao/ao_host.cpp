@@ -9,7 +9,7 @@
 namespace sr {
 
 bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
-                 uint32_t x, uint32_t y, SurfacePoint& surface)
+                 uint32_t x, uint32_t y, SurfacePoint& surface, glm::vec4& gbuffer)
 {
     const uint64_t pixel = uint64_t(y) * params.width + x;
     uint64_t key = visibility[pixel];
@@ -21,6 +21,8 @@ bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vect
                    i2 = scene.indices[3 * size_t(id) + 2];
     surface = surfaceAt(params, int(x), int(y), scene.positions[i0], scene.positions[i1], scene.positions[i2],
                         scene.normals[i0], scene.normals[i1], scene.normals[i2]);
+    gbuffer = aoGbufferOf(params, surface.bary, scene.positions[i0], scene.positions[i1], scene.positions[i2],
+                          scene.normals[i0], scene.normals[i1], scene.normals[i2]);
     return true;
 }
 
@@ -32,8 +34,8 @@ AoGbufferPlanes aoGbufferOnHost(const Scene& scene, const RasterParams& params,
     for (uint32_t y = 0; y < params.height; ++y)
         for (uint32_t x = 0; x < params.width; ++x) {
             SurfacePoint s;
-            if (!aoSurfaceAt(scene, params, visibility, x, y, s)) continue;
-            const glm::vec4 v = aoGbufferOf(s);
+            glm::vec4 v;
+            if (!aoSurfaceAt(scene, params, visibility, x, y, s, v)) continue;
             const uint64_t i = uint64_t(y) * params.width + x;
             g[i] = v.x;
             g[plane + i] = v.y;
@@ -97,7 +99,10 @@ std::vector<float> aoDenoiseOnHost(const RasterParams& params, const AoGbufferPl
         float sum = 0.0f, weights = 0.0f;
         for (int dy = -2; dy <= 2; ++dy)
             for (int dx = -2; dx <= 2; ++dx) {
-                const int qx = x + dx, qy = y + dy;
+                // Outside the image, the pixel 4 further in, as the stages take it.
+                int qx = x + dx, qy = y + dy;
+                qx += qx < 0 ? 4 : qx >= int(params.width) ? -4 : 0;
+                qy += qy < 0 ? 4 : qy >= int(params.height) ? -4 : 0;
                 if (qx < 0 || qy < 0 || qx >= int(params.width) || qy >= int(params.height)) continue;
                 const uint64_t q = uint64_t(qy) * params.width + uint64_t(qx);
                 const float d = g[q];

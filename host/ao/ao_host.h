@@ -28,9 +28,10 @@ std::vector<float> aoDenoiseOnHost(const RasterParams& params, const AoGbufferPl
                                    const std::vector<float>& raw);
 
 // The surface AO sees at raster pixel (x, y): its nearest sample's triangle (the smallest key, as
-// ao_gbuffer takes it) at the pixel centre; false where no triangle covers it.
+// ao_gbuffer takes it) at the pixel centre, and what ao_gbuffer stores of it (aoGbufferOf); false where
+// no triangle covers it.
 bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
-                 uint32_t x, uint32_t y, SurfacePoint& surface);
+                 uint32_t x, uint32_t y, SurfacePoint& surface, glm::vec4& gbuffer);
 
 }  // namespace sr
 

@@ -17,8 +17,8 @@ bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::v
                     uint32_t x, uint32_t y, glm::dvec3& point, glm::dvec3& normal)
 {
     SurfacePoint s;
-    if (!aoSurfaceAt(scene, params, visibility, x, y, s)) return false;
-    const glm::vec4 g = aoGbufferOf(s);
+    glm::vec4 g;
+    if (!aoSurfaceAt(scene, params, visibility, x, y, s, g)) return false;
     // View space back to the world: the point through the inverse, the normal through the transpose of
     // the inverse transpose (normalFromWorld's inverse), renormalised.
     const glm::dmat4 worldFromView = glm::inverse(glm::dmat4(params.viewFromWorld));

@@ -99,12 +99,16 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
         {STAGE_BIN_FILL, work.binBig ? p.binGroups : 0u},
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
-        {STAGE_AO_GBUFFER, p.aoMode == AO_GTAO ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
-        {STAGE_AO, p.aoMode == AO_GTAO ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
-        {STAGE_AO_DENOISE,
-         p.aoMode == AO_GTAO && p.aoPlane == AO_PLANE_DENOISED ? groupsFor(p.samplePlane, GROUP_SIZE) : 0u},
         {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE)},
     };
+    // Ambient occlusion's stages run before shade, and only with GTAO: a frame without them has exactly
+    // the dispatches it had before AO existed (an empty dispatch still costs its two timer events).
+    if (p.aoMode == AO_GTAO) {
+        const uint32_t groups = groupsFor(p.samplePlane, GROUP_SIZE);
+        std::vector<Dispatch> ao = {{STAGE_AO_GBUFFER, groups}, {STAGE_AO, groups}};
+        if (p.aoPlane == AO_PLANE_DENOISED) ao.push_back({STAGE_AO_DENOISE, groups});
+        dispatches.insert(dispatches.end() - 1, ao.begin(), ao.end());
+    }
     for (Dispatch& d : dispatches) {
         d.alphaTest = work.alphaTest &&
                       (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES);

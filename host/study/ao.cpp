@@ -72,7 +72,7 @@ std::vector<AoSetting> aoStudySettings()
     for (bool denoise : {true, false})
         for (uint32_t slices : {1u, 2u, 3u, 4u})
             for (uint32_t steps : {2u, 4u, 8u}) settings.push_back({slices, steps, 1.0f, denoise});
-    for (float scale : {0.5f, 2.0f}) settings.push_back({2, 4, scale, true});
+    for (float scale : {0.5f, 2.0f}) settings.push_back({1, 8, scale, true});
     return settings;
 }
 

@@ -43,8 +43,8 @@ Scene standingOnFloor(Scene mesh);
 // One GTAO setting of the sweep: --ao-slices, --ao-steps, the radius as a multiple of the default
 // (kAoRadiusFraction of the scene's bounding radius) and --ao-denoise.
 struct AoSetting {
-    uint32_t slices = 2;
-    uint32_t steps = 4;
+    uint32_t slices = 1;  // RenderSettings' defaults
+    uint32_t steps = 8;
     float radiusScale = 1.0f;
     bool denoise = true;
 };
