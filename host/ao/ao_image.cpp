@@ -19,11 +19,20 @@ bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::v
     SurfacePoint s;
     glm::vec4 g;
     if (!aoSurfaceAt(scene, params, visibility, x, y, s, g)) return false;
-    // View space back to the world: the point through the inverse, the normal through the transpose of
-    // the inverse transpose (normalFromWorld's inverse), renormalised.
-    const glm::dmat4 worldFromView = glm::inverse(glm::dmat4(params.viewFromWorld));
-    const glm::dvec3 viewPoint = glm::dvec3(s.viewPos.x, s.viewPos.y, s.viewPos.z);
-    point = glm::dvec3(worldFromView * glm::dvec4(viewPoint, 1.0));
+    const uint64_t pixel = uint64_t(y) * params.width + x;
+    uint64_t key = visibility[pixel];
+    for (uint32_t k = 1; k < params.sampleCount; ++k)
+        key = std::min(key, visibility[uint64_t(k) * params.samplePlane + pixel]);
+    const size_t t = 3 * size_t(visibilityId(key));
+    // The point from the barycentrics and the world-space corners in double precision, so that it lies in
+    // its triangle's plane far closer than the rays' offset (taken back from the float view-space point,
+    // it was up to about 1e-6 off on curved meshes, as far as the offset, and some of its rays started
+    // behind its own triangle: black speckles on the bunny and the torus). The normal goes back through
+    // the transpose of the inverse transpose (normalFromWorld's inverse), renormalised.
+    const glm::dvec3 bary(s.bary);
+    point = bary.x * glm::dvec3(scene.positions[scene.indices[t]]) +
+            bary.y * glm::dvec3(scene.positions[scene.indices[t + 1]]) +
+            bary.z * glm::dvec3(scene.positions[scene.indices[t + 2]]);
     const glm::dmat3 normalFromView = glm::transpose(glm::dmat3(glm::dmat4(params.viewFromWorld)));
     normal = glm::normalize(normalFromView * glm::dvec3(g.y, g.z, g.w));
     return true;

@@ -173,6 +173,12 @@ Result<CompareReport> compareAov(const AovImage& a, const AovImage& b, const Com
     compareGroup(a.hasUv() && b.hasUv(), r.maxUvDiff, {{&a.uvU, &b.uvU}, {&a.uvV, &b.uvV}});
     compareGroup(a.hasNormal() && b.hasNormal(), r.maxNormalDiff,
                  {{&a.normalX, &b.normalX}, {&a.normalY, &b.normalY}, {&a.normalZ, &b.normalZ}});
+    if (a.hasAo() && b.hasAo() && a.ao.size() == a.id.size() && b.ao.size() == b.id.size()) {
+        r.maxAoDiff = 0.0;
+        for (size_t i = 0; i < a.id.size(); ++i)
+            if (a.id[i] != 0xFFFFFFFFu && a.id[i] == b.id[i])
+                r.maxAoDiff = std::max(r.maxAoDiff, floatDiff(a.ao[i], b.ao[i]));
+    }
     if (tol.surfaceTolerance >= 0.0) {
         for (size_t i = 0; i < surfaceWorst.size(); ++i) {
             if (surfaceWorst[i] <= tol.surfaceTolerance) continue;
@@ -329,6 +335,7 @@ std::string formatReport(const CompareReport& r, const CompareTolerance& tol)
                                    {"N", r.maxNormalDiff}}) {
             if (diff >= 0.0) s += fmt::format("  Max {} diff: {:.9g}\n", label, diff);
         }
+        if (r.maxAoDiff >= 0.0) s += fmt::format("  Max ao diff: {:.9g}\n", r.maxAoDiff);
         if (r.maxBaryDiff >= 0.0 || r.maxUvDiff >= 0.0 || r.maxNormalDiff >= 0.0)
             s +=
                 "  (bary, uv and N are computed on the host from the ids, by the same code for every backend:"

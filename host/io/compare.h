@@ -72,6 +72,10 @@ struct CompareReport {
     // the group's channels and the pixels covered by the same triangle in both; -1: not compared.
     double maxBaryDiff = -1.0, maxUvDiff = -1.0, maxNormalDiff = -1.0;
     uint64_t surfaceOverTolerance = 0;  // such pixels over surfaceTolerance (when it is set)
+    // The ambient occlusion channel (AovImage::ao), where both files have it: the largest |a - b| over
+    // the pixels covered by the same triangle in both (the device's own output, unlike the groups above,
+    // so a cross-backend comparison of it means something); -1: not compared.
+    double maxAoDiff = -1.0;
     // Sample channels (AovImage::sampleId, both files must have the same number): samples whose id or
     // coverage differs (allowed: maxIdMismatches), and samples of the same triangle whose depth differs by
     // more than depthTolerance.
