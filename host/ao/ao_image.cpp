@@ -29,7 +29,12 @@ bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::v
     // it was up to about 1e-6 off on curved meshes, as far as the offset, and some of its rays started
     // behind its own triangle: black speckles on the bunny and the torus). The normal goes back through
     // the transpose of the inverse transpose (normalFromWorld's inverse), renormalised.
-    const glm::dvec3 bary(s.bary);
+    // With MSAA the pixel centre may lie outside the nearest sample's triangle, where surfaceAt
+    // extrapolates its plane (as shading does); on a mesh of pixel-sized triangles that point is under
+    // the neighbouring triangles, which then occlude it, so the rays start from the triangle's nearest
+    // point instead: the barycentrics clamped to it.
+    glm::dvec3 bary = glm::clamp(glm::dvec3(s.bary), 0.0, 1.0);
+    bary /= bary.x + bary.y + bary.z;
     point = bary.x * glm::dvec3(scene.positions[scene.indices[t]]) +
             bary.y * glm::dvec3(scene.positions[scene.indices[t + 1]]) +
             bary.z * glm::dvec3(scene.positions[scene.indices[t + 2]]);
