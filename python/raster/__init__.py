@@ -231,6 +231,8 @@ class Frame:
         rendered with surface_aovs=True: perspective-correct barycentric weights of the triangle's
         second and third vertex (the first's is 1 - sum), base colour texture coordinates, unit
         view-space shading normal; 0 where empty.
+    ao: (H, W) float32 ambient occlusion the shading used (1 = open) when rendered with ao="gtao" or
+        "reference", else None.
     sample_ids, sample_depth: (S, H*ssaa, W*ssaa) every sample's id and depth with aov_samples=True
         (S = msaa), else None.
     stats: the statistics ``raster render --stats`` writes (counts, stage times, settings) as a dict.
@@ -267,6 +269,10 @@ class Frame:
     @functools.cached_property
     def normal(self) -> Optional[np.ndarray]:
         return self._native.normal
+
+    @functools.cached_property
+    def ao(self) -> Optional[np.ndarray]:
+        return self._native.ao
 
     @functools.cached_property
     def sample_ids(self) -> Optional[np.ndarray]:
