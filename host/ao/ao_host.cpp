@@ -33,8 +33,8 @@ AoGbufferPlanes aoGbufferOnHost(const Scene& scene, const RasterParams& params,
     AoGbufferPlanes g(4 * plane, 0.0f);
     for (uint32_t y = 0; y < params.height; ++y)
         for (uint32_t x = 0; x < params.width; ++x) {
-            SurfacePoint s;
-            glm::vec4 v;
+            SurfacePoint s{};
+            glm::vec4 v(0.0f);
             if (!aoSurfaceAt(scene, params, visibility, x, y, s, v)) continue;
             const uint64_t i = uint64_t(y) * params.width + x;
             g[i] = v.x;

@@ -16,8 +16,8 @@ namespace sr {
 bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
                     uint32_t x, uint32_t y, glm::dvec3& point, glm::dvec3& normal)
 {
-    SurfacePoint s;
-    glm::vec4 g;
+    SurfacePoint s{};
+    glm::vec4 g(0.0f);
     if (!aoSurfaceAt(scene, params, visibility, x, y, s, g)) return false;
     const uint64_t pixel = uint64_t(y) * params.width + x;
     uint64_t key = visibility[pixel];
