@@ -82,7 +82,7 @@ SR_NAMESPACE_BEGIN
 #define BUF_LOD_CUT 32       // uint: the clusters the level-of-detail cut draws (COUNTER_LOD_CLUSTERS of
                              // them, in no particular order; written by stage lod_cut)
 #define BUF_AO 33  // float planes of samplePlane entries (RasterParams.aoMode != AO_OFF, shared/ao.h):
-                   // AO_PLANE_DISTANCE, AO_PLANE_NORMAL (3 planes), AO_PLANE_RAW, AO_PLANE_DENOISED
+                   // AO_PLANE_RAW, AO_PLANE_DENOISED, AO_PLANE_DISTANCE, AO_PLANE_NORMAL (3 planes)
 #define BUF_COUNT 34
 // CPU devices (lavapipe) only: read-only views of buffers above as uniform texel buffers, bound after
 // them. llvmpipe loads from a storage buffer at an address it cannot prove uniform one lane at a time (a
@@ -147,10 +147,12 @@ SR_NAMESPACE_BEGIN
 #define AO_OFF 0u        // no ambient occlusion
 #define AO_GTAO 1u       // GTAO over the visibility buffer (stages ao_gbuffer, ao, ao_denoise)
 #define AO_REFERENCE 2u  // ray-cast ground truth from the host (host/ao/ao_reference.h), shaded by shade
-#define AO_PLANE_DISTANCE 0u  // BUF_AO: view distance (-z) of the pixel's surface, 0 where it has none
-#define AO_PLANE_NORMAL 1u    // BUF_AO: its unit view-space normal, x, y, z in planes 1, 2, 3 (ao_gbuffer)
-#define AO_PLANE_RAW 4u       // BUF_AO: GTAO's visibility (stage ao; --ao reference: from the host)
-#define AO_PLANE_DENOISED 5u  // BUF_AO: the same after stage ao_denoise
+// BUF_AO's planes, the ones shade reads first, so that the host transfers only the head of the buffer
+// (the plane it reads back, the plane --ao reference uploads).
+#define AO_PLANE_RAW 0u       // BUF_AO: GTAO's visibility (stage ao; --ao reference: from the host)
+#define AO_PLANE_DENOISED 1u  // BUF_AO: the same after stage ao_denoise
+#define AO_PLANE_DISTANCE 2u  // BUF_AO: view distance (-z) of the pixel's surface, 0 where it has none
+#define AO_PLANE_NORMAL 3u    // BUF_AO: its unit view-space normal, x, y, z in planes 3, 4, 5 (ao_gbuffer)
 #define AO_PLANES 6u
 #define AO_MAX_SLICES 16u
 #define AO_MAX_STEPS 32u

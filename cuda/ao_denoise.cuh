@@ -23,14 +23,9 @@ __device__ inline void aoDenoiseStage(const RasterParams& params, const Buffers&
     float weights = 0.0f;
     for (int dy = -2; dy <= 2; ++dy) {
         for (int dx = -2; dx <= 2; ++dx) {
-            // A neighbour outside the image is replaced by the pixel 4 further in, which has the same
-            // rotation of the pattern (aoPattern), so the filter still weighs every rotation alike at the
-            // border (cut off there, an open floor's border pixels came out 10% dark with one slice).
-            int qx = x + dx;
-            int qy = y + dy;
-            qx += qx < 0 ? 4 : qx >= int(params.width) ? -4 : 0;
-            qy += qy < 0 ? 4 : qy >= int(params.height) ? -4 : 0;
-            if (qx < 0 || qy < 0 || qx >= int(params.width) || qy >= int(params.height)) continue;
+            int qx = aoDenoiseNeighbour(x + dx, params.width);
+            int qy = aoDenoiseNeighbour(y + dy, params.height);
+            if (qx < 0 || qy < 0) continue;
             uint q = uint(qy) * params.width + uint(qx);
             float d = b.ao[AO_PLANE_DISTANCE * plane + q];
             if (d == 0.0f) continue;

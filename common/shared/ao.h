@@ -204,7 +204,6 @@ struct AoPixel {
     float radiusPx;     // the occlusion radius projected at p, in raster pixels (at most AO_MAX_RADIUS_PX)
     float sliceJitter;  // the pattern's rotation of the slice directions, in slices
     float stepJitter;   // and its shift of the samples along a slice, in steps
-    float invFalloff;   // 1 / (AO_FALLOFF aoRadius): RasterParams.aoInvFalloff
 };
 
 // The pixel (px, py) at view distance `dist` with unit view-space normal n.
@@ -222,7 +221,6 @@ SR_FN AoPixel aoPixelAt(RasterParams params, int px, int py, float dist, vec3 n)
     uint pattern = aoPattern(px, py);
     a.sliceJitter = (float(pattern) + 0.5f) * (1.0f / 16.0f);
     a.stepJitter = (float((pattern * 7u + 5u) & 15u) + 0.5f) * (1.0f / 16.0f);
-    a.invFalloff = params.aoInvFalloff;
     return a;
 }
 
@@ -326,7 +324,7 @@ SR_FN void aoSample(RasterParams params, AoPixel a, SR_INOUT(AoSlice) s, vec3 q,
     if (!(lengthSq > 0.0f)) return;
     float len = sqrtDet(lengthSq);
     SR_PRECISE float c = dotDet(delta, a.v) * rsqrtDet(lengthSq);
-    SR_PRECISE float weight = clamp((params.aoRadius - len) * a.invFalloff, 0.0f, 1.0f);
+    SR_PRECISE float weight = clamp((params.aoRadius - len) * params.aoInvFalloff, 0.0f, 1.0f);
     float low = negative ? s.lowCos0 : s.lowCos1;
     SR_PRECISE float h = low + (c - low) * weight;
     if (negative)
@@ -378,6 +376,18 @@ SR_FN float aoDenoiseWeight(AoPixel a, float dist, vec3 q, int dx, int dy)
     float wx = dx == -2 || dx == 2 ? 1.0f : 2.0f;
     float wy = dy == -2 || dy == 2 ? 1.0f : 2.0f;
     return wx * wy;
+}
+
+// The coordinate ao_denoise reads for neighbour coordinate q (x + dx or y + dy, |d| <= 2) on an axis of
+// `size` pixels: outside the image, the pixel 4 further in, which has the same rotation of the pattern
+// (aoPattern), so the filter still weighs every rotation alike at the border (cut off there, an open
+// floor's border pixels came out 10% dark with one slice); -1 where that too is outside (an image
+// narrower than 5 pixels).
+SR_FN int aoDenoiseNeighbour(int q, uint size)
+{
+    int n = int(size);
+    int r = q < 0 ? q + 4 : (q >= n ? q - 4 : q);
+    return r >= 0 && r < n ? r : -1;
 }
 
 // The denoised value from the weighted sum and the weights' total (at least the pixel's own 4).

@@ -9,7 +9,7 @@
 namespace sr {
 
 bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
-                 uint32_t x, uint32_t y, SurfacePoint& surface, glm::vec4& gbuffer)
+                 uint32_t x, uint32_t y, SurfacePoint& surface, uint32_t& triangle, glm::vec4& gbuffer)
 {
     const uint64_t pixel = uint64_t(y) * params.width + x;
     uint64_t key = visibility[pixel];
@@ -17,6 +17,7 @@ bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vect
         key = std::min(key, visibility[uint64_t(s) * params.samplePlane + pixel]);
     const uint32_t id = visibilityId(key);
     if (id >= params.triangleCount || id >= scene.triangleCount()) return false;
+    triangle = id;
     const uint32_t i0 = scene.indices[3 * size_t(id)], i1 = scene.indices[3 * size_t(id) + 1],
                    i2 = scene.indices[3 * size_t(id) + 2];
     surface = surfaceAt(params, int(x), int(y), scene.positions[i0], scene.positions[i1], scene.positions[i2],
@@ -34,8 +35,9 @@ AoGbufferPlanes aoGbufferOnHost(const Scene& scene, const RasterParams& params,
     for (uint32_t y = 0; y < params.height; ++y)
         for (uint32_t x = 0; x < params.width; ++x) {
             SurfacePoint s{};
+            uint32_t triangle = 0;
             glm::vec4 v(0.0f);
-            if (!aoSurfaceAt(scene, params, visibility, x, y, s, v)) continue;
+            if (!aoSurfaceAt(scene, params, visibility, x, y, s, triangle, v)) continue;
             const uint64_t i = uint64_t(y) * params.width + x;
             g[i] = v.x;
             g[plane + i] = v.y;
@@ -99,11 +101,9 @@ std::vector<float> aoDenoiseOnHost(const RasterParams& params, const AoGbufferPl
         float sum = 0.0f, weights = 0.0f;
         for (int dy = -2; dy <= 2; ++dy)
             for (int dx = -2; dx <= 2; ++dx) {
-                // Outside the image, the pixel 4 further in, as the stages take it.
-                int qx = x + dx, qy = y + dy;
-                qx += qx < 0 ? 4 : qx >= int(params.width) ? -4 : 0;
-                qy += qy < 0 ? 4 : qy >= int(params.height) ? -4 : 0;
-                if (qx < 0 || qy < 0 || qx >= int(params.width) || qy >= int(params.height)) continue;
+                const int qx = aoDenoiseNeighbour(x + dx, params.width);
+                const int qy = aoDenoiseNeighbour(y + dy, params.height);
+                if (qx < 0 || qy < 0) continue;
                 const uint64_t q = uint64_t(qy) * params.width + uint64_t(qx);
                 const float d = g[q];
                 if (d == 0.0f) continue;

@@ -15,7 +15,8 @@ namespace sr {
 
 struct Scene;
 
-// BUF_AO's first four planes (AO_PLANE_DISTANCE, AO_PLANE_NORMAL x, y, z), params.samplePlane entries each.
+// ao_gbuffer's output as the host keeps it: four planes of params.samplePlane entries, the distance and
+// the normal's x, y, z (BUF_AO's AO_PLANE_DISTANCE and AO_PLANE_NORMAL planes, in that order).
 using AoGbufferPlanes = std::vector<float>;
 
 // Stage ao_gbuffer from the frame's visibility keys (every sample plane) and the scene it drew.
@@ -28,10 +29,10 @@ std::vector<float> aoDenoiseOnHost(const RasterParams& params, const AoGbufferPl
                                    const std::vector<float>& raw);
 
 // The surface AO sees at raster pixel (x, y): its nearest sample's triangle (the smallest key, as
-// ao_gbuffer takes it) at the pixel centre, and what ao_gbuffer stores of it (aoGbufferOf); false where
-// no triangle covers it.
+// ao_gbuffer takes it) at the pixel centre, its id, and what ao_gbuffer stores of it (aoGbufferOf);
+// false where no triangle covers it.
 bool aoSurfaceAt(const Scene& scene, const RasterParams& params, const std::vector<uint64_t>& visibility,
-                 uint32_t x, uint32_t y, SurfacePoint& surface, glm::vec4& gbuffer);
+                 uint32_t x, uint32_t y, SurfacePoint& surface, uint32_t& triangle, glm::vec4& gbuffer);
 
 }  // namespace sr
 

@@ -17,13 +17,10 @@ bool aoSurfaceWorld(const Scene& scene, const RasterParams& params, const std::v
                     uint32_t x, uint32_t y, glm::dvec3& point, glm::dvec3& normal)
 {
     SurfacePoint s{};
+    uint32_t triangle = 0;
     glm::vec4 g(0.0f);
-    if (!aoSurfaceAt(scene, params, visibility, x, y, s, g)) return false;
-    const uint64_t pixel = uint64_t(y) * params.width + x;
-    uint64_t key = visibility[pixel];
-    for (uint32_t k = 1; k < params.sampleCount; ++k)
-        key = std::min(key, visibility[uint64_t(k) * params.samplePlane + pixel]);
-    const size_t t = 3 * size_t(visibilityId(key));
+    if (!aoSurfaceAt(scene, params, visibility, x, y, s, triangle, g)) return false;
+    const size_t t = 3 * size_t(triangle);
     // The point from the barycentrics and the world-space corners in double precision, so that it lies in
     // its triangle's plane far closer than the rays' offset (taken back from the float view-space point,
     // it was up to about 1e-6 off on curved meshes, as far as the offset, and some of its rays started

@@ -337,12 +337,10 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 double ms = out->total.medianMs;
                                 // Visibility time: the whole frame less deferred shading (the graphics
                                 // baseline has none).
-                                double shadeMs = 0.0, aoMs = 0.0;
-                                for (const StageTiming& t : out->stages) {
+                                double shadeMs = 0.0;
+                                for (const StageTiming& t : out->stages)
                                     if (t.name == "shade") shadeMs = t.medianMs;
-                                    if (t.name == "ao_gbuffer" || t.name == "ao" || t.name == "ao_denoise")
-                                        aoMs += t.medianMs;
-                                }
+                                const double aoMs = aoStagesMs(out->stages);
                                 // The whole shaded frame: the compute backends' total; the graphics pipeline
                                 // draws it once more with its fragment shader shading (what a user of either
                                 // gets).

@@ -352,11 +352,10 @@ Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scen
         g.aoRadius = float(defaultRadius * a.radiusScale);
         auto out = session->render(scene.camera, g);
         if (!out) return out.error();
-        double aoMs = 0.0, shadeMs = 0.0;
-        for (const StageTiming& t : out->stages) {
-            if (t.name == "ao_gbuffer" || t.name == "ao" || t.name == "ao_denoise") aoMs += t.medianMs;
+        double shadeMs = 0.0;
+        for (const StageTiming& t : out->stages)
             if (t.name == "shade") shadeMs = t.medianMs;
-        }
+        const double aoMs = aoStagesMs(out->stages);
         const AoImageError e = aoImageError(out->aov, references.at(a.radiusScale).aov);
         rows.push_back({{"scene", scene.name},
                         {"camera_spec", scene.cameraSpec},

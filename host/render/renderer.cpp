@@ -247,6 +247,15 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
     return p;
 }
 
+double aoStagesMs(const std::vector<StageTiming>& stages)
+{
+    double ms = 0.0;
+    for (const StageTiming& t : stages)
+        for (uint32_t stage : {STAGE_AO_GBUFFER, STAGE_AO, STAGE_AO_DENOISE})
+            if (t.name == kStages[stage].name) ms += t.medianMs;
+    return ms;
+}
+
 double aoWorldRadius(const Scene& scene, const RenderSettings& s)
 {
     if (s.aoRadius > 0.0f) return s.aoRadius;
@@ -633,14 +642,11 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     SR_TRY(ensureSize(BUF_TILE_BINS, f.tiles * sizeof(uint32_t)));
     SR_TRY(ensureSize(BUF_ACTIVE_TILES, f.tiles * sizeof(uint32_t)));
     SR_TRY(ensureSize(BUF_SCAN_SUMS, size_t(groupsFor(f.tiles, SCAN_GROUP_SIZE)) * sizeof(uint32_t)));
-    // Ambient occlusion's planes (BUF_AO), only when it is on.
-    SR_TRY(ensureSize(BUF_AO, settings.ao != AO_OFF ? AO_PLANES * f.rasterPixels * sizeof(float) : 16));
-    if (settings.ao == AO_REFERENCE) {
-        // The frame's shade reads AO_PLANE_RAW before the host has filled it (shadeReferenceAo shades
-        // again).
-        const std::vector<float> unoccluded(AO_PLANES * f.rasterPixels, 1.0f);
-        SR_TRY(device_->upload(BUF_AO, unoccluded.data(), unoccluded.size() * sizeof(float)));
-    }
+    // Ambient occlusion's planes (BUF_AO), only when it is on: all of them for GTAO's stages, the one
+    // AO_PLANE_RAW for --ao reference (the frame's own shade reads it before the host has filled it, and
+    // shadeReferenceAo shades again).
+    const uint64_t aoPlanes = settings.ao == AO_GTAO ? AO_PLANES : settings.ao == AO_REFERENCE ? 1 : 0;
+    SR_TRY(ensureSize(BUF_AO, aoPlanes > 0 ? aoPlanes * f.rasterPixels * sizeof(float) : 16));
     SR_TRY(allocateLists());
 
     f.tessellating = settings.tessellate != TESS_OFF;
@@ -838,9 +844,8 @@ Status RenderSession::shadeReferenceAo(const RenderSettings& settings, FrameStat
     SR_TRY(device_->download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
     const std::vector<float> ao = referenceAoImage(
         *scene_, *aoBvh_, f.params, visibility, aoWorldRadius(*scene_, settings), settings.aoReferenceRays);
-    std::vector<float> planes(AO_PLANES * f.rasterPixels, 1.0f);
-    std::copy(ao.begin(), ao.end(), planes.begin() + int64_t(AO_PLANE_RAW * f.rasterPixels));
-    SR_TRY(device_->upload(BUF_AO, planes.data(), planes.size() * sizeof(float)));
+    static_assert(AO_PLANE_RAW == 0, "the reference is uploaded to the head of BUF_AO");
+    SR_TRY(device_->upload(BUF_AO, ao.data(), ao.size() * sizeof(float)));
     std::vector<Dispatch> shade;
     for (const Dispatch& d : frameDispatches(f.params, f.work))
         if (d.stage == STAGE_SHADE) shade.push_back(d);
@@ -911,12 +916,11 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
         SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), f.samples * sizeof(uint32_t)));
     }
     if (settings.ao != AO_OFF) {
-        // The plane shade read, at the raster's resolution; an output pixel takes the mean of its ssaa x
-        // ssaa raster pixels, as its colour does.
-        std::vector<float> planes(AO_PLANES * f.rasterPixels);
+        // The plane shade read, at the raster's resolution (the planes up to it, the head of BUF_AO); an
+        // output pixel takes the mean of its ssaa x ssaa raster pixels, as its colour does.
+        std::vector<float> planes((uint64_t(f.params.aoPlane) + 1) * f.rasterPixels);
         SR_TRY(device.download(BUF_AO, planes.data(), planes.size() * sizeof(float)));
         planes.erase(planes.begin(), planes.begin() + int64_t(f.params.aoPlane * f.rasterPixels));
-        planes.resize(f.rasterPixels);
         for (float& v : planes) v = aoShaded(v);
         out.aov.ao = resolveAo(planes, settings.width, settings.height, settings.ssaa);
     }

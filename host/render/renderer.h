@@ -250,6 +250,9 @@ double aoWorldRadius(const Scene& scene, const RenderSettings& settings);
 std::vector<float> resolveAo(const std::vector<float>& raster, uint32_t width, uint32_t height,
                              uint32_t ssaa);
 double aoViewScale(const glm::mat4& viewFromWorld);
+// The median GPU time of a frame's AO stages (ao_gbuffer + ao + ao_denoise; 0 without them), as `raster
+// bench` and `raster study` report it.
+double aoStagesMs(const std::vector<StageTiming>& stages);
 
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
                          const ListCapacities& capacities, const GroupCounts& groups);

@@ -85,7 +85,8 @@ void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings = 
     });
 }
 
-void addCube(Scene& scene, const glm::vec3& center, float half, float yaw)
+// A box of half extents `half` about `center`, turned by `yaw` about +y, a quad per face.
+void addBox(Scene& scene, const glm::vec3& center, const glm::vec3& half, float yaw, const glm::vec4& color)
 {
     // Per face: the outward normal and two tangents s, t with s x t = normal.
     const glm::vec3 faces[6][3] = {
@@ -95,27 +96,16 @@ void addCube(Scene& scene, const glm::vec3& center, float half, float yaw)
     };
     for (const auto& face : faces) {
         glm::vec3 n = face[0], s = face[1], t = face[2];
-        addGrid(scene, 1, 1, glm::vec4(0.2f, 0.35f, 0.8f, 1.0f), [=](float u, float v) {
+        addGrid(scene, 1, 1, color, [=](float u, float v) {
             glm::vec3 local = half * (n + (2.0f * u - 1.0f) * s + (2.0f * v - 1.0f) * t);
             return SurfacePoint{center + rotateY(local, yaw), rotateY(n, yaw)};
         });
     }
 }
 
-// An axis-aligned box of half extents `half` about `center`, a quad per face.
-void addBox(Scene& scene, const glm::vec3& center, const glm::vec3& half, const glm::vec4& color)
+void addCube(Scene& scene, const glm::vec3& center, float half, float yaw)
 {
-    const glm::vec3 faces[6][3] = {
-        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-        {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
-    };
-    for (const auto& face : faces) {
-        glm::vec3 n = face[0], s = face[1], t = face[2];
-        addGrid(scene, 1, 1, color, [=](float u, float v) {
-            return SurfacePoint{center + half * (n + (2.0f * u - 1.0f) * s + (2.0f * v - 1.0f) * t), n};
-        });
-    }
+    addBox(scene, center, glm::vec3(half), yaw, glm::vec4(0.2f, 0.35f, 0.8f, 1.0f));
 }
 
 void addTorus(Scene& scene, const glm::vec3& center, float major, float minor, int ring = 48, int tube = 20)
@@ -238,10 +228,11 @@ Scene aoStressScene()
     Scene scene;
     addGround(scene, 3.0f, 8);
     const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
-    addBox(scene, {-1.0f, 0.4f, 0.0f}, {0.5f, 0.4f, 0.01f}, grey);    // a thin plate standing on the floor
-    addBox(scene, {0.3f, 0.75f, 0.8f}, {0.04f, 0.75f, 0.04f}, grey);  // a thin post
-    addBox(scene, {1.1f, 0.9f, -0.6f}, {0.35f, 0.35f, 0.35f}, grey);  // a box floating above the floor
-    addBox(scene, {-0.2f, 0.15f, -1.2f}, {0.6f, 0.15f, 0.3f}, grey);  // a low step
+    addBox(scene, {-1.0f, 0.4f, 0.0f}, {0.5f, 0.4f, 0.01f}, 0.0f,
+           grey);  // a thin plate standing on the floor
+    addBox(scene, {0.3f, 0.75f, 0.8f}, {0.04f, 0.75f, 0.04f}, 0.0f, grey);  // a thin post
+    addBox(scene, {1.1f, 0.9f, -0.6f}, {0.35f, 0.35f, 0.35f}, 0.0f, grey);  // a box floating above the floor
+    addBox(scene, {-0.2f, 0.15f, -1.2f}, {0.6f, 0.15f, 0.3f}, 0.0f, grey);  // a low step
     return finalized(std::move(scene), "built-in ambient occlusion stress scene");
 }
 

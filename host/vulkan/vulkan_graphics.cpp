@@ -709,10 +709,12 @@ Status GraphicsRender::uploadScene(const Scene& scene)
         hasTexcoords_ = VK_TRUE;
     }
 
-    // Ambient occlusion: BUF_AO's planes AO_PLANE_RAW and AO_PLANE_DENOISED hold the frame's AO once
-    // prepareAo has run (unoccluded until then), so the shading reads it whichever plane aoPlane names.
+    // Ambient occlusion: BUF_AO's planes AO_PLANE_RAW and AO_PLANE_DENOISED (its first two) hold the
+    // frame's AO once prepareAo has run (unoccluded until then), so the shading reads it whichever plane
+    // aoPlane names.
+    static_assert(AO_PLANE_RAW < 2 && AO_PLANE_DENOISED < 2, "the planes shade reads lead BUF_AO");
     if (params_.aoMode != AO_OFF) {
-        const std::vector<float> unoccluded(AO_PLANES * size_t(params_.samplePlane), 1.0f);
+        const std::vector<float> unoccluded(2 * size_t(params_.samplePlane), 1.0f);
         SR_TRY(uploadSceneBuffer(BUF_AO, unoccluded.data(), unoccluded.size() * sizeof(float), 0));
     }
 
@@ -1510,7 +1512,7 @@ Result<std::vector<float>> GraphicsRender::prepareAo(const Scene& scene, const R
         ao = gtaoOnHost(params_, planes);
         if (params_.aoPlane == AO_PLANE_DENOISED) ao = aoDenoiseOnHost(params_, planes, ao);
     }
-    std::vector<float> planes(AO_PLANES * size_t(params_.samplePlane), 1.0f);
+    std::vector<float> planes(2 * size_t(params_.samplePlane));
     for (uint32_t plane : {AO_PLANE_RAW, AO_PLANE_DENOISED})
         std::copy(ao.begin(), ao.end(), planes.begin() + std::ptrdiff_t(plane * size_t(params_.samplePlane)));
     SR_TRY(ctx_.upload(buffers_[BUF_AO].buffer, planes.data(), planes.size() * sizeof(float),
