@@ -156,6 +156,19 @@ TEST(StudyMarkdown, FirstFailureTable)
         << md;
 }
 
+// A study on lavapipe that runs no group until the test names the one it checks: every group the
+// study gains would otherwise run in each test that does not empty it.
+StudyOptions lavapipeStudy()
+{
+    StudyOptions o;
+    o.backends = {"vulkan"};
+    o.scenes = {};
+    o.axes = {};
+    o.lodScenes = {};
+    o.aoScenes = {};
+    return o;
+}
+
 // fixed8 snaps to 1/256 px and breaks ties by the top-left rule, as Vulkan requires and lavapipe's
 // rasterizer does: on a magnitude case that needs no clipping (the fan's rim within the viewport, x <=
 // size / 4) the two draw the same primitive at every pixel. Beyond, the graphics pipeline may clip
@@ -167,13 +180,9 @@ TEST(StudyOracle, Fixed8MatchesTheGraphicsPipelineOnUnclippedMagnitudeCases)
         if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
         FAIL() << "no vulkan device";
     }
-    StudyOptions o;
-    o.backends = {"vulkan"};
-    o.scenes = {};
+    StudyOptions o = lavapipeStudy();
     o.axes = {"magnitude"};
     o.methods = {"fixed8"};
-    o.lodScenes = {};
-    o.aoScenes = {};
     o.stressSize = 32;
     auto study = runStudy(o);
     ASSERT_TRUE(study.ok()) << study.error().message;
@@ -353,16 +362,12 @@ TEST(StudyLod, GroupOnLavapipeDrawsFewerTrianglesAndKeepsTheSphereClosed)
         if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
         FAIL() << "no vulkan device";
     }
-    StudyOptions o;
-    o.backends = {"vulkan"};
-    o.scenes = {};
-    o.axes = {};
+    StudyOptions o = lavapipeStudy();
     o.width = 128;
     o.height = 96;
     o.warmup = 0;
     o.repeat = 1;
     o.lodScenes = {"sphere", "bunny"};
-    o.aoScenes = {};
     o.lodRings = 24;
     o.lodErrors = {0.5f, 4.0f};
     auto study = runStudy(o);
@@ -439,11 +444,7 @@ TEST(StudyAo, TheGroupMeasuresGtaoAgainstTheReference)
         if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
         FAIL() << "no vulkan device";
     }
-    StudyOptions o;
-    o.backends = {"vulkan"};
-    o.scenes = {};
-    o.axes = {};
-    o.lodScenes = {};
+    StudyOptions o = lavapipeStudy();
     o.aoScenes = {"builtin", "stress-grazing", "stress-near"};
     o.width = 96;
     o.height = 72;
