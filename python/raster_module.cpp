@@ -6,7 +6,7 @@
 // Frames: a render's raster::Frame is moved into a FrameHolder that Python owns; every array handed
 // out is a numpy view of the holder's buffers with the holder as its base, so no pixel is copied after
 // the library's download. Rendering releases the GIL; a Renderer's mutex keeps one render at a time on
-// its device (the API allows one session drawing on a device at a time).
+// its device (a Device belongs to one thread at a time; its sessions take turns on its buffers).
 #include <algorithm>
 #include <array>
 #include <chrono>

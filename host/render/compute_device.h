@@ -62,6 +62,15 @@ public:
     // Bytes currently allocated on the device by this object, and the peak over its lifetime.
     virtual size_t allocatedBytes() const = 0;
     virtual size_t peakAllocatedBytes() const = 0;
+
+    // Which session's scene the buffers hold. A device has one set of BUF_* buffers and any number of
+    // sessions (RenderSession) may be made on it: each takes the buffers over with claim() before it
+    // uploads or draws, and a session that finds another's token here uploads its scene again. 0: none.
+    uint64_t resident() const { return resident_; }
+    void claim(uint64_t session) { resident_ = session; }
+
+private:
+    uint64_t resident_ = 0;
 };
 
 // Vulkan: device `index` among the physical devices that support the pipeline (GPUs first, CPU

@@ -6,6 +6,7 @@
 #include "ao/ao_reference.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -343,12 +344,35 @@ Status checkSceneInputs(const Scene& scene)
     return okStatus();
 }
 
+RenderSession::RenderSession(ComputeDevice& device, const Scene& scene) : device_(&device), scene_(&scene)
+{
+    // Tokens are unique in the process, so a session never mistakes another's buffers for its own,
+    // whichever device or thread made it.
+    static std::atomic<uint64_t> nextId{1};
+    id_ = nextId.fetch_add(1, std::memory_order_relaxed);
+}
+
 Result<RenderSession> RenderSession::create(ComputeDevice& device, const Scene& scene)
 {
     SR_TRY(checkSceneInputs(scene));
     RenderSession session(device, scene);
-    SR_TRY(session.upload());
+    SR_TRY(session.claimDevice());
     return session;
+}
+
+Status RenderSession::claimDevice()
+{
+    if (device_->resident() != id_) {
+        // Another session (another scene, or this one's level-of-detail or display scene) used the
+        // buffers since this one did: everything it sized and uploaded there is gone.
+        forgetDeviceBuffers();
+        device_->claim(id_);
+    }
+    if (!uploaded_) {
+        SR_TRY(upload());
+        uploaded_ = true;
+    }
+    return okStatus();
 }
 
 Status RenderSession::ensureSize(uint32_t buffer, size_t bytes)
@@ -502,8 +526,7 @@ Result<RenderOutput> RenderSession::renderTessellatedDisplay(const CameraMatrice
     TessellatedDisplay t = tessellatedDisplay(*scene_, camera, settings);
     RenderSettings plain = settings;
     plain.tessellate = TESS_OFF;
-    // The other session overwrites the device's buffers: this one forgets what it sized and uploaded.
-    forgetDeviceBuffers();
+    // A session of its own, which claims the device's buffers; this one uploads again when it next draws.
     auto out = renderScene(*device_, t.scene, camera, plain);
     if (out) finishTessellatedDisplay(t, *out);
     return out;
@@ -514,7 +537,7 @@ void RenderSession::forgetDeviceBuffers()
     uploaded_ = false;
     sizes_.assign(BUF_COUNT, SIZE_MAX);
     tessPrepared_ = false;
-    clustersBuilt_ = clustersUploaded_ = false;
+    clustersUploaded_ = false;
     trianglesReplaced_ = false;
     tessVertexCapacity_ = tessTriangleCapacity_ = 0;
 }
@@ -534,14 +557,12 @@ Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, cons
         state->hierarchy = buildLodHierarchy(*scene_);
         state->scene = lodScene(*scene_, state->hierarchy);
         buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        forgetDeviceBuffers();
         auto session = RenderSession::create(*device_, state->scene);
         if (!session) return session.error();
         state->session.emplace(std::move(*session));
         state->session->lodHierarchy_ = &state->hierarchy;
         lod_ = std::move(state);
     }
-    forgetDeviceBuffers();
     auto out = lod_->session->render(camera, settings);
     if (!out) return out;
     for (uint32_t& id : out->aov.id) id = lodAovId(id, lod_->hierarchy);
@@ -588,13 +609,8 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
 {
     SR_TRY(checkRenderInputs(*scene_, settings));
     if (settings.lod == LOD_ON && !lodHierarchy_) return renderLod(camera, settings);
-    // The level-of-detail session's buffers are this session's again.
-    if (lod_) lod_->session->forgetDeviceBuffers();
     if (settings.tessellate != TESS_OFF && scene_->display) return renderTessellatedDisplay(camera, settings);
-    if (!uploaded_) {
-        SR_TRY(upload());
-        uploaded_ = true;
-    }
+    SR_TRY(claimDevice());
     FrameState f;
     f.out.device = device_->info();
     f.out.camera = camera;
@@ -705,7 +721,6 @@ Result<uint32_t> RenderSession::frameClusters(const RenderSettings& settings, bo
         SR_TRY(uploadVector(*device_, BUF_CLUSTER_DATA, data));
         sizes_[BUF_CLUSTERS] = records.size() * sizeof(GpuCluster);
         sizes_[BUF_CLUSTER_DATA] = data.size() * sizeof(uint32_t);
-        clusterSet_ = ClusterSet{};
         clustersUploaded_ = true;
     }
     return clusterCount_;

@@ -136,9 +136,10 @@ Status checkSceneInputs(const Scene& scene);
 // pipeline's results never depend on capacities: an overflowing frame is drawn again); the statistics
 // (redraws, capacities) do.
 //
-// The session owns the device's buffers while it lives: the scene and the device must outlive it, and
-// nothing else (another session, renderScene) may use the device in between, or the scene's buffers
-// would be overwritten.
+// A device has one set of buffers, shared by every session made on it: a session claims them
+// (ComputeDevice::claim) and uploads its scene again whenever another session drew there since its own
+// last frame, so any number of sessions may alternate on one device, each drawing its own scene; only
+// the first frame after a switch pays the upload. The scene and the device must outlive the session.
 class AoBvh;
 
 class RenderSession {
@@ -153,7 +154,10 @@ public:
     const Scene& scene() const { return *scene_; }
 
 private:
-    RenderSession(ComputeDevice& device, const Scene& scene) : device_(&device), scene_(&scene) {}
+    RenderSession(ComputeDevice& device, const Scene& scene);
+    // Takes the device's buffers over (ComputeDevice::claim), forgetting what this session had there when
+    // another one used them since, and uploads the scene where they do not hold it.
+    Status claimDevice();
     Status upload();
     // A tessellated frame of a display scene (tessellatedDisplay), drawn by a session of its own on this
     // device, after which this session's buffers are uploaded again before its next frame.
@@ -163,7 +167,7 @@ private:
     // (built by the first such frame, kept in lod_), drawn by a session of their own on this device; the
     // ids mapped back to the scene's (lodAovId).
     Result<RenderOutput> renderLod(const CameraMatrices& camera, const RenderSettings& settings);
-    // Another session is about to use the device: this one forgets what it sized and uploaded there.
+    // Another session used the device: this one forgets what it sized and uploaded there.
     void forgetDeviceBuffers();
     // Resizes `buffer` unless this session already gave it exactly `bytes` (a CUDA resize reallocates).
     Status ensureSize(uint32_t buffer, size_t bytes);
@@ -194,6 +198,7 @@ private:
 
     ComputeDevice* device_;
     const Scene* scene_;
+    uint64_t id_ = 0;  // this session's token on the device (ComputeDevice::resident)
     std::vector<size_t> sizes_ = std::vector<size_t>(BUF_COUNT, SIZE_MAX);  // SIZE_MAX: not sized by us
     bool alphaTest_ = false;  // some triangle is alphaMode MASK (FrameWork::alphaTest)
     bool drawn_ = false;      // a frame was drawn: capacities_ hold what its lists grew to
@@ -202,9 +207,9 @@ private:
     TessSources tessSources_;
     bool trianglesReplaced_ = false;  // BUF_INDICES etc. hold generated triangles, not the scene's
     uint64_t tessVertexCapacity_ = 0, tessTriangleCapacity_ = 0;
-    bool uploaded_ = true;           // the device's buffers hold this session's scene
+    bool uploaded_ = false;          // the device's buffers hold this session's scene
     bool clustersBuilt_ = false;     // the scene's clusters were built: clusterCount_, clusterTriangles_
-    ClusterSet clusterSet_;          // and held here until they are uploaded
+    ClusterSet clusterSet_;          // and kept here, to upload again after another session's frames
     bool clustersUploaded_ = false;  // BUF_CLUSTERS and BUF_CLUSTER_DATA hold them
     uint32_t clusterCount_ = 0;      // clusters (0: the scene has none, its triangles go through setup)
     double clusterTriangles_ = 0.0;  // triangles per cluster, on average

@@ -15,8 +15,9 @@
 // underscores ("texture_filter"); Settings::names() lists them, Settings::schemaJson() describes each
 // (type, default, allowed values, help). `raster settings` prints the same table.
 //
-// Threads: a Device and everything made with it belong to one thread at a time. Sessions keep the
-// scene and the buffers on the device; only one session may draw on a device at a time.
+// Threads: a Device and everything made with it belong to one thread at a time. Any number of sessions
+// may be made on one device and used in any order: they share the device's buffers, and a session whose
+// scene another one replaced there uploads it again before its next frame (only that frame pays).
 #ifndef RASTER_RASTER_H
 #define RASTER_RASTER_H
 
@@ -266,8 +267,9 @@ struct RenderRequest {
 };
 
 // A scene uploaded to a device once and rendered any number of times with any camera and settings:
-// buffers are reused and grown, never sized for the worst case. The device and the scene must outlive
-// the session.
+// buffers are reused and grown, never sized for the worst case. Sessions of other scenes on the same
+// device may draw in between (each frame shows its own session's scene; the first one after another
+// session drew uploads the scene again). The device and the scene must outlive the session.
 class Session {
 public:
     static Result<Session> create(Device& device, const Scene& scene);

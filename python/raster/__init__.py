@@ -298,8 +298,10 @@ Camera = Union[str, Tuple[np.ndarray, np.ndarray]]
 
 
 class Renderer:
-    """A session on one device: it keeps the device, each scene's upload and the frame buffers between
-    calls (the last few scenes rendered), so rendering the same Scene again uploads nothing.
+    """A session on one device: it keeps the device, the frame buffers and a session for each of the
+    last few scenes rendered, so rendering the same Scene again uploads nothing, unless another scene
+    was drawn in between: the device's buffers hold one scene at a time, and each frame shows its own
+    scene (a switch uploads it again).
 
     backend: "auto" (CUDA when a CUDA GPU is present, else Vulkan), "cuda", "vulkan" or
     "vulkan-graphics" (the reference: the same scene through the Vulkan graphics pipeline).
