@@ -38,6 +38,28 @@ inline std::string printableText(const char* text)
     return out;
 }
 
+// Quoted input (a key, a value, a path, a name the user gave) in a one-line message: control bytes become
+// '?', and text longer than `limit` bytes is cut to its first `limit` (at a UTF-8 character boundary)
+// followed by "... (N bytes)", so that a 10 MB key or file name still makes a readable line.
+inline std::string clippedText(const std::string& text, size_t limit = 64)
+{
+    size_t keep = text.size();
+    if (keep > limit) {
+        keep = limit;
+        while (keep > 0 && (static_cast<unsigned char>(text[keep]) & 0xC0) == 0x80) --keep;
+    }
+    std::string out = text.substr(0, keep);
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    if (keep < text.size()) out += fmt::format("... ({} bytes)", text.size());
+    return out;
+}
+// clippedText in single quotes.
+inline std::string quotedInput(const std::string& text, size_t limit = 64)
+{
+    return "'" + clippedText(text, limit) + "'";
+}
+
 template <typename... Args>
 Error makeError(ExitCode code, fmt::format_string<Args...> f, Args&&... args)
 {

@@ -73,11 +73,96 @@ Status checkKeys(const json& object, bool defaults, const std::string& where)
 }
 
 // The message of a parse error without nlohmann's "[json.exception.parse_error.101] " prefix.
-std::string parseMessage(const json::parse_error& e)
+std::string parseMessage(const json::exception& e)
 {
     std::string message = e.what();
     const size_t bracket = message.find("] ");
     return bracket == std::string::npos ? message : message.substr(bracket + 2);
+}
+
+// Walks a JSON text as the parser reads it and keeps the path of the value it is in ('defaults',
+// 'light_dir'[1]): where a parse fails, the path names the key the bad value belongs to.
+class KeyPath : public nlohmann::json_sax<json> {
+public:
+    std::string path() const
+    {
+        std::string text;
+        for (const Level& level : levels_) {
+            if (level.object && !level.key.empty())
+                text += (text.empty() ? "" : ".") + quotedInput(level.key);
+            else if (!level.object)
+                text += fmt::format("[{}]", level.index);
+        }
+        return text;
+    }
+
+    bool null() override { return value(); }
+    bool boolean(bool) override { return value(); }
+    bool number_integer(number_integer_t) override { return value(); }
+    bool number_unsigned(number_unsigned_t) override { return value(); }
+    bool number_float(number_float_t, const string_t&) override { return value(); }
+    bool string(string_t&) override { return value(); }
+    bool binary(binary_t&) override { return value(); }
+    bool start_object(std::size_t) override
+    {
+        levels_.push_back({true, {}, 0});
+        return true;
+    }
+    bool key(string_t& key) override
+    {
+        levels_.back().key = key;
+        return true;
+    }
+    bool end_object() override { return close(); }
+    bool start_array(std::size_t) override
+    {
+        levels_.push_back({false, {}, 0});
+        return true;
+    }
+    bool end_array() override { return close(); }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override
+    {
+        return false;
+    }
+
+private:
+    struct Level {
+        bool object;
+        std::string key;  // objects: the key of the value being read
+        size_t index;     // arrays: the index of the value being read
+    };
+    // A value ends: an array moves on to its next element.
+    bool value()
+    {
+        if (!levels_.empty() && !levels_.back().object) ++levels_.back().index;
+        return true;
+    }
+    bool close()
+    {
+        levels_.pop_back();
+        return value();
+    }
+    std::vector<Level> levels_;
+};
+
+// A manifest line as JSON, or the one-line error: malformed JSON, or a number past the range of a double
+// (1e400, or 10 MB of digits) named by its key.
+Result<json> parseLine(const std::string& row, const std::string& where)
+{
+    try {
+        return json::parse(row);
+    } catch (const json::parse_error& e) {
+        return makeError(ExitCode::Usage, "{}: malformed JSON: {}", where, clippedText(parseMessage(e), 200));
+    } catch (const json::exception& e) {
+        KeyPath keys;
+        json::sax_parse(row, &keys);
+        const std::string path = keys.path();
+        if (e.id == 406)  // out_of_range.406: "number overflow parsing '<token>'"
+            return makeError(ExitCode::Usage, "{}: {}a number outside the range of a double", where,
+                             path.empty() ? std::string() : path + " is ");
+        return makeError(ExitCode::Usage, "{}: {}{}", where, path.empty() ? "" : path + ": ",
+                         clippedText(parseMessage(e), 200));
+    }
 }
 
 }  // namespace
@@ -189,12 +274,9 @@ Result<Manifest> parseManifest(const std::string& text, const std::string& name,
         if (!row.empty() && row.back() == '\r') row.pop_back();
         if (row.find_first_not_of(" \t") == std::string::npos) continue;
         const std::string where = fmt::format("{}:{}", name, line);
-        json object;
-        try {
-            object = json::parse(row);
-        } catch (const json::parse_error& e) {
-            return makeError(ExitCode::Usage, "{}: malformed JSON: {}", where, parseMessage(e));
-        }
+        auto parsed = parseLine(row, where);
+        if (!parsed) return parsed.error();
+        json& object = *parsed;
         if (!object.is_object())
             return makeError(ExitCode::Usage, "{}: expected a JSON object (one job), not {}", where,
                              object.dump());
