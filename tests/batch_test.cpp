@@ -13,6 +13,9 @@
 #include <thread>
 #include <vector>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -286,13 +289,26 @@ TEST(BatchOutputs, SidecarsAndTemporaries)
     const std::string scene = dir.file("s.obj");
     std::ofstream(scene) << "v 0 0 0\n";
     EXPECT_TRUE(sidecarJson(settings, scene).contains("scene_file"));
-    // Leftovers of killed runs go; other files stay.
-    for (const char* name : {"a.png.tmp.123", "a.png.tmp.9", "b.png.tmp.5", "a.png.tmp.x", "a.png.tmpx"})
-        std::ofstream(dir.file(name)) << "x";
-    EXPECT_EQ(removeTemporaries({png}), 2u);
-    EXPECT_FALSE(fs::exists(dir.file("a.png.tmp.123")));
-    EXPECT_TRUE(fs::exists(dir.file("b.png.tmp.5")));
-    EXPECT_TRUE(fs::exists(dir.file("a.png.tmp.x")));
+    // Leftovers of killed runs go: temporaries of this host whose process has ended (a child that
+    // exited; the older NAME.tmp.<pid> form too). The temporaries of a process still running (the test's
+    // parent), of another host, of other outputs, and other files stay.
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    ASSERT_GT(child, 0);
+    ASSERT_EQ(waitpid(child, nullptr, 0), child);
+    const std::string own = temporaryPath("a.png");  // a.png.tmp.<host>.<pid>
+    const std::string host = own.substr(10, own.rfind('.') - 10);
+    const std::string dead = std::to_string(child), live = std::to_string(getppid());
+    const std::vector<std::string> gone = {"a.png.tmp." + dead, "a.png.tmp." + host + "." + dead,
+                                           "a.png.job.json.tmp." + host + "." + dead};
+    const std::vector<std::string> kept = {"a.png.tmp." + host + "." + live, "a.png.tmp." + live,
+                                           "a.png.tmp.otherhost." + dead,    "b.png.tmp." + host + "." + dead,
+                                           "a.png.tmp.x",                    "a.png.tmpx"};
+    for (const std::vector<std::string>* names : {&gone, &kept})
+        for (const std::string& name : *names) std::ofstream(dir.file(name)) << "x";
+    EXPECT_EQ(removeTemporaries({png, sidecarPath(png)}), gone.size());
+    for (const std::string& name : gone) EXPECT_FALSE(fs::exists(dir.file(name))) << name;
+    for (const std::string& name : kept) EXPECT_TRUE(fs::exists(dir.file(name))) << name;
     EXPECT_TRUE(fs::exists(png));
 }
 
@@ -497,6 +513,60 @@ size_t countFiles(const std::string& folder, const std::string& suffix)
              name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
     }
     return n;
+}
+
+// Two batches of one manifest writing into one folder at once: the second one removes none of the
+// first one's temporaries (its writer is alive), and both finish every job (the campaign's second
+// batch removed the first one's in-flight files, which then failed "cannot rename").
+TEST(BatchTool, ConcurrentBatchesKeepEachOthersTemporaries)
+{
+    bool skip = false;
+    if (!openBackend("vulkan", skip)) {
+        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        return;
+    }
+    ScratchDir dir("batch-two");
+    constexpr int kFrames = 6;
+    writeText(dir.file("m.jsonl"),
+              fmt::format("{{\"scene\": \"builtin\", \"orbit\": \"0:300\", \"frames\": {}, "
+                          "\"width\": 32, \"height\": 32, \"output\": \"f/t_%02d.png\"}}\n",
+                          kFrames));
+    // The first batch pauses between staging each frame's files and renaming them.
+    const std::string command = fmt::format(
+        "cd '{}' && exec '{}' batch m.jsonl --backend vulkan --io-threads 1 --queue 1 --io-delay-ms 400 "
+        "--summary first.json -q >first.log 2>&1 & echo $! > '{}'",
+        dir.file(""), raster(), dir.file("pid"));
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    int pid = 0;
+    std::ifstream(dir.file("pid")) >> pid;
+    ASSERT_GT(pid, 0);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    auto staged = [&] {
+        std::error_code ec;
+        for (fs::directory_iterator it(dir.file("f"), ec), end; !ec && it != end; it.increment(ec))
+            if (it->path().filename().string().find(".tmp.") != std::string::npos) return true;
+        return false;
+    };
+    while (!staged() && std::chrono::steady_clock::now() < deadline && !ended(pid))
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_FALSE(ended(pid)) << "the first batch ended before the second started";
+    ToolRun second = runTool("batch m.jsonl --backend vulkan --force", dir.file(""));
+    EXPECT_EQ(second.exitCode, 0) << second.stderrText;
+    EXPECT_EQ(summaryOf(second)["removed_temporaries"], 0);
+    while (!ended(pid) && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(ended(pid));
+    std::ifstream log(dir.file("first.log"));
+    const std::string firstLog((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(firstLog, "");
+    std::ifstream first(dir.file("first.json"));
+    const json firstSummary = json::parse(first, nullptr, false);
+    ASSERT_FALSE(firstSummary.is_discarded()) << firstLog;
+    EXPECT_EQ(firstSummary["failed"], 0) << firstSummary.dump();
+    EXPECT_EQ(firstSummary["rendered"], kFrames);
+    EXPECT_EQ(countFiles(dir.file("f"), ".job.json"), size_t(kFrames));
+    for (const auto& entry : fs::directory_iterator(dir.file("f")))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
 }
 
 // kill -9 in the middle of a batch: every final PNG that exists decodes, and a rerun skips exactly the

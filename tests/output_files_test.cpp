@@ -1,6 +1,7 @@
 // output_files_test.cpp - outputs on failing disks and hostile paths (issue 24, points 4-6): a write that
 // fails is an error with nothing partial left under the final name, a final name that is not a regular
 // file is refused and left as it was, and two spellings of one file are one output.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -40,7 +41,7 @@ TEST(OutputFiles, AFailedWriteIsAnErrorAndLeavesNothing)
     EXPECT_TRUE(isOneLine(run.stderrText)) << run.stderrText;
     EXPECT_NE(run.stderrText.find("cannot write"), std::string::npos) << run.stderrText;
     EXPECT_FALSE(fs::exists(dir.file("a.exr"))) << "no partial EXR under the final name";
-    EXPECT_TRUE(readPng(dir.file("a.png")).ok()) << "the PNG written before is whole";
+    EXPECT_FALSE(fs::exists(dir.file("a.png"))) << "a failed command leaves none of its outputs";
     for (const auto& entry : fs::directory_iterator(dir.file("")))
         EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
 
@@ -58,6 +59,86 @@ TEST(OutputFiles, AFailedWriteIsAnErrorAndLeavesNothing)
     ToolRun diff = runTool("compare c.png d.png -o diff.png", dir.file(""), kSmallDisk);
     EXPECT_EQ(diff.exitCode, 2) << diff.stderrText;
     EXPECT_FALSE(fs::exists(dir.file("diff.png")));
+}
+
+// A batch job whose EXR cannot be written leaves neither its PNG nor its sidecar; the job beside it,
+// whose PNG fits, is written whole.
+TEST(OutputFiles, AFailedBatchJobLeavesNoneOfItsFiles)
+{
+    ScratchDir dir("outputs");
+    std::ofstream(dir.file("jobs.jsonl"))
+        << "{\"scene\": \"builtin\", \"width\": 32, \"height\": 32, \"output\": \"a.png\", \"aov\": "
+           "\"a.exr\"}\n"
+           "{\"scene\": \"builtin\", \"width\": 32, \"height\": 32, \"output\": \"b.png\"}\n";
+    // 2 or 4 KiB: the PNG (about 900 bytes) and the sidecar (about 1.1 kB) fit, the EXR does not.
+    ToolRun run = runTool("batch jobs.jsonl --backend vulkan -q", dir.file(""), "trap '' XFSZ; ulimit -f 4;");
+    EXPECT_EQ(run.exitCode, 1) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("cannot write 'a.exr'"), std::string::npos) << run.stderrText;
+    for (const char* name : {"a.png", "a.exr", "a.png.job.json"})
+        EXPECT_FALSE(fs::exists(dir.file(name))) << name;
+    EXPECT_TRUE(readPng(dir.file("b.png")).ok());
+    EXPECT_TRUE(fs::exists(dir.file("b.png.job.json")));
+    for (const auto& entry : fs::directory_iterator(dir.file("")))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+}
+
+// The files of a group appear together or not at all.
+TEST(OutputFiles, AFileGroupCommitsAllOrNone)
+{
+    ScratchDir dir("outputs");
+    const std::string a = dir.file("a.txt"), b = dir.file("b.txt");
+    {
+        FileGroup files;
+        ASSERT_TRUE(files.stage(a, "a", 1).ok());
+        ASSERT_TRUE(files.stage(b, "b", 1).ok());
+        EXPECT_TRUE(fs::exists(temporaryPath(a)));
+        EXPECT_FALSE(fs::exists(a));
+    }  // never committed
+    EXPECT_TRUE(fs::is_empty(dir.file(""))) << "an abandoned group leaves nothing";
+    {
+        FileGroup files;
+        ASSERT_TRUE(files.stage(a, "a", 1).ok());
+        ASSERT_TRUE(files.stage(b, "b", 1).ok());
+        fs::create_directories(dir.file("b.txt/inside"));  // b's name taken before the commit
+        auto committed = files.commit();
+        ASSERT_FALSE(committed.ok());
+        EXPECT_NE(committed.error().message.find("it exists and is a folder"), std::string::npos)
+            << committed.error().message;
+        EXPECT_FALSE(fs::exists(a)) << "nothing renamed when one target cannot take its file";
+        EXPECT_FALSE(fs::exists(temporaryPath(a)));
+        EXPECT_FALSE(fs::exists(temporaryPath(b)));
+    }
+    fs::remove_all(dir.file("b.txt"));
+    FileGroup files;
+    ASSERT_TRUE(files.stage(a, "a", 1).ok());
+    ASSERT_TRUE(files.stage(b, "bb", 2).ok());
+    ASSERT_TRUE(files.commit().ok());
+    EXPECT_EQ(fs::file_size(a), 1u);
+    EXPECT_EQ(fs::file_size(b), 2u);
+}
+
+// A job's sidecar path taken by a folder (empty or not): that job fails with one line and leaves nothing,
+// the folder stays, and the other jobs render (the campaign's batch aborted on it: exit 134, nothing
+// rendered).
+TEST(OutputFiles, ABatchJobWhoseSidecarIsAFolderFailsAlone)
+{
+    ScratchDir dir("outputs");
+    fs::create_directories(dir.file("out/a.png.job.json"));
+    fs::create_directories(dir.file("out/c.png.job.json/inside"));
+    std::ofstream(dir.file("jobs.jsonl"))
+        << "{\"scene\": \"builtin\", \"width\": 16, \"height\": 16, \"output\": \"out/a.png\"}\n"
+           "{\"scene\": \"builtin\", \"width\": 16, \"height\": 16, \"output\": \"out/b.png\"}\n"
+           "{\"scene\": \"builtin\", \"width\": 16, \"height\": 16, \"output\": \"out/c.png\"}\n";
+    ToolRun run = runTool("batch jobs.jsonl --backend vulkan -q", dir.file(""));
+    EXPECT_EQ(run.exitCode, 1) << run.stderrText;
+    EXPECT_EQ(std::count(run.stderrText.begin(), run.stderrText.end(), '\n'), 2) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("cannot write 'out/a.png.job.json': it exists and is a folder"),
+              std::string::npos)
+        << run.stderrText;
+    EXPECT_FALSE(fs::exists(dir.file("out/a.png")));
+    EXPECT_FALSE(fs::exists(dir.file("out/c.png")));
+    EXPECT_TRUE(fs::is_directory(dir.file("out/a.png.job.json")));
+    EXPECT_TRUE(readPng(dir.file("out/b.png")).ok());
 }
 
 TEST(OutputFiles, ANameThatIsNoRegularFileIsRefusedAndKept)

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "io/file_write.h"
+#include "scene/safe_file.h"
 #include "settings/schema.h"
 
 namespace sr {
@@ -305,11 +306,10 @@ Result<Manifest> parseManifest(const std::string& text, const std::string& name,
 
 Result<Manifest> loadManifest(const std::string& path, const nlohmann::json& commandLine)
 {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return makeError(ExitCode::Usage, "cannot read manifest '{}': {}", path, std::strerror(errno));
-    std::ostringstream text;
-    text << file.rdbuf();
-    return parseManifest(text.str(), path, std::filesystem::path(path).parent_path().string(), commandLine);
+    auto text = readRegularFile(path, kMaxSceneFileBytes, "read manifest");
+    if (!text) return text.error();
+    return parseManifest(std::string(text->begin(), text->end()), path,
+                         std::filesystem::path(path).parent_path().string(), commandLine);
 }
 
 }  // namespace sr

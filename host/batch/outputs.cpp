@@ -13,9 +13,14 @@
 
 #include <unistd.h>
 
+#include "scene/safe_file.h"
+
 namespace sr {
 
 namespace fs = std::filesystem;
+
+// A sidecar holds one job's settings: a few kB. Anything far larger is not one of ours.
+constexpr uint64_t kMaxSidecarBytes = 1u << 24;
 
 std::string sidecarPath(const std::string& png)
 {
@@ -39,9 +44,11 @@ nlohmann::json sidecarJson(const nlohmann::json& settings, const std::string& sc
 bool jobComplete(const std::string& sidecar, const nlohmann::json& expected,
                  const std::vector<std::string>& outputs)
 {
-    std::ifstream in(sidecar);
-    if (!in) return false;
-    const nlohmann::json recorded = nlohmann::json::parse(in, nullptr, false);
+    // Whatever is at the sidecar's path (a folder, a FIFO, a huge file) only makes the job not done; the
+    // job's commit then reports why its sidecar cannot be written.
+    auto text = readRegularFile(sidecar, kMaxSidecarBytes, "read");
+    if (!text) return false;
+    const nlohmann::json recorded = nlohmann::json::parse(text->begin(), text->end(), nullptr, false);
     if (recorded.is_discarded() || recorded != expected) return false;
     std::error_code ec;
     for (const std::string& path : outputs)
@@ -61,12 +68,10 @@ size_t removeTemporaries(const std::vector<std::string>& finals)
     for (const auto& [folder, names] : byFolder) {
         std::error_code ec;
         for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-            const std::string name = it->path().filename().string();
-            const size_t tmp = name.rfind(".tmp.");
-            if (tmp == std::string::npos || tmp + 5 == name.size() ||
-                name.find_first_not_of("0123456789", tmp + 5) != std::string::npos ||
-                !names.count(name.substr(0, tmp)))
-                continue;
+            // Only a leftover: the temporary of a process still writing (another batch on the same
+            // folder) is its own to rename.
+            const auto t = temporaryName(it->path().filename().string());
+            if (!t || !t->writerGone || !names.count(t->finalName)) continue;
             std::error_code removeError;
             if (fs::remove(it->path(), removeError)) ++removed;
         }

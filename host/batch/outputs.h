@@ -30,8 +30,9 @@ nlohmann::json sidecarJson(const nlohmann::json& settings, const std::string& sc
 bool jobComplete(const std::string& sidecar, const nlohmann::json& expected,
                  const std::vector<std::string>& outputs);
 
-// Removes the leftovers of killed runs: files named F.tmp.<digits> for any F in `finals`, in the
-// folders that hold them. Returns how many were removed.
+// Removes the leftovers of killed runs: temporary files (temporaryName) of any F in `finals` whose
+// writer is gone, in the folders that hold them; those of a process still running (another batch
+// writing into the same folder) stay. Returns how many were removed.
 size_t removeTemporaries(const std::vector<std::string>& finals);
 
 }  // namespace sr

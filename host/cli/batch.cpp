@@ -586,43 +586,30 @@ private:
         }
     }
 
-    // The frame's files under temporary names, renamed into place, then its sidecar: a job with a
-    // sidecar that matches has all its files whole.
+    // The frame's files and then its sidecar under temporary names, all renamed into place together
+    // (FileGroup): a job with a sidecar that matches has all its files whole, and a job that fails
+    // leaves none of them.
     Status commit(Finished& item, FrameTimes& times)
     {
         const BatchFrame& f = frames_[item.frame];
         const std::string sidecar = sidecarPath(f.png);
-        // An old sidecar must not vouch for files this run is replacing.
-        std::remove(sidecar.c_str());
+        // An old sidecar must not vouch for files this run is replacing (anything else at its path, such
+        // as a folder, stays, and the commit reports it).
+        if (checkOutputTarget(sidecar)) std::remove(sidecar.c_str());
         for (const std::string* path : {&f.png, &f.aov, &f.stats})
             if (!path->empty()) SR_TRY(createParentFolder(*path));
+        FileGroup files;
+        OutputTimes spent;
+        SR_TRY(stageOutputs(files, item.out, *item.scene, item.options, OutputPaths{f.png, f.aov, f.stats},
+                            f.job->scene, &spent));
+        times.encode = spent.encode;
+        times.aux = spent.aux;
         auto start = Clock::now();
-        const ImageOrigin origin = outputOrigin(item.out);
-        auto png = encodePng(item.out.color, origin);
-        if (!png) return png.error();
-        times.encode = msSince(start);
-        start = Clock::now();
-        const std::string pngTmp = temporaryPath(f.png);
-        SR_TRY(writeFile(pngTmp, png->data(), png->size()));
-        times.write = msSince(start);
-        if (options_.ioDelayMs) std::this_thread::sleep_for(std::chrono::milliseconds(options_.ioDelayMs));
-        start = Clock::now();
-        SR_TRY(renameFile(pngTmp, f.png));
-        times.write += msSince(start);
-        // The EXR and the statistics go through the same temporary name and rename (io/file_write.h).
-        start = Clock::now();
-        if (!f.aov.empty()) {
-            linearColorAov(item.out.color, item.out.aov);
-            SR_TRY(writeAovExr(f.aov, item.out.aov, origin));
-        }
-        if (!f.stats.empty())
-            SR_TRY(writeJson(f.stats, statsJson(item.out, item.options, f.job->scene,
-                                                absoluteCamera(item.options, *item.scene, f.job->scene))));
-        times.aux = msSince(start);
-        start = Clock::now();
         const std::string text = sidecarJson(f.settings, f.job->scene).dump(2) + "\n";
-        SR_TRY(writeFileAtomically(sidecar, text.data(), text.size()));
-        times.write += msSince(start);
+        SR_TRY(files.stage(sidecar, text.data(), text.size()));
+        if (options_.ioDelayMs) std::this_thread::sleep_for(std::chrono::milliseconds(options_.ioDelayMs));
+        SR_TRY(files.commit());
+        times.write = spent.write + msSince(start) - options_.ioDelayMs;
         return okStatus();
     }
 
@@ -686,6 +673,7 @@ Result<bool> runBatch(const BatchOptions& options)
             mine.push_back(i);
             for (const std::string* p : {&(*frames)[i].png, &(*frames)[i].aov, &(*frames)[i].stats})
                 if (!p->empty()) finals.push_back(*p);
+            finals.push_back(sidecarPath((*frames)[i].png));
         }
     const size_t leftovers = removeTemporaries(finals);
     std::vector<size_t> pending;

@@ -1,6 +1,8 @@
 // outputs.cpp - PNG, EXR and JSON of a rendered frame.
 #include "cli/outputs.h"
 
+#include <chrono>
+
 #include "api/stats_json.h"
 #include "io/image_io.h"
 #include "render/aov.h"
@@ -46,23 +48,58 @@ ImageOrigin outputOrigin(const RenderOutput& out)
     return {out.device.backend, out.device.name};
 }
 
-Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
-                    const OutputPaths& paths, const std::string& sceneName)
+Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
+                    const OutputPaths& paths, const std::string& sceneName, OutputTimes* times)
 {
+    using Clock = std::chrono::steady_clock;
+    OutputTimes spent;
+    auto since = [](Clock::time_point start) {
+        return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    };
+    // Each file is staged as soon as it is encoded, so that its bytes are freed before the next one.
+    auto stage = [&](const std::string& path, const std::vector<unsigned char>& bytes) {
+        const auto start = Clock::now();
+        Status staged = files.stage(path, bytes.data(), bytes.size());
+        spent.write += since(start);
+        return staged;
+    };
     const RenderSettings settings = options.resolved();
     const ImageOrigin origin = outputOrigin(out);
-    if (!paths.png.empty()) SR_TRY(writePng(paths.png, out.color, origin));
+    if (!paths.png.empty()) {
+        const auto start = Clock::now();
+        auto png = encodePng(out.color, origin);
+        if (!png) return png.error();
+        spent.encode = since(start);
+        SR_TRY(stage(paths.png, *png));
+    }
     if (!paths.aov.empty()) {
+        const auto start = Clock::now();
         if (!out.aov.hasBary()) fillSurfaceAovs(scene, out.params, out.aov);
         if (settings.aovSamples && out.aov.sampleId.empty())
             fillSampleAovs(out.samples, settings.ssaa, out.aov);
         if (!out.aov.hasColor()) linearColorAov(out.color, out.aov);
-        SR_TRY(writeAovExr(paths.aov, out.aov, origin));
+        auto exr = encodeAovExr(out.aov, origin, paths.aov);
+        if (!exr) return exr.error();
+        spent.aux += since(start);
+        SR_TRY(stage(paths.aov, *exr));
     }
-    if (!paths.stats.empty())
-        SR_TRY(writeJson(paths.stats,
-                         statsJson(out, options, sceneName, absoluteCamera(options, scene, sceneName))));
+    if (!paths.stats.empty()) {
+        const auto start = Clock::now();
+        const std::string text =
+            statsJson(out, options, sceneName, absoluteCamera(options, scene, sceneName)).dump(2) + "\n";
+        spent.aux += since(start);
+        SR_TRY(stage(paths.stats, std::vector<unsigned char>(text.begin(), text.end())));
+    }
+    if (times) *times = spent;
     return okStatus();
+}
+
+Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
+                    const OutputPaths& paths, const std::string& sceneName)
+{
+    FileGroup files;
+    SR_TRY(stageOutputs(files, out, scene, options, paths, sceneName));
+    return files.commit();
 }
 
 }  // namespace sr

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base/result.h"
+#include "io/file_write.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -34,11 +35,21 @@ OutputPaths savePaths(const std::string& prefix);
 // Who made the frame, as its PNG and EXR record it (ImageOrigin: the backend and the device's name).
 ImageOrigin outputOrigin(const RenderOutput& out);
 
-// Writes the PNG, the EXR (with the surface channels, computed here from the ids if the frame was
+// Time a frame's files took, ms: encoding the PNG; computing and encoding the EXR's channels and the
+// JSON; writing them under their temporary names.
+struct OutputTimes {
+    double encode = 0.0, aux = 0.0, write = 0.0;
+};
+
+// Encodes the PNG, the EXR (with the surface channels, computed here from the ids if the frame was
 // rendered without RenderSettings::surfaceAovs, every sample with aovSamples, and the linear colour
 // decoded from the PNG's, linearColorAov) and the JSON where `paths` names them (an empty path: none),
-// the image files tagged with outputOrigin. `out` is the frame of `scene` rendered with `options`; its AOV
-// image gains the channels the EXR needs.
+// the image files tagged with outputOrigin, and stages them in `files` (files.commit() puts them in
+// place). `out` is the frame of `scene` rendered with `options`; its AOV image gains the channels the EXR
+// needs. `times`, when given, receives what each part took.
+Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
+                    const OutputPaths& paths, const std::string& sceneName, OutputTimes* times = nullptr);
+// stageOutputs, then the commit: every file of the frame, or none of them.
 Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
                     const OutputPaths& paths, const std::string& sceneName);
 

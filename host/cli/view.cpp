@@ -274,10 +274,16 @@ Status runView(const ViewOptions& o)
         if (state.saveRequested) {
             std::string prefix =
                 state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
-            SR_TRY(writeOutputs(*out, scene, viewOptions(state), savePaths(prefix),
+            // The save's five files appear together or not at all.
+            FileGroup files;
+            SR_TRY(stageOutputs(files, *out, scene, viewOptions(state), savePaths(prefix),
                                 o.scenePath.empty() ? "builtin" : o.scenePath));
-            SR_TRY(writePng(prefix + ".window.png", shown));
-            SR_TRY(writeJson(prefix + ".view.json", viewJson(state, o.scenePath, out->device)));
+            auto shownPng = encodePng(shown);
+            if (!shownPng) return shownPng.error();
+            SR_TRY(files.stage(prefix + ".window.png", shownPng->data(), shownPng->size()));
+            const std::string view = viewJson(state, o.scenePath, out->device).dump(2) + "\n";
+            SR_TRY(files.stage(prefix + ".view.json", view.data(), view.size()));
+            SR_TRY(files.commit());
             state.saveRequested = false;
         }
         double frameMs = msSince(start);

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -17,9 +18,68 @@ namespace sr {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// This machine's name as temporaryPath writes it.
+const std::string& hostTag()
+{
+    static const std::string tag = [] {
+        char name[256] = {};
+        if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return std::string("host");
+        std::string t;
+        for (const char* c = name; *c && t.size() < 32; ++c)
+            t += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '-';
+        return t;
+    }();
+    return tag;
+}
+
+bool allDigits(const std::string& text)
+{
+    return !text.empty() && text.size() <= 10 && text.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// Whether process `pid` of this host has ended: it does not exist, or it is a zombie no one has reaped
+// yet (a killed batch whose parent is gone, in a container whose first process reaps nothing). The
+// calling process's own id counts as ended: a file found under it was left by an earlier process of
+// that id, as this one has not written it yet when it looks.
+bool processGone(const std::string& pidText)
+{
+    const long pid = std::stol(pidText);
+    if (pid <= 0 || pid == long(getpid())) return true;
+    if (kill(pid_t(pid), 0) != 0) return errno == ESRCH;
+    // /proc/PID/stat: "PID (COMMAND) STATE ...", where COMMAND may hold spaces and parentheses.
+    std::FILE* stat = std::fopen(fmt::format("/proc/{}/stat", pid).c_str(), "r");
+    if (!stat) return false;
+    char line[512] = {};
+    const size_t n = std::fread(line, 1, sizeof line - 1, stat);
+    std::fclose(stat);
+    const char* paren = std::strrchr(line, ')');
+    return n > 0 && paren && paren[1] == ' ' && (paren[2] == 'Z' || paren[2] == 'X');
+}
+
+}  // namespace
+
 std::string temporaryPath(const std::string& path)
 {
-    return fmt::format("{}.tmp.{}", path, getpid());
+    return fmt::format("{}.tmp.{}.{}", path, hostTag(), getpid());
+}
+
+std::optional<TemporaryName> temporaryName(const std::string& fileName)
+{
+    const size_t tmp = fileName.rfind(".tmp.");
+    if (tmp == std::string::npos || tmp == 0) return std::nullopt;
+    const std::string tail = fileName.substr(tmp + 5);
+    TemporaryName t;
+    t.finalName = fileName.substr(0, tmp);
+    if (allDigits(tail)) {  // PATH.tmp.<pid>, as older versions wrote
+        t.writerGone = processGone(tail);
+        return t;
+    }
+    const size_t dot = tail.rfind('.');
+    if (dot == std::string::npos || dot == 0 || !allDigits(tail.substr(dot + 1))) return std::nullopt;
+    t.writerGone = tail.substr(0, dot) == hostTag() && processGone(tail.substr(dot + 1));
+    return t;
 }
 
 Status checkOutputTarget(const std::string& path)
@@ -98,6 +158,52 @@ Status writeFileAtomically(const std::string& path, const void* data, size_t byt
     const std::string tmp = temporaryPath(path);
     SR_TRY(writeWhole(tmp, path, data, bytes));
     return renameFile(tmp, path);
+}
+
+FileGroup::~FileGroup()
+{
+    discard();
+}
+
+void FileGroup::discard()
+{
+    for (const Staged& f : staged_) std::remove(f.temporary.c_str());
+    staged_.clear();
+}
+
+Status FileGroup::stage(const std::string& path, const void* data, size_t bytes)
+{
+    auto staged = [&]() -> Status {
+        SR_TRY(checkOutputTarget(path));
+        const std::string tmp = temporaryPath(path);
+        SR_TRY(writeWhole(tmp, path, data, bytes));
+        staged_.push_back({tmp, path});
+        return okStatus();
+    }();
+    if (!staged) discard();
+    return staged;
+}
+
+Status FileGroup::commit()
+{
+    for (const Staged& f : staged_) {
+        auto target = checkOutputTarget(f.path);
+        if (!target) {
+            discard();
+            return target.error();
+        }
+    }
+    for (size_t i = 0; i < staged_.size(); ++i) {
+        if (std::rename(staged_[i].temporary.c_str(), staged_[i].path.c_str()) == 0) continue;
+        const int saved = errno;
+        const Error error = makeError(ExitCode::Usage, "cannot rename '{}' to '{}': {}", staged_[i].temporary,
+                                      staged_[i].path, std::strerror(saved));
+        for (size_t j = 0; j < i; ++j) std::remove(staged_[j].path.c_str());
+        discard();
+        return error;
+    }
+    staged_.clear();
+    return okStatus();
 }
 
 Status createParentFolder(const std::string& path)

@@ -10,6 +10,7 @@
 #define RASTER_IO_FILE_WRITE_H
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,20 @@
 
 namespace sr {
 
-// PATH.tmp.<pid>: where `path` is written before the rename. The process id keeps two processes that
-// were given the same output (two shards run by hand with overlapping jobs) from writing into one file.
+// PATH.tmp.<host>.<pid>: where `path` is written before the rename. The host name (letters, digits and
+// '-' of it, at most 32) and the process id keep two processes that were given the same output (two
+// batches of one manifest, on one machine or on two sharing the folder) from writing into one file,
+// and tell a leftover of a killed process from the file of one still writing (temporaryName).
 std::string temporaryPath(const std::string& path);
+
+// What a file name made by temporaryPath says: the final file's name, and whether its writer is gone (a
+// process of this host that no longer runs, or a name of the older PATH.tmp.<pid> form whose process
+// does not run here). A temporary of another host is never known to be gone. nullopt for other names.
+struct TemporaryName {
+    std::string finalName;
+    bool writerGone = false;
+};
+std::optional<TemporaryName> temporaryName(const std::string& fileName);
 
 // An error unless `path` is absent or a regular file (checked without following a final symbolic link).
 Status checkOutputTarget(const std::string& path);
@@ -34,6 +46,30 @@ Status writeFile(const std::string& path, const void* data, size_t bytes);
 
 // checkOutputTarget(path), then `bytes` written to temporaryPath(path) and renamed onto `path`.
 Status writeFileAtomically(const std::string& path, const void* data, size_t bytes);
+
+// The files of one job or command, whole or absent together: stage() writes each under its temporary
+// name (checkOutputTarget first), commit() renames them all into place in the order they were staged.
+// A failure leaves none of them: a group that is not committed (a later file failed to encode or
+// write: a full disk) removes its temporaries; commit() checks every target before the first rename,
+// and if a rename still fails it removes the files it already renamed and the remaining temporaries.
+// A batch stages a job's sidecar last, so that it is renamed only after every output it vouches for.
+class FileGroup {
+public:
+    FileGroup() = default;
+    FileGroup(const FileGroup&) = delete;
+    FileGroup& operator=(const FileGroup&) = delete;
+    ~FileGroup();
+
+    Status stage(const std::string& path, const void* data, size_t bytes);
+    Status commit();
+
+private:
+    void discard();
+    struct Staged {
+        std::string temporary, path;
+    };
+    std::vector<Staged> staged_;
+};
 
 // The folder holding `path`, created with its parents when missing.
 Status createParentFolder(const std::string& path);

@@ -262,6 +262,14 @@ Result<RgbaImage> readPng(const std::string& path)
 
 Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin)
 {
+    auto file = encodeAovExr(aov, origin, path);
+    if (!file) return file.error();
+    return writeFileAtomically(path, file->data(), file->size());
+}
+
+Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const ImageOrigin& origin,
+                                                const std::string& path)
+{
     SR_TRY(checkSize(path, aov.width, aov.height, aov.id.size(), "the id channel"));
     SR_TRY(checkSize(path, aov.width, aov.height, aov.depth.size(), "the depth channel"));
     std::vector<ExrPlane> planes = {
@@ -340,13 +348,13 @@ Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrig
     image.width = int(aov.width);
     image.height = int(aov.height);
 
-    // Encoded in memory and written through the checked, atomic path (io/file_write.h).
+    // Encoded in memory; the caller writes it through the checked, atomic path (io/file_write.h).
     const char* err = nullptr;
     unsigned char* memory = nullptr;
     const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
     std::unique_ptr<unsigned char, void (*)(void*)> owned(memory, std::free);
     if (size == 0) return makeError(ExitCode::Usage, "cannot write '{}': {}", path, takeExrError(err, 0));
-    return writeFileAtomically(path, memory, size);
+    return std::vector<unsigned char>(memory, memory + size);
 }
 
 Result<AovImage> readAovExr(const std::string& path)

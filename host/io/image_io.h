@@ -76,6 +76,9 @@ Result<RgbaImage> readPng(const std::string& path);  // any PNG, expanded to RGB
 // The origin a PNG's tEXt chunks record (empty fields for a PNG without them).
 Result<ImageOrigin> readPngOrigin(const std::string& path);
 Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin = {});
+// The bytes writeAovExr writes, in memory; `path` names the file in errors.
+Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const ImageOrigin& origin,
+                                                const std::string& path);
 // Needs the `id` and `Z` channels; reads each surface and colour group whose channels are all present,
 // and fails on a group with only some of them (a file cut short or renamed by another tool).
 Result<AovImage> readAovExr(const std::string& path);
