@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "batch/shard.h"
 #include "cli/batch.h"
 #include "io/image_io.h"
+#include "settings/schema.h"
 #include "test_util.h"
 
 namespace sr::test {
@@ -200,6 +202,12 @@ TEST(BatchManifest, ErrorsNameTheLine)
              {good + "{\"defaults\": {\"width\": 3}}\n",
               "m.jsonl:2: the defaults line must be the first line"},
              {"{\"defaults\": {\"output\": \"x.png\"}}\n" + good, "m.jsonl:1: 'output' belongs to one job"},
+             {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"aov_samples\": true}\n",
+              "m.jsonl:1: aov_samples needs an 'aov' file"},
+             {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"aov\": \"b.exr\", \"aov_samples\": true, "
+              "\"msaa\": 16, \"ssaa\": 4}\n",
+              "m.jsonl:1: aov_samples writes at most 64 samples per pixel, not 256"},
+             {"{\"defaults\": {\"aov_samples\": true}}\n" + good, "m.jsonl:2: aov_samples needs an 'aov' file"},
              {"[1, 2]\n", "m.jsonl:1: expected a JSON object"},
              {"\n\n", "m.jsonl: no jobs"},
              // Numbers past a double's range (the parser throws out_of_range, not parse_error).
@@ -301,9 +309,9 @@ TEST(BatchOutputs, SidecarsAndTemporaries)
     const std::string dead = std::to_string(child), live = std::to_string(getppid());
     const std::vector<std::string> gone = {"a.png.tmp." + dead, "a.png.tmp." + host + "." + dead,
                                            "a.png.job.json.tmp." + host + "." + dead};
-    const std::vector<std::string> kept = {"a.png.tmp." + host + "." + live, "a.png.tmp." + live,
-                                           "a.png.tmp.otherhost." + dead,    "b.png.tmp." + host + "." + dead,
-                                           "a.png.tmp.x",                    "a.png.tmpx"};
+    const std::vector<std::string> kept = {
+        "a.png.tmp." + host + "." + live, "a.png.tmp." + live, "a.png.tmp.otherhost." + dead,
+        "b.png.tmp." + host + "." + dead, "a.png.tmp.x",       "a.png.tmpx"};
     for (const std::vector<std::string>* names : {&gone, &kept})
         for (const std::string& name : *names) std::ofstream(dir.file(name)) << "x";
     EXPECT_EQ(removeTemporaries({png, sidecarPath(png)}), gone.size());
@@ -492,6 +500,123 @@ TEST(BatchTool, BadRequestsAreOneLineUsageErrors)
             << c.args << ": " << run.stderrText;
     }
     EXPECT_FALSE(fs::exists(dir.file("a.png")));
+}
+
+// A stats JSON without what depends on timing or on the frames drawn before in the same session (a
+// batch worker keeps one session per scene): GPU times, list capacities, redraws, peak memory.
+json withoutHistory(json stats)
+{
+    for (const char* key : {"gpu_total_ms", "stages_ms", "capacities", "redraws", "peak_device_bytes"})
+        stats.erase(key);
+    if (stats.contains("lod")) stats["lod"].erase("build_ms");
+    return stats;
+}
+
+std::string fileBytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Every setting of the schema, given in a manifest, writes the PNG, EXR and statistics `raster render`
+// writes with the same options (the campaign found aov_samples accepted, echoed and ignored: 13 EXR
+// channels where render wrote 21). Each key has a value other than its default, in a job with the
+// settings that make it show (ao_radius with ao gtao, point_size with points, texture_filter on a
+// textured scene, ...); the jobs run in one batch (sharing a worker's sessions), each against a
+// `raster render` of its own.
+TEST(BatchTool, EveryManifestKeyRendersAsRenderDoes)
+{
+    bool skip = false;
+    if (!openBackend("vulkan", skip)) {
+        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        return;
+    }
+    struct Job {
+        std::string scene;
+        std::vector<std::pair<std::string, std::string>> settings;  // key, command-line text
+    };
+    const std::vector<Job> jobs = {
+        {"builtin",
+         {{"width", "20"},
+          {"height", "14"},
+          {"camera", "orbit:30,20,9"},
+          {"model", "rotate:10,20,30"},
+          {"clusters", "on"}}},
+        {"builtin",
+         {{"shading", "phong"},
+          {"cull", "none"},
+          {"light_dir", "0.2,0.5,0.8"},
+          {"light_color", "0.9,0.5,0.3"},
+          {"ambient", "0.3"},
+          {"specular", "0.6"},
+          {"background", "0.3,0.2,0.1"},
+          {"repeat", "2"},
+          {"warmup", "2"}}},
+        {"builtin",
+         {{"ao", "gtao"},
+          {"ao_radius", "0.5"},
+          {"ao_slices", "2"},
+          {"ao_steps", "4"},
+          {"ao_denoise", "off"}}},
+        {"builtin", {{"ao", "reference"}, {"ao_reference_rays", "8"}}},
+        {"builtin:checker", {{"texture_filter", "nearest"}, {"uv_interpolation", "affine"}}},
+        {"builtin", {{"msaa", "8"}, {"ssaa", "2"}, {"raster_method", "fixed4"}, {"aov_samples", "true"}}},
+        {"builtin", {{"primitive_mode", "lines"}, {"line_width", "2"}}},
+        {"builtin", {{"primitive_mode", "points"}, {"point_size", "3"}}},
+        {"builtin", {{"wireframe", "true"}}},
+        {"builtin:lowpoly", {{"tessellate", "pn"}, {"tess_edge_px", "4"}, {"tess_max_level", "4"}}},
+        {"builtin:lowpoly", {{"lod", "on"}, {"lod_error_px", "2"}}},
+    };
+    std::set<std::string> covered;
+    ScratchDir dir("batch-keys");
+    std::string manifest = "{\"defaults\": {\"width\": 16, \"height\": 12, \"warmup\": 0}}\n";
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        const std::string name = "j" + std::to_string(k);
+        json job{{"scene", jobs[k].scene},
+                 {"output", name + ".png"},
+                 {"aov", name + ".exr"},
+                 {"stats", name + ".json"}};
+        for (const auto& [key, text] : jobs[k].settings) {
+            const Setting* setting = findSetting(key);
+            ASSERT_TRUE(setting) << key;
+            auto value = parseSettingText(*setting, text, key);
+            ASSERT_TRUE(value.ok()) << value.error().message;
+            job[key] = *value;
+            covered.insert(key);
+        }
+        manifest += job.dump() + "\n";
+    }
+    for (const Setting& setting : settingsSchema())
+        EXPECT_TRUE(covered.count(setting.key())) << "no job sets '" << setting.key() << "'";
+    writeText(dir.file("m.jsonl"), manifest);
+    ToolRun batch = runTool("batch m.jsonl --backend vulkan -q", dir.file(""));
+    ASSERT_EQ(batch.exitCode, 0) << batch.stderrText;
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        const std::string name = "j" + std::to_string(k);
+        std::map<std::string, std::string> options = {{"width", "16"}, {"height", "12"}, {"warmup", "0"}};
+        for (const auto& [key, text] : jobs[k].settings) options[key] = text;
+        std::string args = "render " + jobs[k].scene + " --backend vulkan -q";
+        for (const auto& [key, text] : options) {
+            const Setting* setting = findSetting(key);
+            args += " --" + setting->name + (setting->type == SettingType::Bool ? "" : " " + text);
+        }
+        SCOPED_TRACE(args);
+        ToolRun render =
+            runTool(args + " -o r_" + name + ".png --aov r_" + name + ".exr --stats r_" + name + ".json",
+                    dir.file(""));
+        ASSERT_EQ(render.exitCode, 0) << render.stderrText;
+        EXPECT_TRUE(sameImages(dir.file(name + ".png"), dir.file("r_" + name + ".png")));
+        EXPECT_TRUE(fileBytes(dir.file(name + ".exr")) == fileBytes(dir.file("r_" + name + ".exr")))
+            << "the EXRs differ";
+        const json a = json::parse(fileBytes(dir.file(name + ".json")), nullptr, false);
+        const json b = json::parse(fileBytes(dir.file("r_" + name + ".json")), nullptr, false);
+        ASSERT_FALSE(a.is_discarded() || b.is_discarded());
+        EXPECT_TRUE(withoutHistory(a) == withoutHistory(b))
+            << json::diff(withoutHistory(a), withoutHistory(b));
+    }
+    auto samples = readAovExr(dir.file("j5.exr"));
+    ASSERT_TRUE(samples.ok()) << samples.error().message;
+    EXPECT_EQ(samples->sampleId.size(), 8u * 2u * 2u) << "every sample: msaa 8, ssaa 2";
 }
 
 // Whether process `pid` has ended (gone, or a zombie nobody reaped).

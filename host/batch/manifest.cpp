@@ -213,6 +213,8 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     }
     auto combined = checkSettings(job.options.resolved());
     if (!combined) return makeError(ExitCode::Usage, "{}: {}", where, combined.error().message);
+    auto samples = checkAovSamples(job.options.resolved(), !aov.empty(), "aov_samples", "an 'aov' file");
+    if (!samples) return makeError(ExitCode::Usage, "{}: {}", where, samples.error().message);
 
     job.outputPattern = output;
     job.aovPattern = aov;
@@ -241,6 +243,7 @@ Status checkDefaults(const json& defaults, const std::string& where)
     json probe = defaults;
     if (!probe.contains("scene")) probe["scene"] = "builtin";
     probe["output"] = "probe.png";
+    probe["aov"] = "probe.exr";  // aov_samples in the defaults is for jobs that name an EXR
     auto job = makeJob(probe, 0, where, "");
     if (!job) return job.error();
     return okStatus();

@@ -70,9 +70,6 @@ struct RenderCommand {
     RenderOptions options = imageRenderOptions();  // every render setting (settings/schema.h)
 };
 
-// Most samples per pixel --aov-samples writes (two EXR channels each).
-constexpr uint32_t kMaxAovSamples = 64;
-
 void printStageTable(const RenderOutput& out)
 {
     fmt::print("{:<14} {:>10} {:>10} {:>10}\n", "stage (ms)", "min", "median", "max");
@@ -130,12 +127,7 @@ Status runRender(RenderCommand& cmd)
 
     // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();
-    if (s.aovSamples && cmd.aovPath.empty())
-        return makeError(ExitCode::Usage, "--aov-samples needs --aov FILE");
-    if (s.aovSamples && s.ssaa * s.ssaa * s.msaa > kMaxAovSamples)
-        return makeError(ExitCode::Usage,
-                         "--aov-samples writes at most {} samples per pixel, not {} (--ssaa {} --msaa {})",
-                         kMaxAovSamples, s.ssaa * s.ssaa * s.msaa, s.ssaa, s.msaa);
+    SR_TRY(checkAovSamples(s, !cmd.aovPath.empty(), "--aov-samples", "--aov FILE"));
 
     // A malformed target, camera or frame pattern is reported before anything is loaded or rendered.
     if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
@@ -246,10 +238,7 @@ Status runRender(RenderCommand& cmd)
             // What was chosen is what the frames and the statistics' echo use.
             cmd.options.settings = withSetting(cmd.options.settings, choice->setting);
             cmd.options.tessMaxLevel = s.tessMaxLevel;
-            if (s.aovSamples && s.ssaa * s.ssaa * s.msaa > kMaxAovSamples)
-                return makeError(ExitCode::Usage,
-                                 "--aov-samples writes at most {} samples per pixel; --quality chose {}",
-                                 kMaxAovSamples, s.ssaa * s.ssaa * s.msaa);
+            SR_TRY(checkAovSamples(s, true, "--aov-samples (with what --quality chose)", "--aov FILE"));
             if (!cmd.quiet) fmt::print("{}\n", choice->line);
         }
         if (turntable) return runTurntable(cmd, *device, *scene, *orbit, frames, sceneName);

@@ -510,6 +510,18 @@ std::string renderArguments(const RenderOptions& options)
     return args;
 }
 
+Status checkAovSamples(const RenderSettings& settings, bool hasAov, const std::string& samplesName,
+                       const std::string& aovName)
+{
+    if (!settings.aovSamples) return okStatus();
+    if (!hasAov) return makeError(ExitCode::Usage, "{} needs {}", samplesName, aovName);
+    const uint32_t samples = settings.ssaa * settings.ssaa * settings.msaa;
+    if (samples > kMaxAovSamples)
+        return makeError(ExitCode::Usage, "{} writes at most {} samples per pixel, not {} (ssaa {}, msaa {})",
+                         samplesName, kMaxAovSamples, samples, settings.ssaa, settings.msaa);
+    return okStatus();
+}
+
 Status checkSettings(const RenderSettings& settings)
 {
     RenderOptions options;

@@ -98,6 +98,15 @@ std::string renderArguments(const RenderOptions& options);
 // line's. The pipeline calls this on every frame (checkRenderInputs).
 Status checkSettings(const RenderSettings& settings);
 
+// Samples per pixel (ssaa^2 x msaa) an EXR of every sample (aov-samples: an id and a depth channel
+// each) holds at most.
+constexpr uint32_t kMaxAovSamples = 64;
+// aov-samples where a frame goes to files (`raster render`, a batch job): an EXR to hold the samples
+// (`hasAov`) and at most kMaxAovSamples of them per pixel. `samplesName` and `aovName` name the setting
+// and the EXR output as the front end does ("--aov-samples", "--aov FILE"; "aov_samples", "'aov'").
+Status checkAovSamples(const RenderSettings& settings, bool hasAov, const std::string& samplesName,
+                       const std::string& aovName);
+
 // The name of a Choice setting's value ("blinn-phong" for setting("shading") and SHADING_BLINN_PHONG);
 // "unknown" for a value it does not list.
 std::string choiceName(const Setting& setting, uint32_t value);
