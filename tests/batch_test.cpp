@@ -207,7 +207,8 @@ TEST(BatchManifest, ErrorsNameTheLine)
              {"{\"scene\": \"builtin\", \"output\": \"b.png\", \"aov\": \"b.exr\", \"aov_samples\": true, "
               "\"msaa\": 16, \"ssaa\": 4}\n",
               "m.jsonl:1: aov_samples writes at most 64 samples per pixel, not 256"},
-             {"{\"defaults\": {\"aov_samples\": true}}\n" + good, "m.jsonl:2: aov_samples needs an 'aov' file"},
+             {"{\"defaults\": {\"aov_samples\": true}}\n" + good,
+              "m.jsonl:2: aov_samples needs an 'aov' file"},
              {"[1, 2]\n", "m.jsonl:1: expected a JSON object"},
              {"\n\n", "m.jsonl: no jobs"},
              // Numbers past a double's range (the parser throws out_of_range, not parse_error).
@@ -277,6 +278,48 @@ TEST(BatchManifest, TurntablesExpandIntoFrames)
         EXPECT_TRUE(isOneLine(expanded.error().message));
         EXPECT_EQ(expanded.error().message.rfind(c.message, 0), 0u) << expanded.error().message;
     }
+}
+
+// Every file a batch writes (outputs, statistics, sidecars) against every other and against what it
+// reads (the manifest, scene files), by resolved path: through a link to a folder that does not exist
+// yet, a job's stats on another job's sidecar or its own, stats on the manifest or on a scene.
+TEST(BatchManifest, WrittenFilesCollideWithNoOtherFile)
+{
+    ScratchDir dir("batch-collide");
+    fs::create_symlink("a", dir.file("link2"));  // a/ does not exist yet
+    std::ofstream(dir.file("s.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::string job = "{\"scene\": \"builtin\", ";
+    struct Case {
+        std::string text, message;
+    };
+    for (const Case& c :
+         std::vector<Case>{{job + "\"output\": \"a/b.png\"}\n" + job + "\"output\": \"link2/b.png\"}\n",
+                            "m.jsonl:2: 'link2/b.png' is also written by line 1"},
+                           {job + "\"output\": \"a.png\", \"stats\": \"b.png.job.json\"}\n" + job +
+                                "\"output\": \"b.png\"}\n",
+                            "m.jsonl:2: 'b.png.job.json' (the sidecar of 'b.png') is also written by line 1"},
+                           {job + "\"output\": \"a.png\", \"stats\": \"a.png.job.json\"}\n",
+                            "m.jsonl:1: 'a.png.job.json' (the sidecar of 'a.png') is also written by line 1"},
+                           {job + "\"output\": \"a.png\", \"stats\": \"./m.jsonl\"}\n",
+                            "m.jsonl:1: './m.jsonl' would overwrite the manifest"},
+                           {"{\"scene\": \"s.obj\", \"output\": \"a.png\"}\n" + job +
+                                "\"output\": \"b.png\", \"aov\": "
+                                "\"c.exr\", \"stats\": \"link2/../s.obj\"}\n",
+                            "m.jsonl:2: 'link2/../s.obj' would overwrite the scene of line 1"}}) {
+        SCOPED_TRACE(c.text);
+        std::ofstream(dir.file("m.jsonl"), std::ios::binary) << c.text;
+        auto m = loadManifest(dir.file("m.jsonl"), json::object());
+        ASSERT_TRUE(m.ok()) << m.error().message;
+        auto frames = expandJobs(*m);
+        ASSERT_FALSE(frames.ok());
+        std::string message = frames.error().message;  // with the folder left out, as the cases write it
+        for (size_t at; (at = message.find(dir.file(""))) != std::string::npos;)
+            message.erase(at, dir.file("").size());
+        EXPECT_EQ(message, c.message);
+    }
+    EXPECT_FALSE(fs::exists(dir.file("a")));
+    EXPECT_EQ(resolvedPath(dir.file("link2/b.png")), resolvedPath(dir.file("a/b.png")));
+    EXPECT_EQ(resolvedPath(dir.file("link2/../s.obj")), resolvedPath(dir.file("s.obj")));
 }
 
 TEST(BatchOutputs, SidecarsAndTemporaries)

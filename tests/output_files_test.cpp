@@ -208,6 +208,16 @@ TEST(OutputFiles, TwoSpellingsOfOneFileAreOneOutput)
     EXPECT_EQ(exr.exitCode, 2);
     EXPECT_NE(exr.stderrText.find("aov 'a.png' must end in .exr"), std::string::npos) << exr.stderrText;
 
+    // An output on the scene being rendered.
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::ofstream(dir.file("s.obj")) << obj;
+    ToolRun scene = runTool(
+        "render s.obj --backend vulkan -q --width 16 --height 16 -o s.png --stats ./s.obj", dir.file(""));
+    EXPECT_EQ(scene.exitCode, 2);
+    EXPECT_EQ(scene.stderrText, "raster: error: --stats './s.obj' would overwrite the scene\n");
+    std::ifstream kept(dir.file("s.obj"));
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), std::istreambuf_iterator<char>()), obj);
+
     EXPECT_EQ(resolvedPath(dir.file("x/../y.png")), resolvedPath(dir.file("y.png")));
     EXPECT_TRUE(hasExtension("A.PNG", ".png"));
     EXPECT_FALSE(hasExtension("png", ".png"));

@@ -137,7 +137,8 @@ void scriptedSession(const std::string& present, bool offscreen = false,
     // save, at the viewer's one sample, names --msaa 1.
     EXPECT_EQ(args.find("--msaa"), std::string::npos) << args;
     std::ifstream first(a + ".view.json");
-    EXPECT_NE(nlohmann::json::parse(first)["render_args"].get<std::string>().find("--msaa 1"), std::string::npos);
+    EXPECT_NE(nlohmann::json::parse(first)["render_args"].get<std::string>().find("--msaa 1"),
+              std::string::npos);
     EXPECT_NE(view["camera"].get<std::string>().find("orbit:"), std::string::npos);
     std::ifstream third(c + ".view.json");
     EXPECT_NE(nlohmann::json::parse(third)["render_args"].get<std::string>().find("--primitive-mode lines"),

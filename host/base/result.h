@@ -41,7 +41,7 @@ inline std::string printableText(const char* text)
 // Quoted input (a key, a value, a path, a name the user gave) in a one-line message: control bytes become
 // '?', and text longer than `limit` bytes is cut to its first `limit` (at a UTF-8 character boundary)
 // followed by "... (N bytes)", so that a 10 MB key or file name still makes a readable line.
-inline std::string clippedText(const std::string& text, size_t limit = 64)
+inline std::string clippedText(const std::string& text, size_t limit = 100)
 {
     size_t keep = text.size();
     if (keep > limit) {
@@ -55,7 +55,7 @@ inline std::string clippedText(const std::string& text, size_t limit = 64)
     return out;
 }
 // clippedText in single quotes.
-inline std::string quotedInput(const std::string& text, size_t limit = 64)
+inline std::string quotedInput(const std::string& text, size_t limit = 100)
 {
     return "'" + clippedText(text, limit) + "'";
 }

@@ -78,15 +78,32 @@ CLI::App* addBatchCommand(CLI::App& app, BatchOptions& o)
 Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
 {
     std::vector<BatchFrame> frames;
-    std::map<std::string, int> writers;  // every output path -> the line writing it
-    // Keyed by the resolved path: "a.png" and "./a.png" are one file.
-    auto claim = [&](const std::string& path, int line) -> Status {
+    // Every file the batch reads (the manifest, the scene files) and writes (each frame's outputs and
+    // sidecar), keyed by the resolved path, so that "a.png", "./a.png" and "link/a.png" are one file:
+    // no file is written twice, and none that is read is written.
+    std::map<std::string, std::string> inputs;  // resolved path -> what reads it
+    inputs.emplace(resolvedPath(manifest.path), "the manifest");
+    for (const ManifestJob& job : manifest.jobs)
+        if (job.scene.compare(0, 7, "builtin") != 0)
+            inputs.emplace(resolvedPath(job.scene), fmt::format("the scene of line {}", job.line));
+    std::map<std::string, int> writers;  // resolved output path -> the line writing it
+    auto claim = [&](const std::string& path, int line, const std::string& what) -> Status {
         if (path.empty()) return okStatus();
-        auto [it, fresh] = writers.emplace(resolvedPath(path), line);
+        const std::string resolved = resolvedPath(path);
+        auto input = inputs.find(resolved);
+        if (input != inputs.end())
+            return makeError(ExitCode::Usage, "{}:{}: {}{} would overwrite {}", manifest.path, line,
+                             quotedInput(path), what, input->second);
+        auto [it, fresh] = writers.emplace(resolved, line);
         if (!fresh)
-            return makeError(ExitCode::Usage, "{}:{}: '{}' is also written by line {}", manifest.path, line,
-                             path, it->second);
+            return makeError(ExitCode::Usage, "{}:{}: {}{} is also written by line {}", manifest.path, line,
+                             quotedInput(path), what, it->second);
         return okStatus();
+    };
+    // A frame's files: its outputs, then the sidecar that vouches for them.
+    auto claimFrame = [&](const BatchFrame& f, int line) -> Status {
+        for (const std::string* p : {&f.png, &f.aov, &f.stats}) SR_TRY(claim(*p, line, ""));
+        return claim(sidecarPath(f.png), line, " (the sidecar of " + quotedInput(f.png) + ")");
     };
     for (const ManifestJob& job : manifest.jobs) {
         const std::string where = fmt::format("{}:{}", manifest.path, job.line);
@@ -96,7 +113,7 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
             if (!job.orbit.empty())
                 return makeError(ExitCode::Usage, "{}: 'orbit' needs 'frames' (a turntable)", where);
             BatchFrame f{&job, 0, 0.0f, job.output, job.aov, job.stats, job.canonical, key};
-            for (const std::string* p : {&f.png, &f.aov, &f.stats}) SR_TRY(claim(*p, job.line));
+            SR_TRY(claimFrame(f, job.line));
             frames.push_back(std::move(f));
             continue;
         }
@@ -132,7 +149,7 @@ Result<std::vector<BatchFrame>> expandJobs(const Manifest& manifest)
             f.settings = job.canonical;
             f.settings["frame"] = k;
             f.sceneKey = key;
-            for (const std::string* p : {&f.png, &f.aov, &f.stats}) SR_TRY(claim(*p, job.line));
+            SR_TRY(claimFrame(f, job.line));
             frames.push_back(std::move(f));
         }
     }

@@ -124,6 +124,13 @@ Status runRender(RenderCommand& cmd)
     // Each output in its format and a file of its own, before anything is loaded or rendered.
     SR_TRY(checkOutputNames(
         {{"-o", cmd.output, ".png"}, {"--aov", cmd.aovPath, ".exr"}, {"--stats", cmd.statsPath, ""}}));
+    if (!cmd.scenePath.empty() && cmd.scenePath.compare(0, 7, "builtin") != 0)
+        for (const auto& [label, path] : {std::pair<const char*, const std::string&>{"-o", cmd.output},
+                                          {"--aov", cmd.aovPath},
+                                          {"--stats", cmd.statsPath}})
+            if (!path.empty() && resolvedPath(path) == resolvedPath(cmd.scenePath))
+                return makeError(ExitCode::Usage, "{} {} would overwrite the scene", label,
+                                 quotedInput(path));
 
     // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();

@@ -6,8 +6,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <system_error>
+#include <vector>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -218,10 +220,40 @@ Status createParentFolder(const std::string& path)
 
 std::string resolvedPath(const std::string& path)
 {
+    // realpath() for paths whose end does not exist yet: the components are taken one at a time, each
+    // symbolic link replaced by its target, also one whose target does not exist (a link to a folder a
+    // batch will create), and ".." applied to the resolved folder, as the kernel resolves it.
     std::error_code ec;
-    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
-    if (ec) p = fs::absolute(path, ec).lexically_normal();
-    return p.string();
+    const fs::path start = fs::absolute(path, ec);
+    if (ec) return fs::path(path).lexically_normal().string();
+    const fs::path relative = start.relative_path();
+    std::deque<fs::path> left(relative.begin(), relative.end());
+    fs::path resolved = start.root_path();
+    int links = 0;
+    while (!left.empty()) {
+        const fs::path part = left.front();
+        left.pop_front();
+        if (part.empty() || part == ".") continue;
+        if (part == "..") {
+            resolved = resolved.parent_path();
+            continue;
+        }
+        const fs::path next = resolved / part;
+        struct stat st {};
+        // Up to 40 links, as the kernel allows (ELOOP): a cycle ends there, with the rest as written.
+        if (lstat(next.c_str(), &st) == 0 && S_ISLNK(st.st_mode) && ++links <= 40) {
+            const fs::path target = fs::read_symlink(next, ec);
+            if (!ec) {
+                const fs::path targetParts = target.relative_path();
+                const std::vector<fs::path> parts(targetParts.begin(), targetParts.end());
+                left.insert(left.begin(), parts.begin(), parts.end());
+                if (target.is_absolute()) resolved = target.root_path();
+                continue;
+            }
+        }
+        resolved = next;
+    }
+    return resolved.string();
 }
 
 bool hasExtension(const std::string& path, const std::string& extension)

@@ -74,8 +74,9 @@ private:
 // The folder holding `path`, created with its parents when missing.
 Status createParentFolder(const std::string& path);
 
-// The path as the file system resolves it: absolute, with `.`, `..` and the symbolic links of its
-// existing part resolved, so that two spellings of one file compare equal.
+// The path as the file system resolves it: absolute, with `.`, `..` and every symbolic link along it
+// resolved, dangling ones too (a link to a folder that does not exist yet), so that two spellings of one
+// file compare equal before either exists.
 std::string resolvedPath(const std::string& path);
 
 // Whether `path` ends in `extension` (".png"), ignoring case.
