@@ -332,4 +332,34 @@ ToolRun runTool(const std::string& args, const std::string& workDir, const std::
     return run;
 }
 
+Scene pathologicalScene(const std::string& kind, uint32_t n)
+{
+    Scene scene;
+    auto vertex = [&](float x, float y, float z) {
+        scene.positions.emplace_back(x, y, z, 1.0f);
+        scene.normals.emplace_back(0.0f, 0.0f, 1.0f, 0.0f);
+        return uint32_t(scene.positions.size() - 1);
+    };
+    auto triangle = [&](uint32_t a, uint32_t b, uint32_t c) {
+        for (uint32_t i : {a, b, c}) scene.indices.push_back(i);
+    };
+    if (kind == "degenerate copies" || kind == "copies") {
+        const float y = kind == "copies" ? 1.0f : 0.0f;
+        const uint32_t a = vertex(0, 0, 0), b = vertex(1, 0, 0), c = vertex(2, y, 0);
+        for (uint32_t k = 0; k < n; ++k) triangle(a, b, c);
+        triangle(vertex(0, 1, 1), vertex(1, 1, 1), vertex(0, 2, 1));
+    } else if (kind == "fan") {
+        const uint32_t centre = vertex(0, 0, 0);
+        for (uint32_t k = 0; k <= n; ++k) {
+            const double angle = 2.0 * M_PI * k / n;
+            vertex(float(std::cos(angle)), float(std::sin(angle)), 0);
+        }
+        for (uint32_t k = 0; k < n; ++k) triangle(centre, 1 + k, 2 + k);
+    } else {  // collapsed: every vertex at the origin
+        for (uint32_t k = 0; k < n; ++k) triangle(vertex(0, 0, 0), vertex(0, 0, 0), vertex(0, 0, 0));
+    }
+    scene.triFlags.assign(scene.indices.size() / 3, 0u);
+    return scene;
+}
+
 }  // namespace sr::test

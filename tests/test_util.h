@@ -213,6 +213,11 @@ std::string glmark2Model(const std::string& name);
 // scene after a failure that the test reports.
 Scene namedScene(const std::string& name);
 
+// Meshes that many triangles share a vertex or a centroid of, n triangles each: "degenerate copies" (n
+// copies of one zero-area triangle, and one real triangle), "copies" (of one real triangle), "fan" (n
+// triangles around one vertex) and "collapsed" (n triangles at one point, through distinct vertices).
+Scene pathologicalScene(const std::string& kind, uint32_t n);
+
 struct ToolRun {
     int exitCode = -1;
     std::string stdoutText;

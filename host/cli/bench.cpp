@@ -135,6 +135,41 @@ Scene layerScene(int layers)
     return scene;
 }
 
+// A window position (pixels, y down) of a w x h screen as a clip-space vertex at depth 0.5.
+glm::vec4 windowPoint(double x, double y, uint32_t w, uint32_t h)
+{
+    return glm::vec4(float(2.0 * x / w - 1.0), float(2.0 * y / h - 1.0), 0.5f, 1.0f);
+}
+
+// `count` triangles around one vertex at the screen's centre: a disc of 32 pixels' radius.
+Scene fanScene(uint32_t count, uint32_t w, uint32_t h)
+{
+    Scene scene;
+    scene.positions.push_back(windowPoint(0.5 * w, 0.5 * h, w, h));
+    for (uint32_t k = 0; k <= count; ++k) {
+        // Clockwise in y-up terms: counter-clockwise on the screen, front-facing.
+        const double angle = -6.283185307179586 * double(k) / count;
+        scene.positions.push_back(
+            windowPoint(0.5 * w + 32.0 * std::cos(angle), 0.5 * h + 32.0 * std::sin(angle), w, h));
+    }
+    scene.normals.assign(scene.positions.size(), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+    for (uint32_t k = 0; k < count; ++k) scene.indices.insert(scene.indices.end(), {0u, 1 + k, 2 + k});
+    (void)finalizeScene(scene, "fan scene");
+    return scene;
+}
+
+// `count` copies of one 8-pixel triangle at the screen's centre, over one set of three vertices.
+Scene copiesScene(uint32_t count, uint32_t w, uint32_t h)
+{
+    Scene scene;
+    const double x = 0.5 * w, y = 0.5 * h;
+    scene.positions = {windowPoint(x, y, w, h), windowPoint(x, y + 4.0, w, h), windowPoint(x + 4.0, y, w, h)};
+    scene.normals.assign(3, glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+    for (uint32_t k = 0; k < count; ++k) scene.indices.insert(scene.indices.end(), {0u, 1u, 2u});
+    (void)finalizeScene(scene, "copies scene");
+    return scene;
+}
+
 // A texture-free copy of a textured scene: the same geometry, so the pair shows what texturing costs.
 Scene untextured(Scene scene)
 {
@@ -191,6 +226,13 @@ Result<std::vector<BenchScene>> buildScenes(const BenchOptions& o, uint32_t w, u
         if (!camera) return camera.error();
         return BenchScene{std::move(name), std::move(scene), *camera, 0.0};
     };
+    // Meshes that defeat a clusterizer walking shared vertices and centroids (meshoptimizer's took
+    // O(n^2) on both; cluster_build_ms shows the build): a fan of triangles around one vertex, and copies
+    // of one triangle.
+    if (wanted("fan-1m"))
+        scenes.push_back({"fan-1m", fanScene(o.sweepTriangles, w, h), identityMatrices(), 0.0});
+    if (wanted("copies-1m"))
+        scenes.push_back({"copies-1m", copiesScene(o.sweepTriangles, w, h), identityMatrices(), 0.0});
     if (wanted("bunny")) {
         auto bunny = loadScene(o.bunnyPath);
         if (!bunny) return bunny.error();
@@ -387,6 +429,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                       lodError > 0.0f ? nlohmann::json(lodError) : nlohmann::json(nullptr)},
                                      {"lod_triangles", out->stats.trianglesIn},
                                      {"lod_build_ms", out->stats.lodBuildMs},
+                                     {"cluster_build_ms", out->stats.clusterBuildMs},
                                      {"ao", choiceName(setting("ao"), aoMode)},
                                      {"ao_ms", aoMs}});
                             }

@@ -541,7 +541,8 @@ int main(int argc, char** argv)
     benchApp->add_option(
         "--scenes", bench.scenes,
         "comma-separated subset of sweep-0.5px, sweep-2px, sweep-8px, sweep-32px, sweep-128px, "
-        "points-1m, lines-1m, layers-16, bunny, dense, builtin, checker-*, sphere-* (default: all)");
+        "points-1m, lines-1m, layers-16, fan-1m, copies-1m, bunny, dense, builtin, checker-*, sphere-* "
+        "(default: all)");
     benchApp->add_option("--msaa", bench.msaa,
                          "comma-separated sample counts, each run on every scene (default 1)");
     benchApp->add_option("--clusters", bench.clusters,
@@ -555,7 +556,9 @@ int main(int argc, char** argv)
         "--ao", bench.ao,
         "comma-separated: off, gtao (default off), each run on every scene; a run reports its "
         "AO stages' time as ao_ms");
-    benchApp->add_option("--triangles", bench.options.sweepTriangles, "triangles per sweep scene")
+    benchApp
+        ->add_option("--triangles", bench.options.sweepTriangles,
+                     "primitives of each sweep, points, lines, fan and copies scene")
         ->check(CLI::Range(1, 1 << 26));
     benchApp->add_option("--dense-rings", bench.options.denseRings, "dense sphere: about 4 N^2 triangles")
         ->check(CLI::Range(4, kMaxSphereRings));

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -673,6 +674,7 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     Result<uint32_t> clusters = frameClusters(settings, f.tessellating);
     if (!clusters) return clusters.error();
     f.clusters = *clusters;
+    f.out.stats.clusterBuildMs = std::exchange(clusterBuildMs_, 0.0);
     return okStatus();
 }
 
@@ -707,7 +709,10 @@ Result<uint32_t> RenderSession::frameClusters(const RenderSettings& settings, bo
     const bool automatic = settings.clusters == CLUSTERS_AUTO;
     if (automatic && (device_->info().isCpu || scene_->triangleCount() < kAutoClusterMinTriangles)) return 0u;
     if (!clustersBuilt_) {
+        const auto start = std::chrono::steady_clock::now();
         clusterSet_ = buildClusters(*scene_);
+        clusterBuildMs_ =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         clusterCount_ = uint32_t(clusterSet_.clusters.size());
         clusterTriangles_ = clusterCount_ == 0 ? 0.0 : double(scene_->triangleCount()) / clusterCount_;
         clustersBuilt_ = true;

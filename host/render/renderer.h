@@ -81,9 +81,10 @@ struct RenderStats {
     // trianglesIn), and the scene's own triangles, which --lod off would have drawn.
     uint64_t lodTriangles = 0;
     uint64_t lodSceneTriangles = 0;
-    double lodBuildMs = 0.0;    // host time building the hierarchy and its scene (the frame that built them)
-    uint32_t redraws = 0;       // frames redrawn after growing an overflowing list or for a skipped stage
-    ListCapacities capacities;  // final capacities of the lists
+    double lodBuildMs = 0.0;  // host time building the hierarchy and its scene (the frame that built them)
+    double clusterBuildMs = 0.0;  // host time building the scene's clusters (the frame that built them)
+    uint32_t redraws = 0;         // frames redrawn after growing an overflowing list or for a skipped stage
+    ListCapacities capacities;    // final capacities of the lists
     // Whether the counts after the inputs (culled, clipped, rasterized, ...) were measured: false for
     // vulkan-graphics, whose fixed-function stages count nothing we read back; reports then say "n/a".
     bool pipelineCounts = true;
@@ -213,6 +214,7 @@ private:
     bool clustersUploaded_ = false;  // BUF_CLUSTERS and BUF_CLUSTER_DATA hold them
     uint32_t clusterCount_ = 0;      // clusters (0: the scene has none, its triangles go through setup)
     double clusterTriangles_ = 0.0;  // triangles per cluster, on average
+    double clusterBuildMs_ = 0.0;    // the build's host time, until a frame's statistics take it
     struct LodState;
     std::shared_ptr<LodState> lod_;               // renderLod's hierarchy, scene and session
     const LodHierarchy* lodHierarchy_ = nullptr;  // on LodState's session: its scene's clusters

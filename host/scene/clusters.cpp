@@ -33,7 +33,8 @@ bool isFinite(const glm::vec4& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
-// The scene triangles sorted by their corner triple, to find the id of a triangle a cluster holds.
+// The scene triangles sorted by their corner triple (by id among equal ones), to find the id of a
+// triangle a cluster holds.
 class TriangleLookup {
 public:
     explicit TriangleLookup(const std::vector<uint32_t>& indices) : indices_(indices)
@@ -41,23 +42,26 @@ public:
         const uint32_t count = uint32_t(indices.size() / 3);
         order_.resize(count);
         for (uint32_t t = 0; t < count; ++t) order_[t] = t;
-        std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-        taken_.assign(count, false);
+        std::stable_sort(order_.begin(), order_.end(),
+                         [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+        taken_.assign(count, 0u);
     }
 
     // The lowest untaken scene triangle with corners (a, b, c) in this order, marked taken; or
-    // UINT32_MAX when there is none left.
+    // UINT32_MAX when there is none left. Triangles of one corner triple are taken in id order, so the
+    // taken ones are the head of their run: its first entry counts them, and n copies of one triangle
+    // cost O(n log n) in all, not O(n^2).
     uint32_t take(uint32_t a, uint32_t b, uint32_t c)
     {
         const std::array<uint32_t, 3> want{a, b, c};
         auto it = std::lower_bound(order_.begin(), order_.end(), want,
                                    [&](uint32_t t, const std::array<uint32_t, 3>& k) { return key(t) < k; });
-        for (; it != order_.end() && key(*it) == want; ++it) {
-            if (taken_[*it]) continue;
-            taken_[*it] = true;
-            return *it;
-        }
-        return UINT32_MAX;
+        if (it == order_.end() || key(*it) != want) return UINT32_MAX;
+        uint32_t& taken = taken_[size_t(it - order_.begin())];
+        const auto next = it + taken;
+        if (next == order_.end() || key(*next) != want) return UINT32_MAX;
+        ++taken;
+        return *next;
     }
 
 private:
@@ -68,8 +72,19 @@ private:
 
     const std::vector<uint32_t>& indices_;
     std::vector<uint32_t> order_;
-    std::vector<bool> taken_;
+    std::vector<uint32_t> taken_;  // at a run's first entry: how many of the run are taken
 };
+
+// Triangles around one vertex that meshoptimizer's clusterizer is given at most. It grows a cluster by
+// scanning the triangles around each of the cluster's vertices and removes each triangle it places from
+// its corners' lists by a linear search, so a vertex shared by n triangles (a fan's centre, or n copies
+// of one degenerate triangle) costs it O(n) per triangle and O(n^2) in all: the campaign's 100,000 such
+// triangles took 70 s. A busier vertex is handed to it as copies, each shared by at most this many
+// triangles; a cluster that receives several copies of one vertex names it once.
+constexpr uint32_t kMaxVertexTriangles = 32;
+
+// Triangles that may share one centroid before they are packed apart (below).
+constexpr size_t kMaxCoincidentTriangles = 16;
 
 // Coordinates beyond this make a cluster never cull: their clip positions could overflow to infinity,
 // which setup counts invalid, not culled.
@@ -201,61 +216,148 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
     const meshopt_Stream stream = {exact.data(), sizeof(glm::vec4), sizeof(glm::vec4)};
     meshopt_generateShadowIndexBufferMulti(welded.data(), local.data(), indexCount, vertexCount, &stream, 1);
 
-    const size_t bound = meshopt_buildMeshletsBound(indexCount, kClusterMaxVertices, kClusterMaxTriangles);
-    std::vector<meshopt_Meshlet> meshlets(bound);
-    std::vector<unsigned int> vertices(bound * kClusterMaxVertices);
-    std::vector<unsigned char> triangles(bound * kClusterMaxTriangles * 3);
-    const size_t clusters = meshopt_buildMeshlets(
-        meshlets.data(), vertices.data(), triangles.data(), welded.data(), indexCount, &positions[0].x,
-        vertexCount, sizeof(glm::vec3), kClusterMaxVertices, kClusterMaxTriangles, kConeWeight);
+    // What the clusterizer is given: the welded corners with every busy vertex split into copies
+    // (kMaxVertexTriangles), and for each of its vertices the welded vertex it stands for.
+    std::vector<uint32_t> uses(vertexCount, 0u);
+    for (uint32_t v : welded) ++uses[v];
+    std::vector<uint32_t> split = welded;
+    std::vector<uint32_t> origin(vertexCount);
+    for (size_t v = 0; v < vertexCount; ++v) origin[v] = uint32_t(v);
+    {
+        std::vector<uint32_t> seen(vertexCount, 0u), copy(vertexCount, 0u);
+        for (uint32_t& v : split) {
+            const uint32_t w = v;
+            if (uses[w] <= kMaxVertexTriangles) continue;
+            const uint32_t n = seen[w]++;           // this corner is use n of w
+            if (n < kMaxVertexTriangles) continue;  // the first ones keep w itself
+            if (n % kMaxVertexTriangles == 0) {     // each further kMaxVertexTriangles get a copy
+                copy[w] = uint32_t(origin.size());
+                origin.push_back(w);
+                const glm::vec3 p = positions[w];
+                positions.push_back(p);
+            }
+            v = copy[w];
+        }
+    }
+
+    // Triangles whose centroid many others share (copies of one triangle, a mesh collapsed to a point)
+    // are kept from the clusterizer: it finds each new cluster's first triangle in a k-d tree over the
+    // centroids, which cannot split coincident points and scans them all for every cluster, O(n^2) in
+    // all (the campaign's million copies of one triangle did not finish in 180 s). They are packed in
+    // centroid order by meshoptimizer's scan instead, in linear time: they lie on one point, so no order
+    // of them is more compact than another.
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> byCentroid(count);
+    for (size_t t = 0; t < count; ++t) {
+        const glm::vec3 c =
+            positions[welded[3 * t]] + positions[welded[3 * t + 1]] + positions[welded[3 * t + 2]];
+        byCentroid[t] = {{floatBits(c.x), floatBits(c.y), floatBits(c.z)}, uint32_t(t)};
+    }
+    std::sort(byCentroid.begin(), byCentroid.end());
+    std::vector<bool> crowdedTriangle(count, false);
+    std::vector<uint32_t> crowded;  // the scan's corners, in centroid order
+    for (size_t run = 0; run < count;) {
+        size_t end = run + 1;
+        while (end < count && byCentroid[end].first == byCentroid[run].first) ++end;
+        if (end - run > kMaxCoincidentTriangles)
+            for (size_t i = run; i < end; ++i) {
+                const uint32_t t = byCentroid[i].second;
+                crowdedTriangle[t] = true;
+                crowded.insert(crowded.end(), split.begin() + 3 * t, split.begin() + 3 * t + 3);
+            }
+        run = end;
+    }
+    std::vector<uint32_t> spread;  // the clusterizer's corners, in chunk order (its result depends on it)
+    spread.reserve(indexCount - crowded.size());
+    for (size_t t = 0; t < count; ++t)
+        if (!crowdedTriangle[t])
+            spread.insert(spread.end(), split.begin() + 3 * t, split.begin() + 3 * t + 3);
+
+    struct Meshlets {
+        std::vector<meshopt_Meshlet> meshlets;
+        std::vector<unsigned int> vertices;
+        std::vector<unsigned char> triangles;
+        explicit Meshlets(size_t corners)
+        {
+            const size_t bound =
+                meshopt_buildMeshletsBound(corners, kClusterMaxVertices, kClusterMaxTriangles);
+            meshlets.resize(bound);
+            vertices.resize(bound * kClusterMaxVertices);
+            triangles.resize(bound * kClusterMaxTriangles * 3);
+        }
+    };
+    Meshlets built(spread.size()), scanned(crowded.size());
+    if (!spread.empty())
+        built.meshlets.resize(meshopt_buildMeshlets(built.meshlets.data(), built.vertices.data(),
+                                                    built.triangles.data(), spread.data(), spread.size(),
+                                                    &positions[0].x, positions.size(), sizeof(glm::vec3),
+                                                    kClusterMaxVertices, kClusterMaxTriangles, kConeWeight));
+    else
+        built.meshlets.clear();
+    if (!crowded.empty())
+        scanned.meshlets.resize(meshopt_buildMeshletsScan(
+            scanned.meshlets.data(), scanned.vertices.data(), scanned.triangles.data(), crowded.data(),
+            crowded.size(), positions.size(), kClusterMaxVertices, kClusterMaxTriangles));
+    else
+        scanned.meshlets.clear();
 
     TriangleLookup lookup(welded);
-    set.clusters.reserve(clusters);
+    set.clusters.reserve(built.meshlets.size() + scanned.meshlets.size());
     set.triangleIds.reserve(count);
     set.localIndices.reserve(indexCount);
     std::vector<bool> clusterFinite;  // per cluster: every vertex finite
     bool placed = true;               // every triangle found in the scene once
-    for (size_t k = 0; k < clusters; ++k) {
-        const meshopt_Meshlet& m = meshlets[k];
-        Cluster c;
-        c.vertexOffset = uint32_t(set.vertices.size());
-        c.triangleOffset = uint32_t(set.triangleIds.size());
-        c.vertexCount = m.vertex_count;
-        c.triangleCount = m.triangle_count;
-        const unsigned int* mv = &vertices[m.vertex_offset];
-        bool allFinite = true;
-        for (uint32_t i = 0; i < m.vertex_count; ++i) {
-            set.vertices.push_back(global[mv[i]]);
-            allFinite = allFinite && finite[mv[i]];
-        }
-        for (uint32_t t = 0; t < m.triangle_count; ++t) {
-            const unsigned char* tri = &triangles[m.triangle_offset + 3 * size_t(t)];
-            // The triangle as the scene winds it: meshoptimizer keeps the corner order, but any rotation
-            // of it is the same triangle, so look for each and store the local corners in scene order.
-            uint32_t id = UINT32_MAX;
-            uint8_t corner[3] = {tri[0], tri[1], tri[2]};
-            for (int r = 0; r < 3 && id == UINT32_MAX; ++r) {
-                uint8_t a = tri[r], b = tri[(r + 1) % 3], cc = tri[(r + 2) % 3];
-                id = lookup.take(mv[a], mv[b], mv[cc]);
-                if (id != UINT32_MAX) {
-                    corner[0] = a;
-                    corner[1] = b;
-                    corner[2] = cc;
-                }
+    for (const Meshlets* from : {&built, &scanned})
+        for (const meshopt_Meshlet& m : from->meshlets) {
+            Cluster c;
+            c.vertexOffset = uint32_t(set.vertices.size());
+            c.triangleOffset = uint32_t(set.triangleIds.size());
+            c.triangleCount = m.triangle_count;
+            const unsigned int* mv = &from->vertices[m.vertex_offset];
+            // The cluster's welded vertices, each once (copies of a split vertex become one), and the
+            // clusterizer's local vertices as indices into them.
+            std::vector<uint32_t> welds;
+            uint8_t localOf[kClusterMaxVertices];
+            bool allFinite = true;
+            for (uint32_t i = 0; i < m.vertex_count; ++i) {
+                const uint32_t w = origin[mv[i]];
+                const auto at = std::find(welds.begin(), welds.end(), w);
+                localOf[i] = uint8_t(at - welds.begin());
+                if (at != welds.end()) continue;
+                welds.push_back(w);
+                set.vertices.push_back(global[w]);
+                allFinite = allFinite && finite[w];
             }
-            placed = placed && id != UINT32_MAX;
-            set.triangleIds.push_back(id == UINT32_MAX ? id
-                                      : list.empty()   ? uint32_t(first + id)
-                                                       : list[first + id]);
-            set.localIndices.insert(set.localIndices.end(), corner, corner + 3);
+            c.vertexCount = uint32_t(welds.size());
+            const unsigned char* localTriangles = &from->triangles[m.triangle_offset];
+            for (uint32_t t = 0; t < m.triangle_count; ++t) {
+                const unsigned char* raw = localTriangles + 3 * size_t(t);
+                const uint8_t tri[3] = {localOf[raw[0]], localOf[raw[1]], localOf[raw[2]]};
+                // The triangle as the scene winds it: meshoptimizer keeps the corner order, but any
+                // rotation of it is the same triangle, so look for each and store the local corners in
+                // scene order.
+                uint32_t id = UINT32_MAX;
+                uint8_t corner[3] = {tri[0], tri[1], tri[2]};
+                for (int r = 0; r < 3 && id == UINT32_MAX; ++r) {
+                    uint8_t a = tri[r], b = tri[(r + 1) % 3], cc = tri[(r + 2) % 3];
+                    id = lookup.take(welds[a], welds[b], welds[cc]);
+                    if (id != UINT32_MAX) {
+                        corner[0] = a;
+                        corner[1] = b;
+                        corner[2] = cc;
+                    }
+                }
+                placed = placed && id != UINT32_MAX;
+                set.triangleIds.push_back(id == UINT32_MAX ? id
+                                          : list.empty()   ? uint32_t(first + id)
+                                                           : list[first + id]);
+                set.localIndices.insert(set.localIndices.end(), corner, corner + 3);
+            }
+            const meshopt_Bounds b = meshopt_computeMeshletBounds(
+                mv, localTriangles, m.triangle_count, &positions[0].x, positions.size(), sizeof(glm::vec3));
+            c.sphere = glm::vec4(b.center[0], b.center[1], b.center[2], 0.0f);
+            set.clusters.push_back(c);
+            clusterFinite.push_back(allFinite);
         }
-        const meshopt_Bounds b =
-            meshopt_computeMeshletBounds(mv, &triangles[m.triangle_offset], m.triangle_count, &positions[0].x,
-                                         vertexCount, sizeof(glm::vec3));
-        c.sphere = glm::vec4(b.center[0], b.center[1], b.center[2], 0.0f);
-        set.clusters.push_back(c);
-        clusterFinite.push_back(allFinite);
-    }
     // meshoptimizer's clusters hold every triangle once with its corners rotated at most; should a
     // version not, the chunk has no clusters and buildClusters returns none (setup draws the scene).
     if (!placed || set.triangleIds.size() != count) return ClusterSet{};
