@@ -8,6 +8,7 @@
 
 #include "scene/camera.h"
 #include "scene/orbit.h"
+#include "test_util.h"
 
 namespace sr {
 namespace {
@@ -201,6 +202,71 @@ TEST(ResolveCamera, AutoFramesTheBounds)
             EXPECT_GT(ndc.z, 0.0f) << i;
             EXPECT_LT(ndc.z, 1.0f) << i;
         }
+    }
+}
+
+// A 20 x 20 grid (800 triangles) scaled by 10^e, framed by the auto camera: every scale a camera in
+// float can transform shows the grid as at scale 1 (the campaign's e <= -8 and e >= 19 drew the
+// background alone, silently: an absolute floor on the radius and the near plane, and znear * zfar
+// overflowing float); the scales beyond are one-line errors that say why.
+Scene scaledGrid(int e)
+{
+    Scene scene;
+    const double scale = std::pow(10.0, e);
+    constexpr int n = 20;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            scene.positions.emplace_back(float(i * scale), float(j * scale), 0.0f, 1.0f);
+            scene.normals.emplace_back(0.0f, 0.0f, 1.0f, 0.0f);
+        }
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            scene.indices.insert(scene.indices.end(), {a, b, d, a, d, c});
+        }
+    scene.triFlags.assign(scene.indices.size() / 3, TRI_FLAG_DOUBLE_SIDED);
+    EXPECT_TRUE(finalizeScene(scene, "grid").ok());
+    return scene;
+}
+
+TEST(ResolveCamera, AutoFramesEveryScaleAFloatCameraCanTransform)
+{
+    bool skip = false;
+    auto device = test::openBackend("vulkan", skip);
+    if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+    ASSERT_TRUE(device);
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.warmup = 0;
+    auto covered = [&](int e) -> long {
+        const Scene scene = scaledGrid(e);
+        auto camera = resolveCamera(CameraSpec{}, scene, s.width, s.height);
+        if (!camera) {
+            ADD_FAILURE() << "10^" << e << ": " << camera.error().message;
+            return -1;
+        }
+        auto out = renderScene(*device, scene, *camera, s);
+        if (!out) {
+            ADD_FAILURE() << "10^" << e << ": " << out.error().message;
+            return -1;
+        }
+        return long(std::count_if(out->aov.id.begin(), out->aov.id.end(),
+                                  [](uint32_t id) { return id != EMPTY_ID; }));
+    };
+    const long atOne = covered(0);
+    ASSERT_GT(atOne, 300);
+    for (int e = -30; e <= 36; e += e < -25 || e > 15 ? 1 : 5) {
+        SCOPED_TRACE("scale 10^" + std::to_string(e));
+        // Float's rounding of the scaled corners may move an edge across a pixel centre, no more.
+        EXPECT_NEAR(covered(e), atOne, 4);
+    }
+    for (const auto& [e, message] : std::vector<std::pair<int, std::string>>{
+             {-32, "the scene is 2.83e-31 units across, too small for a camera in float to frame"},
+             {37, "the scene's bounds reach 2.83e+38 units, too far for a camera in float"}}) {
+        auto camera = resolveCamera(CameraSpec{}, scaledGrid(e), s.width, s.height);
+        ASSERT_FALSE(camera.ok()) << e;
+        EXPECT_EQ(camera.error().message.rfind(message, 0), 0u) << camera.error().message;
+        EXPECT_EQ(camera.error().message.find('\n'), std::string::npos);
     }
 }
 

@@ -56,7 +56,8 @@ bool parseIndex(const std::string& text, int& out)
 // stays visible in a scene much larger than the view.
 void encloseSphere(float centerDepth, float lookDistance, float radius, float& znear, float& zfar)
 {
-    float minNear = std::max(std::min(radius * 1e-3f, lookDistance * 1e-2f), 1e-6f);
+    // Relative bounds only: a scene a billionth of a unit across is framed as one a unit across is.
+    float minNear = std::min(radius * 1e-3f, lookDistance * 1e-2f);
     znear = std::max((centerDepth - radius) * 0.99f, minNear);
     zfar = std::max((centerDepth + radius) * 1.01f, znear * 2.0f);
 }
@@ -243,7 +244,11 @@ glm::mat4 perspectiveVulkan(float yfov, float aspect, float znear, float zfar)
         m[3][2] = -znear;
     } else {
         m[2][2] = zfar / (znear - zfar);
-        m[3][2] = znear * zfar / (znear - zfar);
+        // znear * zfar leaves float's normal range for depths past 1.8e19 or under 1.1e-19; the quotient
+        // does not, in double.
+        const float product = znear * zfar;
+        m[3][2] = std::isnormal(product) ? product / (znear - zfar)
+                                         : float(double(znear) * zfar / (double(znear) - zfar));
     }
     return m;
 }
@@ -307,8 +312,59 @@ bool eyeInsideScene(const Scene& scene, const CameraMatrices& camera)
     return windingNumber(scene, eye) > 0.5;
 }
 
+namespace {
+
+// Scenes a camera in float can frame. The smallest: a thousand times float's smallest normal value
+// (1.2e-38) is still far from the denormals a GPU may flush to zero in the products the transforms
+// take; 1e-30 across leaves room for them. The largest: every corner of the bounds transformed to clip
+// space within a quarter of float's range (the clip tests add up to twice w and x).
+constexpr double kSmallestScene = 1e-30;
+
+Status checkFramable(const CameraMatrices& m, const Scene& scene)
+{
+    const glm::dvec3 lo(scene.boundsMin), hi(scene.boundsMax);
+    const double extent = glm::length(hi - lo);
+    if (extent > 0.0 && extent < kSmallestScene)
+        return makeError(ExitCode::Usage,
+                         "the scene is {:.3g} units across, too small for a camera in float to frame (at "
+                         "least {:.0g}): scale its coordinates up",
+                         extent, kSmallestScene);
+    const glm::dmat4 clip(m.clipFromWorld);
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec4 corner(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+        const glm::dvec4 c = clip * corner;
+        const double largest = std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z), std::abs(c.w)});
+        bool finite = std::isfinite(largest);
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) finite = finite && std::isfinite(m.clipFromWorld[i][j]);
+        if (!finite || largest > 0.25 * FLT_MAX)
+            return makeError(ExitCode::Usage,
+                             "the scene's bounds reach {:.3g} units, too far for a camera in float to "
+                             "transform them (at most about 1e37 from the origin): scale its coordinates "
+                             "down",
+                             std::max(glm::length(lo), glm::length(hi)));
+    }
+    return okStatus();
+}
+
+Result<CameraMatrices> resolveCameraMatrices(const CameraSpec& spec, const Scene& scene, unsigned width,
+                                             unsigned height, const ModelTransform& model);
+
+}  // namespace
+
 Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
                                      unsigned height, const ModelTransform& model)
+{
+    auto m = resolveCameraMatrices(spec, scene, width, height, model);
+    if (!m) return m;
+    SR_TRY(checkFramable(*m, scene));
+    return m;
+}
+
+namespace {
+
+Result<CameraMatrices> resolveCameraMatrices(const CameraSpec& spec, const Scene& scene, unsigned width,
+                                             unsigned height, const ModelTransform& model)
 {
     float aspect = aspectOf(width, height);
     BoundingSphere sphere = boundingSphere(scene);
@@ -341,12 +397,26 @@ Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene,
     return orbitCameraMatrices(autoOrbitPose(sphere, width, height), sphere, width, height, model);
 }
 
+}  // namespace
+
 BoundingSphere boundingSphere(const Scene& scene)
 {
     glm::vec3 center = 0.5f * (scene.boundsMin + scene.boundsMax);
     float radius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
-    float scale = std::max(glm::length(center), 1.0f);
-    return {center, std::max(radius, scale * 1e-6f)};
+    const float largest = std::max(glm::length(scene.boundsMin), glm::length(scene.boundsMax));
+    if (!(radius > 1e-18f && radius < 1e18f && largest < 1e18f)) {
+        // Past the range whose squares float holds (the length underflows to 0 or overflows): the
+        // centre and the half-diagonal in double.
+        const glm::dvec3 lo(scene.boundsMin), hi(scene.boundsMax);
+        center = glm::vec3(0.5 * (lo + hi));
+        radius = float(std::min(0.5 * glm::length(hi - lo), double(FLT_MAX)));
+    }
+    // No smaller than a few float steps at the centre, which no camera could resolve, and no absolute
+    // floor (a scene a billionth of a unit across is framed as one a unit across is); a scene of one
+    // point (radius 0) gets a millionth of its distance from the origin, or of a unit at the origin.
+    const float distance = float(glm::length(glm::dvec3(center)));
+    const float floor = radius > 0.0f ? distance * 1e-6f : std::max(distance, 1.0f) * 1e-6f;
+    return {center, std::max(radius, floor)};
 }
 
 BoundingSphere movedSphere(const BoundingSphere& sphere, const ModelTransform& model)

@@ -79,8 +79,12 @@ private:
 // scanning the triangles around each of the cluster's vertices and removes each triangle it places from
 // its corners' lists by a linear search, so a vertex shared by n triangles (a fan's centre, or n copies
 // of one degenerate triangle) costs it O(n) per triangle and O(n^2) in all: the campaign's 100,000 such
-// triangles took 70 s. A busier vertex is handed to it as copies, each shared by at most this many
-// triangles; a cluster that receives several copies of one vertex names it once.
+// triangles took 70 s. A vertex of more than kSplitVertexTriangles triangles is handed to it as copies,
+// each shared by at most kMaxVertexTriangles; a cluster that receives several copies of one vertex names
+// it once. Vertices up to the threshold (a UV sphere's poles, a cone's apex) are left as they are, so
+// that the clusters of such meshes, and the level-of-detail cuts made from them, stay as they were; the
+// work is then at most that threshold per triangle.
+constexpr uint32_t kSplitVertexTriangles = 1024;
 constexpr uint32_t kMaxVertexTriangles = 32;
 
 // Triangles that may share one centroid before they are packed apart (below).
@@ -227,7 +231,7 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
         std::vector<uint32_t> seen(vertexCount, 0u), copy(vertexCount, 0u);
         for (uint32_t& v : split) {
             const uint32_t w = v;
-            if (uses[w] <= kMaxVertexTriangles) continue;
+            if (uses[w] <= kSplitVertexTriangles) continue;
             const uint32_t n = seen[w]++;           // this corner is use n of w
             if (n < kMaxVertexTriangles) continue;  // the first ones keep w itself
             if (n % kMaxVertexTriangles == 0) {     // each further kMaxVertexTriangles get a copy
