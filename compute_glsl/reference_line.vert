@@ -20,8 +20,16 @@ layout(location = 0) smooth out float vT;
 
 void main()
 {
-    vec4 c = mulPoint(params.clipFromWorld, positions[lines[gl_VertexIndex]]);
+    vT = float(gl_VertexIndex & 1);
+    uint v = lines[gl_VertexIndex];
+    if (v >= params.vertexCount) {
+        // A dropped segment (both ends kDroppedVertex, host/scene/scene.h): both ends at one point
+        // outside the view volume (x < -w), where clipping removes it whole, as the compute setup
+        // counts it invalid.
+        gl_Position = vec4(-2.0f, -2.0f, 0.5f, 1.0f);
+        return;
+    }
+    vec4 c = mulPoint(params.clipFromWorld, positions[v]);
     if (params.lineDepthBias != 0.0f) c.z -= params.lineDepthBias * (c.w - c.z);
     gl_Position = c;
-    vT = float(gl_VertexIndex & 1);
 }

@@ -18,8 +18,12 @@
 
 void main()
 {
-    vec4 c = mulPoint(params.clipFromWorld, positions[points[gl_VertexIndex]]);
-    bool inside = pointInViewVolume(c);
+    // A dropped point (kDroppedVertex, host/scene/scene.h) has no position: it goes where a point
+    // outside the view volume goes, as the compute setup counts it invalid.
+    uint v = points[gl_VertexIndex];
+    bool dropped = v >= params.vertexCount;
+    vec4 c = dropped ? vec4(0.0f) : mulPoint(params.clipFromWorld, positions[v]);
+    bool inside = !dropped && pointInViewVolume(c);
     // pointSize + 2 pixels beyond the edge: half a side and then more than a pixel of margin.
     vec2 pixelsPerNdc = 0.5f * vec2(float(params.width), float(params.height));
     vec2 away = vec2(-1.0f) - (params.pointSize + 2.0f) / pixelsPerNdc;

@@ -201,34 +201,45 @@ raster::CompareOptions compareOptions(int tolerance, uint64_t maxIdMismatches, f
 
 // ---- settings and cameras -------------------------------------------------------------------------
 
-// One keyword argument into `settings`: bool as a flag, a number as a number, a string as on the
-// command line, a sequence of three numbers as X,Y,Z.
+// The caller's value in a one-line message: its repr, cut to a readable length.
+std::string shown(const py::handle& value)
+{
+    std::string text = py::str(py::repr(value));
+    for (char& c : text)
+        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    return text.size() <= 80 ? text : text.substr(0, 77) + "...";
+}
+
+// One keyword argument into `settings`: bool as a flag, an integer or a float as a number (integers
+// exactly: 2**31 stays 2147483648), a string as on the command line, a sequence of three numbers as
+// X,Y,Z. The schema checks the value against the setting (a bool for a number is refused there).
 void setOne(raster::Settings& settings, const std::string& name, const py::handle& value)
 {
     if (py::isinstance<py::bool_>(value)) return check(settings.set(name, value.cast<bool>()));
     if (py::isinstance<py::str>(value)) return check(settings.set(name, value.cast<std::string>()));
-    if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
-        (py::isinstance<py::array>(value) &&
-         py::array(py::reinterpret_borrow<py::object>(value)).ndim() == 0))
-        return check(settings.set(name, value.cast<double>()));
-    if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value)) {
-        std::vector<double> v;
-        try {
-            v = value.cast<std::vector<double>>();
-        } catch (const py::cast_error&) {
-        }
-        if (v.size() == 3) return check(settings.set(name, std::array<double, 3>{v[0], v[1], v[2]}));
+    if (py::isinstance<py::int_>(value)) {
+        // As its decimal text: any size, no rounding through double.
+        return check(settings.set(name, std::string(py::str(value))));
     }
-    throw RasterError(name + ": " + std::string(py::str(py::repr(value))) +
-                      " is not a number, a string, a bool or three numbers");
+    if (py::isinstance<py::float_>(value)) return check(settings.set(name, value.cast<double>()));
+    if (py::isinstance<py::sequence>(value) && py::len(value) == 3) {
+        std::array<double, 3> v{};
+        py::sequence items = py::reinterpret_borrow<py::sequence>(value);
+        for (size_t k = 0; k < 3; ++k) {
+            py::object item = items[k];
+            if (py::isinstance<py::bool_>(item) ||
+                !(py::isinstance<py::int_>(item) || py::isinstance<py::float_>(item)))
+                throw RasterError(name + ": " + shown(value) + " is not three numbers");
+            v[k] = item.cast<double>();
+        }
+        return check(settings.set(name, v));
+    }
+    throw RasterError(name + ": " + shown(value) + " is not a number, a string, a bool or three numbers");
 }
 
-raster::Settings makeSettings(uint32_t width, uint32_t height, const py::object& camera,
-                              const py::dict& kwargs)
+raster::Settings makeSettings(const py::object& camera, const py::dict& kwargs)
 {
     raster::Settings settings;
-    check(settings.set("width", int(width)));
-    check(settings.set("height", int(height)));
     // A camera spec is also the setting, so that the frame's statistics echo it as the command line's do.
     if (py::isinstance<py::str>(camera)) check(settings.set("camera", camera.cast<std::string>()));
     for (auto item : kwargs) setOne(settings, item.first.cast<std::string>(), item.second);
@@ -273,11 +284,10 @@ public:
     py::dict info() const { return deviceDict(device_->info()); }
 
     // Renders `scene`; with keep, the scene's session (its upload and buffers) stays for the next call.
-    std::shared_ptr<FrameHolder> render(const std::shared_ptr<raster::Scene>& scene, uint32_t width,
-                                        uint32_t height, const py::object& camera, const py::dict& kwargs,
-                                        bool surfaceAovs, bool keep)
+    std::shared_ptr<FrameHolder> render(const std::shared_ptr<raster::Scene>& scene, const py::object& camera,
+                                        const py::dict& kwargs, bool surfaceAovs, bool keep)
     {
-        const raster::Settings settings = makeSettings(width, height, camera, kwargs);
+        const raster::Settings settings = makeSettings(camera, kwargs);
         const raster::Camera cam = makeCamera(camera);
         raster::RenderRequest request;
         request.surfaceAovs = surfaceAovs;
@@ -297,11 +307,10 @@ public:
 
     // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the
     // benchmark's comparison with the same call made from Python.
-    std::vector<double> sessionFrameTimes(const std::shared_ptr<raster::Scene>& scene, uint32_t width,
-                                          uint32_t height, const py::object& camera, const py::dict& kwargs,
-                                          int count)
+    std::vector<double> sessionFrameTimes(const std::shared_ptr<raster::Scene>& scene,
+                                          const py::object& camera, const py::dict& kwargs, int count)
     {
-        const raster::Settings settings = makeSettings(width, height, camera, kwargs);
+        const raster::Settings settings = makeSettings(camera, kwargs);
         const raster::Camera cam = makeCamera(camera);
         std::vector<double> ms;
         py::gil_scoped_release release;
@@ -398,6 +407,7 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("triangle_count", &raster::Scene::triangleCount)
         .def_property_readonly("line_count", &raster::Scene::lineCount)
         .def_property_readonly("point_count", &raster::Scene::pointCount)
+        .def_property_readonly("warnings", &raster::Scene::warnings)
         .def_property_readonly("bounds_min", &raster::Scene::boundsMin)
         .def_property_readonly("bounds_max", &raster::Scene::boundsMax);
 
@@ -452,15 +462,16 @@ PYBIND11_MODULE(_raster, m)
             })
         .def_property_readonly("gpu_ms", [](const FrameHolder& h) { return h.frame.gpuMs; })
         .def_property_readonly("stats_json", [](const FrameHolder& h) { return h.frame.statsJson; })
-        .def_property_readonly("device", [](const FrameHolder& h) { return deviceDict(h.frame.device); });
+        .def_property_readonly("device", [](const FrameHolder& h) { return deviceDict(h.frame.device); })
+        .def_property_readonly("warnings", [](const FrameHolder& h) { return h.frame.warnings; });
 
     py::class_<Renderer>(m, "Renderer")
         .def(py::init<const std::string&, int>(), py::arg("backend"), py::arg("device"))
         .def_property_readonly("device", &Renderer::info)
-        .def("render", &Renderer::render, py::arg("scene"), py::arg("width"), py::arg("height"),
-             py::arg("camera"), py::arg("settings"), py::arg("surface_aovs"), py::arg("keep"))
-        .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("width"),
-             py::arg("height"), py::arg("camera"), py::arg("settings"), py::arg("count"))
+        .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
+             py::arg("surface_aovs"), py::arg("keep"))
+        .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("camera"),
+             py::arg("settings"), py::arg("count"))
         .def("release", &Renderer::release)
         .def_property_readonly("session_count", &Renderer::sessionCount);
 

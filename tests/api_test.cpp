@@ -3,6 +3,7 @@
 // how the scene is drawn, settings by name, and one-line errors as values.
 #include <cmath>
 #include <cstdlib>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -226,6 +227,62 @@ TEST_P(ApiTest, SessionsOfManyScenesShareOneDevice)
     }
 }
 
+// A triangle, segment or point with an index out of range or a non-finite position is drawn by nothing
+// and keeps its id: every other primitive's id still indexes the arrays (the campaign's ids shifted down
+// past each dropped triangle). The same ids on this backend and on the graphics reference.
+TEST_P(ApiTest, DroppedPrimitivesKeepTheirIds)
+{
+    // Vertices 0-3: the left half of the image, 4-7 the right half (depth 0.5), 8 NaN; 9-10 a
+    // horizontal segment near the top, 11 a point near the bottom (clip space).
+    const float positions[] = {
+        -1,    -1,       0.5f,  0,    -1,       0.5f,  0, 1, 0.5f, -1, 1, 0.5f,  // left
+        0,     -1,       0.5f,  1,    -1,       0.5f,  1, 1, 0.5f, 0,  1, 0.5f,  // right
+        NAN,   0,        0,                                                      // 8
+        -0.9f, -0.6875f, 0.25f, 0.9f, -0.6875f, 0.25f,                           // segment
+        0.5f,  0.75f,    0.25f};                                                 // point
+    const uint32_t triangles[] = {0, 1, 99,                                      // 0: out of range
+                                  0, 1, 2,                                       // 1
+                                  4, 5, 8,                                       // 2: NaN corner
+                                  0, 2, 3,                                       // 3
+                                  4, 5, 6,                                       // 4
+                                  4, 6, 7};                                      // 5
+    const uint32_t lines[] = {9, 8, 9, 10};  // segment 0 (id 6) reaches the NaN vertex; 1 (id 7) draws
+    const uint32_t points[] = {50, 11};      // point 0 (id 8) out of range; point 1 (id 9) draws
+    raster::MeshArrays mesh;
+    mesh.positions = positions;
+    mesh.vertexCount = 12;
+    mesh.triangles = triangles;
+    mesh.triangleCount = 6;
+    mesh.lines = lines;
+    mesh.lineCount = 2;
+    mesh.points = points;
+    mesh.pointCount = 2;
+    mesh.doubleSided = true;
+    auto scene = raster::Scene::fromArrays(mesh);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(scene->warnings().size(), 3u);  // triangles, segments, points
+    raster::Settings settings;
+    ASSERT_TRUE(settings.set("width", 16).ok());
+    ASSERT_TRUE(settings.set("height", 16).ok());
+    ASSERT_TRUE(settings.set("point-size", 3).ok());
+    auto graphics = raster::Device::open(raster::Backend::VulkanGraphics);
+    ASSERT_TRUE(graphics.ok()) << graphics.error().message;
+    for (raster::Device* device : {&*device_, &*graphics}) {
+        SCOPED_TRACE(raster::backendName(device->info().backend));
+        auto frame = raster::render(*device, *scene, identityCamera(), settings);
+        ASSERT_TRUE(frame.ok()) << frame.error().message;
+        std::set<uint32_t> seen(frame->id.begin(), frame->id.end());
+        EXPECT_EQ(seen, (std::set<uint32_t>{1, 3, 4, 5, 7, 9})) << "the drawn primitives, by their array ids";
+        // Pixel centres: (4, 8) in the left half, (12, 8) in the right one; the segment's row 2, the
+        // point at (12, 14).
+        auto id = [&](uint32_t x, uint32_t y) { return frame->id[size_t(y) * 16 + x]; };
+        EXPECT_TRUE(id(4, 8) == 1u || id(4, 8) == 3u) << id(4, 8);
+        EXPECT_TRUE(id(12, 8) == 4u || id(12, 8) == 5u) << id(12, 8);
+        EXPECT_EQ(id(8, 2), 7u);
+        EXPECT_EQ(id(12, 14), 9u);
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ApiTest, ::testing::Values("vulkan", "cuda"));
 
 // The reference backend through the same API: the conformant graphics pipeline gives the compute
@@ -292,10 +349,18 @@ TEST(Api, BadInputIsOneLineErrors)
     mesh.vertexCount = 4;
     mesh.triangles = triangles;
     mesh.triangleCount = 3;
-    // An index out of range and a NaN corner drop their triangles (with a warning); the rest stays.
+    // An index out of range and a NaN corner drop their triangles, with a warning the scene returns
+    // (nothing is printed); they keep their ids, so triangle 0 is still the arrays' triangle 0.
+    ::testing::internal::CaptureStderr();
     auto scene = raster::Scene::fromArrays(mesh);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    EXPECT_EQ(scene->triangleCount(), 1u);
+    EXPECT_EQ(scene->triangleCount(), 3u);
+    ASSERT_EQ(scene->warnings().size(), 1u);
+    EXPECT_EQ(
+        scene->warnings()[0],
+        "fromArrays: dropped 2 triangle(s) with out-of-range indices or non-finite positions (their ids "
+        "stay reserved)");
     // Nothing left to draw is an error.
     mesh.triangles = triangles + 3;
     mesh.triangleCount = 2;

@@ -662,6 +662,43 @@ TEST(BatchTool, EveryManifestKeyRendersAsRenderDoes)
     EXPECT_EQ(samples->sampleId.size(), 8u * 2u * 2u) << "every sample: msaa 8, ssaa 2";
 }
 
+// Input quoted in a message is cut to a readable length: a 10 MB unknown key, shading value, scene path
+// or output name made a 10 MB stderr line and a 31 MB summary. Each still names what is wrong.
+TEST(BatchTool, MessagesQuoteInputAtAReadableLength)
+{
+    ScratchDir dir("batch-long");
+    const std::string huge(10 << 20, 'x');
+    struct Case {
+        std::string job, names;
+    };
+    for (const Case& c : std::vector<Case>{
+             {"{\"scene\": \"builtin\", \"output\": \"a.png\", \"" + huge + "\": 1}", "unknown key"},
+             {"{\"scene\": \"builtin\", \"output\": \"a.png\", \"shading\": \"" + huge + "\"}",
+              "invalid shading"},
+             {"{\"scene\": \"" + huge + ".obj\", \"output\": \"a.png\"}", "cannot load"},
+             {"{\"scene\": \"builtin\", \"width\": 16, \"height\": 16, \"output\": \"" + huge + ".png\"}",
+              "cannot write"}}) {
+        SCOPED_TRACE(c.names);
+        writeText(dir.file("m.jsonl"), c.job + "\n");
+        ToolRun run = runTool("batch m.jsonl --backend vulkan --summary s.json", dir.file(""));
+        EXPECT_NE(run.exitCode, 0);
+        EXPECT_LT(run.stderrText.size(), 2000u) << run.stderrText.substr(0, 200);
+        EXPECT_NE(run.stderrText.find(c.names), std::string::npos) << run.stderrText.substr(0, 200);
+        EXPECT_NE(run.stderrText.find("(10485"), std::string::npos) << "the length is said";
+        EXPECT_LT(run.stdoutText.size(), 20000u);
+        if (fs::exists(dir.file("s.json"))) {
+            EXPECT_LT(fs::file_size(dir.file("s.json")), 20000u);
+        }
+        fs::remove(dir.file("s.json"));
+    }
+    ToolRun render = runTool("render -q --shading " + std::string(100000, 'y'), dir.file(""));
+    EXPECT_EQ(render.exitCode, 2);
+    EXPECT_LT(render.stderrText.size(), 2000u);
+    ToolRun option = runTool("render -q --" + std::string(100000, 'z') + " 1", dir.file(""));
+    EXPECT_EQ(option.exitCode, 2);
+    EXPECT_LT(option.stderrText.size(), 2000u);
+}
+
 // Whether process `pid` has ended (gone, or a zombie nobody reaped).
 bool ended(int pid)
 {

@@ -155,6 +155,32 @@ TEST(SettingsSchema, ValuesOutsideTheReferenceAreRefused)
     EXPECT_FALSE(checkSettings(o.resolved()).ok());
 }
 
+// Every bound the reference documents is a value it takes, as text and as a number: the campaign's
+// --ao-radius 1e20 (the documented maximum) was refused as "1e+20 is outside 0..1e+20" (float's 1e20 is
+// 1.00000002e20); the next float beyond a bound is refused.
+TEST(SettingsSchema, TheDocumentedBoundsAreAccepted)
+{
+    for (const Setting& s : settingsSchema()) {
+        if (s.type != SettingType::Float && s.type != SettingType::Uint) continue;
+        for (double bound : {s.min, s.max}) {
+            if (s.type == SettingType::Uint && !s.numbers.empty()) continue;
+            SCOPED_TRACE(s.key() + " " + fmt::format("{}", bound));
+            const json value = s.type == SettingType::Uint ? json(uint64_t(bound)) : json(bound);
+            EXPECT_TRUE(checkSettingValue(s, value, s.key()).ok());
+            auto text = parseSettingText(s, fmt::format("{}", bound), "--" + s.name);
+            EXPECT_TRUE(text.ok()) << (text.ok() ? "" : text.error().message);
+        }
+        if (s.type == SettingType::Float) {
+            const float above = std::nextafter(float(s.max), INFINITY);
+            EXPECT_FALSE(checkSettingValue(s, json(double(above)), s.key()).ok()) << s.key();
+        }
+    }
+    test::ScratchDir dir("bounds");
+    test::ToolRun run =
+        test::runTool("render -q -o r.png --width 8 --height 8 --ao gtao --ao-radius 1e20", dir.file(""));
+    EXPECT_EQ(run.exitCode, 0) << run.stderrText;
+}
+
 // Every setting is a manifest key (the keys `raster batch` lacked before the schema among them), and a
 // job's canonical form holds every setting.
 TEST(SettingsSchema, EverySettingIsAManifestKey)
@@ -167,7 +193,8 @@ TEST(SettingsSchema, EverySettingIsAManifestKey)
         ASSERT_TRUE(manifest.ok()) << manifest.error().message;
         EXPECT_TRUE(manifest->jobs[0].canonical.contains(s.key()));
     }
-    auto m = parseManifest(R"({"scene": "builtin", "output": "x.png", "tessellate": "pn", "tess_edge_px": 4,)"
+    auto m = parseManifest(R"({"scene": "builtin", "output": "x.png", "aov": "x.exr", "tessellate": "pn",)"
+                           R"( "tess_edge_px": 4,)"
                            R"( "tess_max_level": 12, "aov_samples": true})",
                            "m", "", json::object());
     ASSERT_TRUE(m.ok()) << m.error().message;

@@ -22,10 +22,11 @@ def measure(backend, args):
     renderer = raster.Renderer(backend)
     scene = raster.Scene.load(args.scene)
     camera, settings = "auto", {"warmup": 0}
+    native_settings = dict(settings, width=args.width, height=args.height)
     native = renderer._native
     for _ in range(args.warmup):
         renderer.render(scene, args.width, args.height, camera, **settings)
-        native.session_frame_times(scene._native, args.width, args.height, camera, settings, 1)
+        native.session_frame_times(scene._native, camera, native_settings, 1)
     python_ms, cpp_ms, gpu_ms = [], [], []
     for _ in range(args.runs):
         start = time.perf_counter()
@@ -35,7 +36,7 @@ def measure(backend, args):
         # Freed outside the timing, as the C++ loop frees each frame before the next: holding two frames'
         # buffers at once would time the allocator, not the call.
         del frame
-        cpp_ms += native.session_frame_times(scene._native, args.width, args.height, camera, settings, 1)
+        cpp_ms += native.session_frame_times(scene._native, camera, native_settings, 1)
     py, cpp = statistics.median(python_ms), statistics.median(cpp_ms)
     overhead = py - cpp
     allowed = max(0.05 * cpp, 0.1)

@@ -21,6 +21,7 @@ struct raster::Device::Impl {
 
 struct raster::Scene::Impl {
     sr::Scene scene;
+    std::vector<std::string> warnings;  // of loading or making it
 };
 
 struct raster::Settings::Impl {

@@ -5,12 +5,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include <fmt/format.h>
 
 #include "api/api_internal.h"
 #include "api/backend.h"
 #include "api/stats_json.h"
+#include "base/warnings.h"
 #include "io/compare.h"
 #include "render/aov.h"
 #include "scene/camera.h"
@@ -156,12 +158,19 @@ std::array<float, 3> Scene::boundsMax() const
     return {b.x, b.y, b.z};
 }
 
+const std::vector<std::string>& Scene::warnings() const
+{
+    return impl_->warnings;
+}
+
 Result<Scene> Scene::load(const std::string& path)
 {
+    sr::WarningCapture capture;
     auto scene = sr::loadScene(path);
     if (!scene) return toPublic(scene.error());
     auto impl = std::make_unique<Impl>();
     impl->scene = std::move(*scene);
+    impl->warnings = capture.take();
     return Scene(std::move(impl));
 }
 
@@ -198,6 +207,7 @@ glm::vec3 faceNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c)
 
 Result<Scene> Scene::fromArrays(const MeshArrays& m)
 {
+    sr::WarningCapture capture;
     if (m.vertexCount > 0 && m.positions == nullptr) return usage("fromArrays: vertices without positions");
     if (m.triangleCount > 0 && m.triangles == nullptr)
         return usage("fromArrays: a triangle count without indices");
@@ -209,6 +219,18 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
         return usage(fmt::format("fromArrays: positions have {} components (3 or 4)", m.positionComponents));
     for (size_t i = 0; i < 4; ++i)
         if (!std::isfinite(m.baseColor[i])) return usage("fromArrays: the base colour must be finite");
+    // Attributes must be finite: a NaN colour, normal or texture coordinate has no shade to give (a
+    // position may not be: its primitives are dropped with a warning, as the loaders drop them).
+    for (const auto& [data, count, what] :
+         {std::tuple<const float*, size_t, const char*>{m.normals, 3, "normal"},
+          {m.texcoords, 2, "texture coordinate"},
+          {m.colors, 4, "colour"}}) {
+        if (!data) continue;
+        for (size_t i = 0; i < count * m.vertexCount; ++i)
+            if (!std::isfinite(data[i]))
+                return usage(fmt::format("fromArrays: the {} of vertex {} is not finite ({})", what,
+                                         i / count, data[i]));
+    }
 
     sr::Scene s;
     const uint32_t flags = m.doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
@@ -274,6 +296,7 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     if (!finalized) return toPublic(finalized.error());
     auto impl = std::make_unique<Impl>();
     impl->scene = std::move(s);
+    impl->warnings = capture.take();
     return Scene(std::move(impl));
 }
 
@@ -293,7 +316,8 @@ namespace {
 Result<const sr::Setting*> lookUp(const std::string& name)
 {
     const sr::Setting* s = sr::findSetting(name);
-    if (!s) return usage(fmt::format("unknown setting '{}' (raster settings lists them)", name));
+    if (!s)
+        return usage(fmt::format("unknown setting {} (raster settings lists them)", sr::quotedInput(name)));
     return s;
 }
 
@@ -322,6 +346,9 @@ Status Settings::set(const std::string& name, double number)
 {
     auto s = lookUp(name);
     if (!s) return s.error();
+    // JSON has no NaN or infinity (nlohmann writes them as null): refused here, by value.
+    if (!std::isfinite(number))
+        return usage(fmt::format("{} {} is not a finite number", (*s)->key(), number));
     // A whole number goes to uint settings as an integer; anything else is checked as given.
     if ((*s)->type == sr::SettingType::Uint && number == std::floor(number) && number >= 0.0 &&
         number < 4294967296.0)
@@ -336,6 +363,13 @@ Status Settings::set(const std::string& name, bool flag)
 
 Status Settings::set(const std::string& name, const std::array<double, 3>& v)
 {
+    for (double x : v)
+        if (!std::isfinite(x)) {
+            auto s = lookUp(name);
+            if (!s) return s.error();
+            return usage(
+                fmt::format("{} {},{},{} is not three finite numbers", (*s)->key(), v[0], v[1], v[2]));
+        }
     return store(impl_->options, name, nlohmann::json::array({v[0], v[1], v[2]}));
 }
 
@@ -497,6 +531,15 @@ Result<Session> Session::create(Device& device, const Scene& scene)
 }
 
 Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
+{
+    sr::WarningCapture capture;
+    auto frame = renderFrame(camera, settings, request);
+    if (frame) frame->warnings = capture.take();
+    return frame;
+}
+
+Result<Frame> Session::renderFrame(const Camera& camera, const Settings& settings,
+                                   const RenderRequest& request)
 {
     Impl& self = *impl_;
     const sr::RenderOptions& options = settings.impl().options;

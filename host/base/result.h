@@ -7,6 +7,8 @@
 #define RASTER_RESULT_H
 
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <utility>
 #include <variant>
 
@@ -60,10 +62,33 @@ inline std::string quotedInput(const std::string& text, size_t limit = 100)
     return "'" + clippedText(text, limit) + "'";
 }
 
+// The longest piece of text a message takes whole: a safety net under the quoting of input
+// (quotedInput, 100 bytes), which leaves room for a nested message quoting input of its own.
+constexpr size_t kMaxQuotedBytes = 1000;
+
+namespace detail {
+
+// A message's argument: text bounded (clippedText, kMaxQuotedBytes), anything else as it is.
+template <typename T>
+decltype(auto) bounded(T&& arg)
+{
+    using D = std::decay_t<T>;
+    if constexpr (std::is_same_v<D, std::string> || std::is_same_v<D, const char*> ||
+                  std::is_same_v<D, char*> || std::is_same_v<D, std::string_view>)
+        return clippedText(std::string(arg), kMaxQuotedBytes);
+    else
+        return std::forward<T>(arg);
+}
+
+}  // namespace detail
+
+// An error whose message quotes every text argument bounded (detail::bounded): a 10 MB key, path or
+// value the user gave still makes a readable line.
 template <typename... Args>
 Error makeError(ExitCode code, fmt::format_string<Args...> f, Args&&... args)
 {
-    return Error{fmt::format(f, std::forward<Args>(args)...), code};
+    return Error{fmt::format(fmt::runtime(fmt::string_view(f)), detail::bounded(std::forward<Args>(args))...),
+                 code};
 }
 
 template <typename T>

@@ -62,7 +62,7 @@ Status checkKeys(const json& object, bool defaults, const std::string& where)
             continue;
         }
         const KeyInfo* key = findJobKey(it.key());
-        if (!key) return makeError(ExitCode::Usage, "{}: unknown key '{}'", where, it.key());
+        if (!key) return makeError(ExitCode::Usage, "{}: unknown key {}", where, quotedInput(it.key()));
         if (defaults && !key->defaultable)
             return makeError(ExitCode::Usage, "{}: '{}' belongs to one job, not to the defaults", where,
                              it.key());

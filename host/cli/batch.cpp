@@ -430,8 +430,11 @@ public:
         nlohmann::json failed = nlohmann::json::array();
         for (const Failure& f : failures_) {
             const BatchFrame& frame = frames_[f.frame];
-            nlohmann::json entry{
-                {"line", frame.job->line}, {"id", frame.job->id}, {"output", frame.png}, {"error", f.error}};
+            // Bounded as messages quote input: no real path is longer than PATH_MAX (4096 bytes).
+            nlohmann::json entry{{"line", frame.job->line},
+                                 {"id", clippedText(frame.job->id, 4096)},
+                                 {"output", clippedText(frame.png, 4096)},
+                                 {"error", f.error}};
             if (frame.job->frames) entry["frame"] = frame.frame;
             failed.push_back(std::move(entry));
         }

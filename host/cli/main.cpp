@@ -650,8 +650,10 @@ int main(int argc, char** argv)
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help
+        // Bounded as every message quoting input is (base/result.h): CLI11's own may quote an argument.
         fmt::print(stderr, "raster: error: {}\n",
-                   parseErrorMessage(app, std::vector<std::string>(argv + 1, argv + argc), e));
+                   clippedText(parseErrorMessage(app, std::vector<std::string>(argv + 1, argv + argc), e),
+                               2 * kMaxQuotedBytes));
         return int(ExitCode::Usage);
     }
 

@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "base/result.h"
+
 namespace sr {
 
 size_t editDistance(const std::string& a, const std::string& b)
@@ -94,8 +96,10 @@ std::string parseErrorMessage(const CLI::App& app, const std::vector<std::string
     }
     if (std::find(commands.begin(), commands.end(), *command) == commands.end()) {
         std::string nearest = nearestName(*command, commands);
-        if (!nearest.empty()) return fmt::format("unknown command '{}'{}", *command, didYouMean(nearest));
-        return fmt::format("unknown command '{}' (commands: {})", *command, fmt::join(commands, ", "));
+        if (!nearest.empty())
+            return fmt::format("unknown command {}{}", quotedInput(*command), didYouMean(nearest));
+        return fmt::format("unknown command {} (commands: {})", quotedInput(*command),
+                           fmt::join(commands, ", "));
     }
 
     // An option the command does not have: CLI11 lists it among the unexpected arguments. Find the first
@@ -111,7 +115,7 @@ std::string parseErrorMessage(const CLI::App& app, const std::vector<std::string
             if (name.rfind("--", 0) == 0) nearest = nearestName(name.substr(2), longOptionNames(*sub));
             if (!nearest.empty()) nearest = "--" + nearest;
             return fmt::format(
-                "unknown option '{}' for 'raster {}'{}{}", name, *command, didYouMean(nearest),
+                "unknown option {} for 'raster {}'{}{}", quotedInput(name), *command, didYouMean(nearest),
                 nearest.empty() ? fmt::format(" (raster {} --help lists them)", *command) : "");
         }
     }

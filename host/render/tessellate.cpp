@@ -1,6 +1,8 @@
 // tessellate.cpp - tessellation records, the host's oracle of the tess_* stages, id mapping.
 #include "render/tessellate.h"
 
+#include "base/warnings.h"
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -110,10 +112,8 @@ TessSources tessSources(const Scene& scene)
         for (const EdgeSide& side : sides) out.sources[side.tri].flags |= 1u << side.edge;
     }
     if (out.flatPatches > 0)
-        fmt::print(
-            stderr,
-            "warning: {} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat\n",
-            out.flatPatches);
+        warn("{} triangle(s) have a zero or non-finite normal: pn tessellation keeps them flat",
+             out.flatPatches);
     return out;
 }
 

@@ -1,6 +1,8 @@
 // scene.cpp - loader dispatch and the checks every loaded scene goes through.
 #include "scene/scene.h"
 
+#include "base/warnings.h"
+
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -184,79 +186,69 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     scene.triFlags.resize(triangles, 0u);
     SR_TRY(checkMaterials(scene, triangles, errorPrefix));
     dropUnusedMaterials(scene);
-    bool hasTriMaterials = !scene.triMaterials.empty();
 
     auto usable = [&](uint32_t v) {
         return v < scene.positions.size() && finitePosition(scene.positions[v]);
     };
 
-    // Compact in place; the relative order of the kept triangles (their ids) is preserved.
-    size_t kept = 0;
-    for (size_t t = 0; t < triangles; ++t) {
+    // Ids name the caller's primitives, so a dropped one keeps its place as a primitive nothing draws,
+    // and every later id still indexes the caller's arrays. A dropped triangle's corners all become one
+    // vertex of a kept primitive: zero area, which no rasterizer covers a sample with and every host
+    // pass takes as any degenerate triangle. A dropped segment's and point's vertices become
+    // kDroppedVertex, past every vertex, which the devices count invalid and the graphics reference
+    // draws outside the view.
+    uint32_t anchor = kDroppedVertex;
+    for (size_t t = 0; t < triangles && anchor == kDroppedVertex; ++t) {
         const uint32_t* tri = &scene.indices[3 * t];
-        if (!usable(tri[0]) || !usable(tri[1]) || !usable(tri[2])) continue;
-        if (kept != t) {
-            std::copy(tri, tri + 3, &scene.indices[3 * kept]);
-            scene.triFlags[kept] = scene.triFlags[t];
-            if (hasTriMaterials) scene.triMaterials[kept] = scene.triMaterials[t];
-        }
-        ++kept;
+        if (usable(tri[0]) && usable(tri[1]) && usable(tri[2])) anchor = tri[0];
     }
-    uint64_t dropped = triangles - kept;
-    scene.indices.resize(3 * kept);
-    scene.triFlags.resize(kept);
-    if (hasTriMaterials) scene.triMaterials.resize(kept);
+    for (size_t k = 0; k + 1 < scene.lines.size() && anchor == kDroppedVertex; k += 2)
+        if (usable(scene.lines[k]) && usable(scene.lines[k + 1])) anchor = scene.lines[k];
+    for (size_t k = 0; k < scene.points.size() && anchor == kDroppedVertex; ++k)
+        if (usable(scene.points[k])) anchor = scene.points[k];
+    if (anchor == kDroppedVertex)
+        return makeError(ExitCode::Usage, "{}: no triangles, lines or points to draw", errorPrefix);
+
+    uint64_t dropped = 0;
+    for (size_t t = 0; t < triangles; ++t) {
+        uint32_t* tri = &scene.indices[3 * t];
+        if (usable(tri[0]) && usable(tri[1]) && usable(tri[2])) continue;
+        tri[0] = tri[1] = tri[2] = anchor;
+        ++dropped;
+    }
     if (dropped > 0) {
         scene.droppedTriangles += dropped;
-        fmt::print(stderr,
-                   "warning: {}: dropped {} triangle(s) with out-of-range indices or non-finite "
-                   "positions\n",
-                   warnAs, dropped);
+        warn(
+            "{}: dropped {} triangle(s) with out-of-range indices or non-finite positions (their ids stay "
+            "reserved)",
+            warnAs, dropped);
     }
-
-    // Segments and points are compacted the same way, keeping their order (their ids) and materials
-    // aligned.
-    bool hasLineMaterials = !scene.lineMaterials.empty();
-    size_t segments = scene.lines.size() / 2;
-    size_t keptLines = 0;
-    for (size_t k = 0; k < segments; ++k) {
-        uint32_t a = scene.lines[2 * k], b = scene.lines[2 * k + 1];
-        if (!usable(a) || !usable(b)) continue;
-        scene.lines[2 * keptLines] = a;
-        scene.lines[2 * keptLines + 1] = b;
-        if (hasLineMaterials) scene.lineMaterials[keptLines] = scene.lineMaterials[k];
-        ++keptLines;
+    uint64_t droppedLines = 0;
+    for (size_t k = 0; k + 1 < scene.lines.size(); k += 2) {
+        if (usable(scene.lines[k]) && usable(scene.lines[k + 1])) continue;
+        scene.lines[k] = scene.lines[k + 1] = kDroppedVertex;
+        ++droppedLines;
     }
-    uint64_t droppedLines = segments - keptLines;
-    scene.lines.resize(2 * keptLines);
-    if (hasLineMaterials) scene.lineMaterials.resize(keptLines);
     if (droppedLines > 0) {
         scene.droppedLines += droppedLines;
-        fmt::print(stderr,
-                   "warning: {}: dropped {} segment(s) with out-of-range indices or non-finite positions\n",
-                   warnAs, droppedLines);
+        warn(
+            "{}: dropped {} segment(s) with out-of-range indices or non-finite positions (their ids stay "
+            "reserved)",
+            warnAs, droppedLines);
     }
-
-    bool hasPointMaterials = !scene.pointMaterials.empty();
-    size_t keptPoints = 0;
-    for (size_t k = 0; k < scene.points.size(); ++k) {
-        uint32_t v = scene.points[k];
-        if (!usable(v)) continue;
-        scene.points[keptPoints] = v;
-        if (hasPointMaterials) scene.pointMaterials[keptPoints] = scene.pointMaterials[k];
-        ++keptPoints;
+    uint64_t droppedPoints = 0;
+    for (uint32_t& v : scene.points) {
+        if (usable(v)) continue;
+        v = kDroppedVertex;
+        ++droppedPoints;
     }
-    uint64_t droppedPoints = scene.points.size() - keptPoints;
-    scene.points.resize(keptPoints);
-    if (hasPointMaterials) scene.pointMaterials.resize(keptPoints);
     if (droppedPoints > 0) {
         scene.droppedPoints += droppedPoints;
-        fmt::print(stderr,
-                   "warning: {}: dropped {} point(s) with out-of-range indices or non-finite positions\n",
-                   warnAs, droppedPoints);
+        warn(
+            "{}: dropped {} point(s) with out-of-range indices or non-finite positions (their ids stay "
+            "reserved)",
+            warnAs, droppedPoints);
     }
-    if (kept == 0 && keptLines == 0 && keptPoints == 0)
-        return makeError(ExitCode::Usage, "{}: no triangles, lines or points to draw", errorPrefix);
 
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     auto include = [&](uint32_t i) {
@@ -265,8 +257,10 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         hi = glm::max(hi, p);
     };
     for (uint32_t i : scene.indices) include(i);
-    for (uint32_t i : scene.lines) include(i);
-    for (uint32_t i : scene.points) include(i);
+    for (uint32_t i : scene.lines)
+        if (i != kDroppedVertex) include(i);
+    for (uint32_t i : scene.points)
+        if (i != kDroppedVertex) include(i);
     scene.boundsMin = lo;
     scene.boundsMax = hi;
     return okStatus();

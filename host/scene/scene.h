@@ -69,9 +69,9 @@ struct SceneMaterial {
     uint32_t emissiveTexCoord = 0;  // 0 or 1, as texCoord; the emissive texture has no transform
 };
 
-// The albedo of a surface whose file gives it no material (OBJ faces without `usemtl` or .mtl, glTF
-// primitives without a material, PLY and STL meshes): a neutral grey of 0.8, the reflectance of matte
-// white paint or plaster rather than an ideal reflector of 1. Under the default light
+// The albedo of a surface whose file gives it no material (OBJ faces without `usemtl` or .mtl, PLY and
+// STL meshes; glTF defines its own default material, base colour 1): a neutral grey of 0.8, the reflectance
+// of matte white paint or plaster rather than an ideal reflector of 1. Under the default light
 // (render_settings.h) it leaves a lit surface's brightest point at 83% of the display's white, so the
 // shape reads from its shading instead of clipping to a flat white silhouette.
 constexpr float kDefaultAlbedo = 0.8f;
@@ -109,9 +109,10 @@ struct Scene {
     std::vector<uint32_t> pointMaterials;
     std::vector<SceneCamera> cameras;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // of all referenced vertices
-    uint64_t droppedTriangles = 0;               // triangles dropped by the loader (warned about once)
-    uint64_t droppedLines = 0;                   // segments dropped by the loader (warned about once)
-    uint64_t droppedPoints = 0;                  // points dropped by the loader (warned about once)
+    // Primitives finalizeScene found broken (warned about once): kept in their places, drawn by nothing.
+    uint64_t droppedTriangles = 0;
+    uint64_t droppedLines = 0;
+    uint64_t droppedPoints = 0;
     // Set on a scene displayScene derived (lines or points mode, the wireframe overlay): the scene it
     // came from and how, so that a tessellated frame draws the display form of the tessellated mesh
     // (tessellatedDisplay, render/renderer.h) rather than that of the scene's own triangles.
@@ -147,9 +148,15 @@ constexpr int kMaxSphereRings = 7723;
 // scene: a thin plate and a thin post standing on a floor, a box floating above it, a low step).
 Result<Scene> builtinSceneNamed(const std::string& name);
 
-// Drops triangles, segments and points with out-of-range indices or non-finite positions (counting them
-// in droppedTriangles, droppedLines and droppedPoints), drops materials, texture coordinates and textures
-// that change nothing (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing
+// The vertex index of a dropped segment's ends and of a dropped point: past every vertex, so that the
+// devices count the primitive invalid (and the graphics reference draws it outside the view).
+constexpr uint32_t kDroppedVertex = 0xffffffffu;
+
+// Drops triangles, segments and points with out-of-range indices or non-finite positions, in place: each
+// keeps its id and is drawn by nothing (a triangle's corners all become one vertex of a kept primitive, a
+// segment's and a point's vertices kDroppedVertex), counted in droppedTriangles, droppedLines and
+// droppedPoints with one warning of each kind. Drops materials, texture coordinates and textures that
+// change nothing (the emptiness rules above), fills missing flags, recomputes bounds. Fails when nothing
 // drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 

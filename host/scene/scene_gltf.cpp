@@ -14,7 +14,8 @@
 //
 // Materials: base colour factor and texture (with KHR_texture_transform and its sampler), alpha mode,
 // double-sidedness and emission (emissiveFactor, emissiveTexture without a transform,
-// KHR_materials_emissive_strength); a primitive without a material gets defaultMaterial(). Images are decoded
+// KHR_materials_emissive_strength); a primitive without a material gets glTF's default material (every
+// property at its default: base colour 1), not defaultMaterial()'s grey. Images are decoded
 // only when a used material needs them; an image that cannot be read or decoded is a warning (the material
 // keeps its factor), one over the size limit an error.
 #include <tiny_gltf.h>
@@ -30,6 +31,8 @@
 #include <map>
 
 #include "raster_shared.h"
+
+#include "base/warnings.h"
 #include "scene/gltf_spec.h"
 #include "scene/safe_file.h"
 #include "scene/scene.h"
@@ -526,7 +529,7 @@ void GltfFlattener::warnOnce(bool& done, const std::string& message)
 {
     if (done) return;
     done = true;
-    fmt::print(stderr, "warning: {}: {}\n", path_, message);
+    warn("{}: {}", path_, message);
 }
 
 // The encoded bytes of image `index`: kept by keepEncodedImage for URIs, read from its buffer view
@@ -570,10 +573,10 @@ bool GltfFlattener::imageBytes(int index, const uint8_t*& bytes, size_t& size, s
 Result<int32_t> GltfFlattener::useTexture(int gltfTexture, const std::string& material)
 {
     if (gltfTexture < 0 || size_t(gltfTexture) >= model_.textures.size()) {
-        fmt::print(stderr,
-                   "warning: {}: material '{}' uses texture {}, which does not exist; drawn with its base "
-                   "colour factor only\n",
-                   path_, material, gltfTexture);
+        warn(
+            "{}: material '{}' uses texture {}, which does not exist; drawn with its base "
+            "colour factor only",
+            path_, material, gltfTexture);
         return int32_t(-1);
     }
     size_t index = size_t(gltfTexture);
@@ -611,10 +614,10 @@ Result<int32_t> GltfFlattener::useTexture(int gltfTexture, const std::string& ma
         if (isTextureSizeError(loaded.error())) return loaded.error();
         why = loaded.error().message;
     }
-    fmt::print(stderr,
-               "warning: {}: cannot load image '{}' of texture {} ({}); drawn with the base colour factor "
-               "only\n",
-               path_, name, gltfTexture, why);
+    warn(
+        "{}: cannot load image '{}' of texture {} ({}); drawn with the base colour factor "
+        "only",
+        path_, name, gltfTexture, why);
     return int32_t(-1);
 }
 
@@ -639,10 +642,10 @@ Status GltfFlattener::readEmission(const tinygltf::Material& src, SceneMaterial&
     Result<int32_t> texture = useTexture(info.index, m.name);
     if (!texture) return texture.error();
     if (*texture >= 0 && (texCoord < 0 || texCoord > 1)) {
-        fmt::print(stderr,
-                   "warning: {}: material '{}' uses TEXCOORD_{} for emission (only sets 0 and 1 are "
-                   "supported); drawn without its emissive texture\n",
-                   path_, m.name, texCoord);
+        warn(
+            "{}: material '{}' uses TEXCOORD_{} for emission (only sets 0 and 1 are "
+            "supported); drawn without its emissive texture",
+            path_, m.name, texCoord);
     } else {
         m.emissiveTexture = *texture;
         m.emissiveTexCoord = uint32_t(std::max(texCoord, 0));
@@ -650,13 +653,17 @@ Status GltfFlattener::readEmission(const tinygltf::Material& src, SceneMaterial&
     return okStatus();
 }
 
-// Scene::materials index for a glTF material (-1: the default material), created on first use.
+// Scene::materials index for a glTF material (-1: the default material), created on first use. glTF 2.0
+// (3.9.6) defines the default material as one with no properties given, every one at its default: base
+// colour 1, opaque, single-sided, no emission, the same as "materials": [{}].
 Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
 {
     if (gltfMaterial < 0) {
         if (defaultMaterial_ < 0) {
             defaultMaterial_ = int32_t(scene_.materials.size());
-            scene_.materials.push_back(defaultMaterial());
+            SceneMaterial m;
+            m.name = "glTF default";
+            scene_.materials.push_back(m);
             texCoordWarned_.push_back(false);
         }
         return uint32_t(defaultMaterial_);
@@ -693,10 +700,10 @@ Result<uint32_t> GltfFlattener::useMaterial(int gltfMaterial)
         Result<int32_t> texture = useTexture(info.index, m.name);
         if (!texture) return texture.error();
         if (*texture >= 0 && (texCoord < 0 || texCoord > 1)) {
-            fmt::print(stderr,
-                       "warning: {}: material '{}' uses TEXCOORD_{} (only sets 0 and 1 are supported); drawn "
-                       "without its texture\n",
-                       path_, m.name, texCoord);
+            warn(
+                "{}: material '{}' uses TEXCOORD_{} (only sets 0 and 1 are supported); drawn "
+                "without its texture",
+                path_, m.name, texCoord);
         } else {
             m.baseColorTexture = *texture;
             m.texCoord = uint32_t(std::max(texCoord, 0));
@@ -734,14 +741,13 @@ Status GltfFlattener::run()
     for (int root : roots) SR_TRY(visitTree(root));
 
     if (oddLinePrimitives_ > 0) {
-        fmt::print(stderr,
-                   "warning: {}: dropped the unpaired last vertex of {} LINES primitive(s) with an odd "
-                   "vertex count\n",
-                   path_, oddLinePrimitives_);
+        warn(
+            "{}: dropped the unpaired last vertex of {} LINES primitive(s) with an odd "
+            "vertex count",
+            path_, oddLinePrimitives_);
     }
     if (skippedWithoutPositions_ > 0) {
-        fmt::print(stderr, "warning: {}: skipping {} primitive(s) without POSITION\n", path_,
-                   skippedWithoutPositions_);
+        warn("{}: skipping {} primitive(s) without POSITION", path_, skippedWithoutPositions_);
     }
     if (!anyNonWhite_) scene_.colors.clear();
 
@@ -900,18 +906,18 @@ Status GltfFlattener::addPrimitive(const tinygltf::Primitive& prim, const std::s
     if (material.baseColorTexture >= 0 && !hasUv[material.texCoord]) {
         // The material is shared by every primitive that uses it, so it loses its texture everywhere.
         if (!texCoordWarned_[*materialId])
-            fmt::print(stderr,
-                       "warning: {}: material '{}' uses TEXCOORD_{}, which {} does not have; drawn without "
-                       "its texture\n",
-                       path_, material.name, material.texCoord, where);
+            warn(
+                "{}: material '{}' uses TEXCOORD_{}, which {} does not have; drawn without "
+                "its texture",
+                path_, material.name, material.texCoord, where);
         texCoordWarned_[*materialId] = true;
         material.baseColorTexture = -1;
     }
     if (material.emissiveTexture >= 0 && !hasUv[material.emissiveTexCoord]) {
-        fmt::print(stderr,
-                   "warning: {}: material '{}' uses TEXCOORD_{} for emission, which {} does not have; drawn "
-                   "without its emissive texture\n",
-                   path_, material.name, material.emissiveTexCoord, where);
+        warn(
+            "{}: material '{}' uses TEXCOORD_{} for emission, which {} does not have; drawn "
+            "without its emissive texture",
+            path_, material.name, material.emissiveTexCoord, where);
         material.emissiveTexture = -1;
     }
     // The base colour factor stays in the material (the shading stage multiplies it in), so the vertex
@@ -1142,9 +1148,9 @@ Result<Scene> loadGltf(const std::string& path)
             return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
         }
         warn = withoutImageFileWarnings(warn, imageFailures);
-        if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+        if (!warn.empty()) sr::warn("{}: {}", path, flattenMessage(warn));
 
-        for (const std::string& line : unsupported) fmt::print(stderr, "warning: {}: {}\n", path, line);
+        for (const std::string& line : unsupported) sr::warn("{}: {}", path, line);
     }
 
     GltfFlattener flattener(model, imageFailures, path);

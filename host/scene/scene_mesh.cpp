@@ -33,6 +33,8 @@
 #include <sstream>
 
 #include "scene/safe_file.h"
+
+#include "base/warnings.h"
 #include "scene/scene.h"
 #include "scene/triangulate.h"
 
@@ -314,8 +316,7 @@ Result<Scene> loadWithAssimp(const std::string& path, const char* format)
         };
         if (mesh->mNumFaces == 0) {
             if (mesh->mNumVertices > 0)
-                fmt::print(stderr, "warning: {}: no faces: its {} vertices are drawn as points\n", path,
-                           mesh->mNumVertices);
+                warn("{}: no faces: its {} vertices are drawn as points", path, mesh->mNumVertices);
             for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
                 scene.points.push_back(uint32_t(scene.positions.size()));
                 pushVertex(v, glm::vec3(0.0f));
@@ -360,13 +361,12 @@ Result<Scene> loadWithAssimp(const std::string& path, const char* format)
     scene.materials.push_back(defaultMaterial());
     scene.triMaterials.assign(scene.indices.size() / 3, 0u);
     scene.pointMaterials.assign(scene.points.size(), 0u);
-    if (shortFaces > 0)
-        fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
+    if (shortFaces > 0) warn("{}: skipped {} face(s) with fewer than 3 vertices", path, shortFaces);
     if (fannedPolygons > 0)
-        fmt::print(stderr,
-                   "warning: {}: {} polygon(s) self-intersecting, without area or of over {} corners: "
-                   "fanned from their first corner, which may cover parts twice\n",
-                   path, fannedPolygons, kMaxEarClippedCorners);
+        warn(
+            "{}: {} polygon(s) self-intersecting, without area or of over {} corners: "
+            "fanned from their first corner, which may cover parts twice",
+            path, fannedPolygons, kMaxEarClippedCorners);
     SR_TRY(finalizeLoadedScene(scene, path));
     return scene;
 }

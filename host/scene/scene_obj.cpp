@@ -34,6 +34,8 @@
 #include <string_view>
 
 #include "scene/safe_file.h"
+
+#include "base/warnings.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 #include "scene/triangulate.h"
@@ -270,10 +272,10 @@ Status checkObjLines(std::string_view text, const std::string& path)
         vertices = seen;
     }
     if (missingFaces > 0)
-        fmt::print(stderr,
-                   "warning: {}:{}: face corner '{}' names no vertex (the file has {}); {} face(s) naming "
-                   "missing vertices are dropped\n",
-                   path, firstMissingLine, printableText(firstMissing.c_str()), vertices, missingFaces);
+        warn(
+            "{}:{}: face corner '{}' names no vertex (the file has {}); {} face(s) naming "
+            "missing vertices are dropped",
+            path, firstMissingLine, printableText(firstMissing.c_str()), vertices, missingFaces);
     return okStatus();
 }
 
@@ -335,7 +337,7 @@ Result<Scene> loadObj(const std::string& path)
             if (reason.empty()) reason = "tinyobjloader could not parse the file";
             return makeError(ExitCode::Usage, "cannot load '{}': {}", path, reason);
         }
-        if (!warn.empty()) fmt::print(stderr, "warning: {}: {}\n", path, flattenMessage(warn));
+        if (!warn.empty()) sr::warn("{}: {}", path, flattenMessage(warn));
         std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
         SR_TRY(checkObjLines(text, path));
         elements = readObjElements(text, mtlReader.materialIds);
@@ -385,8 +387,8 @@ Result<Scene> loadObj(const std::string& path)
             } else if (isTextureSizeError(texture.error())) {
                 return makeError(ExitCode::Usage, "cannot load '{}': {}", path, texture.error().message);
             } else {
-                fmt::print(stderr, "warning: {}: material '{}': {}; drawn without its {}\n", path, src.name,
-                           texture.error().message, without);
+                warn("{}: material '{}': {}; drawn without its {}", path, src.name, texture.error().message,
+                     without);
             }
             textureIndex.emplace(file, index);
             return index;
@@ -556,8 +558,7 @@ Result<Scene> loadObj(const std::string& path)
     if (elements.faces == 0 && elements.polylines.empty() && elements.points.empty() && positionCount > 0) {
         // A bare vertex list is a point cloud. Meshlab writes a `vn` before each `v`, so equal counts
         // pair them by position in the file.
-        fmt::print(stderr, "warning: {}: no faces, lines or points: its {} vertices are drawn as points\n",
-                   path, positionCount);
+        warn("{}: no faces, lines or points: its {} vertices are drawn as points", path, positionCount);
         Result<uint32_t> materialId = useMaterial(-1);
         if (!materialId) return materialId.error();
         bool pairedNormals = normalCount == positionCount;
@@ -567,17 +568,16 @@ Result<Scene> loadObj(const std::string& path)
 
     if (!anyNonWhite) scene.colors.clear();
     if (shortFaces > 0) {
-        fmt::print(stderr, "warning: {}: skipped {} face(s) with fewer than 3 vertices\n", path, shortFaces);
+        warn("{}: skipped {} face(s) with fewer than 3 vertices", path, shortFaces);
     }
     if (fannedPolygons > 0) {
-        fmt::print(stderr,
-                   "warning: {}: {} polygon(s) self-intersecting, without area or of over {} corners: "
-                   "fanned from their first corner, which may cover parts twice\n",
-                   path, fannedPolygons, kMaxEarClippedCorners);
+        warn(
+            "{}: {} polygon(s) self-intersecting, without area or of over {} corners: "
+            "fanned from their first corner, which may cover parts twice",
+            path, fannedPolygons, kMaxEarClippedCorners);
     }
     if (shortLines > 0) {
-        fmt::print(stderr, "warning: {}: skipped {} line element(s) with fewer than 2 vertices\n", path,
-                   shortLines);
+        warn("{}: skipped {} line element(s) with fewer than 2 vertices", path, shortLines);
     }
     SR_TRY(finalizeLoadedScene(scene, path));
     return scene;

@@ -347,9 +347,12 @@ Result<json> checkSettingValue(const Setting& s, const json& value, const std::s
     switch (s.type) {
     case SettingType::Uint: {
         if (s.allowAuto && value == json("auto")) return value;
-        if (!value.is_number_integer() || value.get<int64_t>() < 0 || value.get<int64_t>() > 0xffffffffll)
+        if (!value.is_number_integer() || (!value.is_number_unsigned() && value.get<int64_t>() < 0))
             return makeError(ExitCode::Usage, "{} must be a non-negative integer, not {}", label,
-                             value.dump());
+                             clippedText(value.dump()));
+        if (value.get<uint64_t>() > s.max)
+            return makeError(ExitCode::Usage, "{} {} is outside {}..{}", label, value.get<uint64_t>(),
+                             numberText(s.min), numberText(s.max));
         const auto v = value.get<uint32_t>();
         if (!s.numbers.empty() && std::find(s.numbers.begin(), s.numbers.end(), v) == s.numbers.end())
             return makeError(ExitCode::Usage, "{} {} is not one of {}", label, v, numbersText(s.numbers));
@@ -361,14 +364,17 @@ Result<json> checkSettingValue(const Setting& s, const json& value, const std::s
     case SettingType::Float: {
         if (!value.is_number() || !std::isfinite(value.get<double>()))
             return makeError(ExitCode::Usage, "{} must be a number, not {}", label, value.dump());
-        const auto v = value.get<float>();
-        if (s.step > 0.0 &&
-            (!(v >= s.min && v <= s.max) || double(v) / s.step != std::floor(double(v) / s.step)))
-            return makeError(ExitCode::Usage, "{} {} is not a multiple of {} between {} and {}", label, v,
+        // Stored as float, so checked as float against the bounds as float hold them (the documented
+        // maximum 1e20 is 1.00000002e20 in float); the value is shown as given.
+        const double given = value.get<double>();
+        const auto v = float(given);
+        const bool inside = v >= float(s.min) && v <= float(s.max);
+        if (s.step > 0.0 && (!inside || double(v) / s.step != std::floor(double(v) / s.step)))
+            return makeError(ExitCode::Usage, "{} {} is not a multiple of {} between {} and {}", label, given,
                              s.step == 0.125 ? "1/8" : numberText(s.step), numberText(s.min),
                              numberText(s.max));
-        if (!(v >= s.min && v <= s.max))
-            return makeError(ExitCode::Usage, "{} {} is outside {}..{}", label, v, numberText(s.min),
+        if (!inside)
+            return makeError(ExitCode::Usage, "{} {} is outside {}..{}", label, given, numberText(s.min),
                              numberText(s.max));
         return json(v);
     }
@@ -418,17 +424,21 @@ Result<json> parseSettingText(const Setting& s, const std::string& text, const s
     switch (s.type) {
     case SettingType::Uint: {
         if (s.allowAuto && text == "auto") return checkSettingValue(s, json(text), label);
-        const bool digits =
-            !text.empty() && text.size() <= 10 &&
-            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+        const bool digits = !text.empty() && std::all_of(text.begin(), text.end(),
+                                                         [](char c) { return c >= '0' && c <= '9'; });
         if (!digits)
-            return makeError(ExitCode::Usage, "{} must be a non-negative integer, not '{}'", label, text);
-        value = std::stoll(text);
+            return makeError(ExitCode::Usage, "{} must be a non-negative integer, not {}", label,
+                             quotedInput(text));
+        const size_t first = std::min(text.find_first_not_of('0'), text.size() - 1);
+        if (text.size() - first > 19)  // past uint64: outside any range
+            return makeError(ExitCode::Usage, "{} {} is outside {}..{}", label,
+                             clippedText(text.substr(first)), numberText(s.min), numberText(s.max));
+        value = std::stoull(text.substr(first));
         break;
     }
     case SettingType::Float:
         if (!parseDouble(text, number) || !std::isfinite(number))
-            return makeError(ExitCode::Usage, "{} must be a number, not '{}'", label, text);
+            return makeError(ExitCode::Usage, "{} must be a finite number, not {}", label, quotedInput(text));
         value = number;
         break;
     case SettingType::Bool:
@@ -448,7 +458,8 @@ Result<json> parseSettingText(const Setting& s, const std::string& text, const s
             value.push_back(number);
         }
         if (value.size() != 3 || std::count(text.begin(), text.end(), ',') != 2)
-            return makeError(ExitCode::Usage, "invalid {} '{}': expected three numbers X,Y,Z", label, text);
+            return makeError(ExitCode::Usage, "invalid {} {}: expected three numbers X,Y,Z", label,
+                             quotedInput(text));
         break;
     }
     case SettingType::Choice:
@@ -576,7 +587,7 @@ Result<uint32_t> choiceValue(const Setting& s, const std::string& name, const st
 {
     for (const SettingChoice& c : s.choices)
         if (c.name == name) return c.value;
-    return makeError(ExitCode::Usage, "invalid {} '{}': expected one of {}", label, name,
+    return makeError(ExitCode::Usage, "invalid {} {}: expected one of {}", label, quotedInput(name),
                      joinNames(choiceNames(s)));
 }
 

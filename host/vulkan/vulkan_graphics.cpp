@@ -158,13 +158,13 @@ Status checkInputs(const Scene& scene, const RenderSettings& settings)
     if (!scene.materials.empty() && scene.pointMaterials.size() != scene.pointCount())
         return makeError(ExitCode::Usage, "the scene has {} point materials for {} points",
                          scene.pointMaterials.size(), scene.pointCount());
-    // The line and point vertex shaders fetch through their lists without a bounds check.
+    // The line and point vertex shaders fetch through their lists, skipping kDroppedVertex alone.
     for (size_t k = 0; k < scene.lines.size(); ++k)
-        if (scene.lines[k] >= scene.vertexCount())
+        if (scene.lines[k] >= scene.vertexCount() && scene.lines[k] != kDroppedVertex)
             return makeError(ExitCode::Usage, "segment {} names vertex {} of {}", k / 2, scene.lines[k],
                              scene.vertexCount());
     for (size_t k = 0; k < scene.points.size(); ++k)
-        if (scene.points[k] >= scene.vertexCount())
+        if (scene.points[k] >= scene.vertexCount() && scene.points[k] != kDroppedVertex)
             return makeError(ExitCode::Usage, "point {} names vertex {} of {}", k, scene.points[k],
                              scene.vertexCount());
     // The line settings as RenderSettings defines them: widths are multiples of 1/8 pixel, and the bias

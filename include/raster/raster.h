@@ -156,12 +156,17 @@ struct MeshArrays {
 class Scene {
 public:
     // A .gltf/.glb or .obj file, or a procedural scene: "builtin", "builtin:dense", "builtin:huge",
-    // "builtin:checker", "builtin:cutout", "builtin:lowpoly". Broken parts are dropped with a warning on
-    // stderr, as the command line does; a scene with nothing to draw is an error.
+    // "builtin:checker", "builtin:cutout", "builtin:lowpoly". Broken parts are dropped with a warning
+    // (warnings(); nothing is printed); a scene with nothing to draw is an error.
     static Result<Scene> load(const std::string& path);
-    // A scene from arrays, with the loaders' checks: indices in range, NaN/Inf positions dropped with a
-    // warning, a texture within the size limit.
+    // A scene from arrays, with the loaders' checks: a triangle, segment or point with an index out of
+    // range or a NaN/Inf position is not drawn, with a warning, and keeps its id (ids index the arrays
+    // given); a texture within the size limit.
     static Result<Scene> fromArrays(const MeshArrays& mesh);
+
+    // What making the scene dropped or drew otherwise than the input asked, one line each (the lines
+    // `raster render` prints after "warning: ").
+    const std::vector<std::string>& warnings() const;
 
     size_t vertexCount() const;
     size_t triangleCount() const;
@@ -260,6 +265,7 @@ struct Frame {
     double gpuMs = 0.0;     // median GPU time of the whole frame over the timed runs
     std::string statsJson;  // the statistics `raster render --stats` writes (counts, stage times, settings)
     DeviceInfo device;
+    std::vector<std::string> warnings;  // what rendering drew otherwise than asked, one line each
 };
 
 struct RenderRequest {
@@ -283,6 +289,7 @@ public:
 
 private:
     explicit Session(std::unique_ptr<Impl> impl);
+    Result<Frame> renderFrame(const Camera& camera, const Settings& settings, const RenderRequest& request);
     std::unique_ptr<Impl> impl_;
 };
 

@@ -23,7 +23,9 @@ from __future__ import annotations
 import functools
 import json
 import os
+import numbers
 import threading
+import warnings
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -37,6 +39,7 @@ __all__ = [
     "DeviceInfo",
     "Error",
     "Frame",
+    "RasterWarning",
     "Renderer",
     "Scene",
     "compare",
@@ -52,6 +55,47 @@ Error.__doc__ = (
     "is the one-line message the raster command prints for the same problem."
 )
 Error.__module__ = "raster"
+
+
+class RasterWarning(UserWarning):
+    """Part of the input was dropped or drawn otherwise than asked (a triangle with an index out of
+    range, a texture that cannot load): the line ``raster render`` prints after "warning: "."""
+
+
+RasterWarning.__module__ = "raster"
+
+
+def _warn(lines: Sequence[str]) -> None:
+    for line in lines:
+        # stacklevel 3: the caller of the public function that made the scene or frame.
+        warnings.warn(line, RasterWarning, stacklevel=3)
+
+
+def _shown(value: Any) -> str:
+    """A value the caller gave, for a one-line message: its repr, cut to a readable length."""
+    text = repr(value) if not isinstance(value, np.ndarray) else (
+        f"an array of {value.dtype} {tuple(value.shape)}")
+    text = " ".join(text.split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _real_array(value: Any, what: str, dtype: Any = np.float32) -> np.ndarray:
+    """`value` as a C-contiguous array of `dtype`, or raster.Error unless it holds real numbers (integers or
+    floats: not bools, complex numbers, strings or objects)."""
+    try:
+        a = np.asarray(value)
+    except (ValueError, TypeError) as error:
+        raise Error(f"{what} must be an array of numbers, not {_shown(value)} ({error})") from None
+    if a.dtype.kind not in "iuf":
+        raise Error(f"{what} must hold real numbers, not {a.dtype} ({_shown(value)})")
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+def _finite(a: np.ndarray, what: str) -> None:
+    if a.size and not np.isfinite(a).all():
+        row = int(np.argwhere(~np.isfinite(a))[0][0])
+        raise Error(f"{what} has a non-finite value in row {row}: {_shown(a[row].tolist())}")
+
 
 EMPTY_ID = 0xFFFFFFFF
 """The id of a pixel (or sample) no primitive covers (Frame.ids, Frame.sample_ids)."""
@@ -122,7 +166,11 @@ class Scene:
         "builtin:checker", "builtin:cutout", "builtin:lowpoly"), with the command line's checks:
         broken parts are dropped with a warning on stderr, a scene with nothing to draw raises
         raster.Error."""
-        return Scene(_raster.Scene.load(os.fspath(path)))
+        if not isinstance(path, (str, os.PathLike)):
+            raise Error(f"Scene.load: path must be a str or os.PathLike, not {_shown(path)}")
+        native = _raster.Scene.load(os.fspath(path))
+        _warn(native.warnings)
+        return Scene(native)
 
     @staticmethod
     def from_arrays(
@@ -158,9 +206,12 @@ class Scene:
         def ints(a: Optional[np.ndarray], what: str) -> Optional[np.ndarray]:
             if a is None:
                 return None
-            a = np.asarray(a)
-            if a.size and not np.issubdtype(a.dtype, np.integer):
-                raise Error(f"from_arrays: {what} must be integers, not {a.dtype}")
+            try:
+                a = np.asarray(a)
+            except (ValueError, TypeError) as error:
+                raise Error(f"from_arrays: {what} must be an array of integers ({error})") from None
+            if a.size and a.dtype.kind not in "iu":
+                raise Error(f"from_arrays: {what} must be integers, not {a.dtype} ({_shown(a)})")
             if a.dtype != np.uint32:
                 # Negative indices and those past 32 bits are out of range, as in the loaders (dropped
                 # with a warning), never wrapped onto a valid vertex. In int64, so that numpy 2's
@@ -169,11 +220,21 @@ class Scene:
                 a = np.where((wide < 0) | (wide > EMPTY_ID), np.int64(EMPTY_ID), wide).astype(np.uint32)
             return a
 
+        positions = _real_array(positions, "from_arrays: positions")
         tri = ints(indices, "indices")
         if tri is None:
             tri = np.zeros((0, 3), np.uint32)
+        # Attributes must be finite: a NaN colour or normal has no shade to give (positions may not be:
+        # their primitives are dropped with a warning, as the loaders drop them).
+        if normals is not None:
+            normals = _real_array(normals, "from_arrays: normals")
+            _finite(normals, "from_arrays: normals")
+        if uv is not None:
+            uv = _real_array(uv, "from_arrays: uv")
+            _finite(uv, "from_arrays: uv")
         if colors is not None:
-            colors = np.asarray(colors, np.float32)
+            colors = _real_array(colors, "from_arrays: colors")
+            _finite(colors, "from_arrays: colors")
             if colors.ndim == 2 and colors.shape[1] == 3:
                 colors = np.concatenate([colors, np.ones((colors.shape[0], 1), np.float32)], axis=1)
         if texture is not None:
@@ -183,9 +244,16 @@ class Scene:
             if texture.ndim == 3 and texture.shape[2] == 3:
                 alpha = np.full(texture.shape[:2] + (1,), 255, np.uint8)
                 texture = np.concatenate([texture, alpha], axis=2)
+        base = _real_array(base_color, "from_arrays: base_color", np.float64)
+        if base.shape != (4,):
+            raise Error(f"from_arrays: base_color must be four numbers (linear RGBA), not {_shown(base_color)}")
+        for name, flag in (("double_sided", double_sided), ("texture_srgb", texture_srgb)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise Error(f"from_arrays: {name} must be True or False, not {_shown(flag)}")
         native = _raster.Scene.from_arrays(
-            positions, tri, normals, uv, colors, texture, texture_srgb, ints(lines, "lines"),
-            ints(points, "points"), tuple(float(c) for c in base_color), bool(double_sided))
+            positions, tri, normals, uv, colors, texture, bool(texture_srgb), ints(lines, "lines"),
+            ints(points, "points"), tuple(float(c) for c in base), bool(double_sided))
+        _warn(native.warnings)
         return Scene(native)
 
     @property
@@ -236,6 +304,7 @@ class Frame:
     sample_ids, sample_depth: (S, H*ssaa, W*ssaa) every sample's id and depth with aov_samples=True
         (S = msaa), else None.
     stats: the statistics ``raster render --stats`` writes (counts, stage times, settings) as a dict.
+    warnings: what the render drew otherwise than asked, one line each (also issued as RasterWarning).
     gpu_ms: GPU time of the frame (median over ``repeat`` timed runs).
     device: the DeviceInfo that rendered it.
     """
@@ -245,6 +314,7 @@ class Frame:
         self.width: int = native.width
         self.height: int = native.height
         self.gpu_ms: float = native.gpu_ms
+        self.warnings: List[str] = list(native.warnings)
 
     @functools.cached_property
     def color(self) -> np.ndarray:
@@ -329,10 +399,17 @@ class Renderer:
         the schema's checks and one-line errors (raster.Error). Defaults are the schema's, except
         warmup = 0 (a session's earlier frames warm it up).
         """
+        if not isinstance(scene, Scene):
+            raise Error(f"render: scene must be a raster.Scene, not {_shown(scene)}")
+        if not isinstance(surface_aovs, (bool, np.bool_)):
+            raise Error(f"render: surface_aovs must be True or False, not {_shown(surface_aovs)}")
         args = dict(_SESSION_DEFAULTS)
         args.update(settings)
-        native = self._native.render(scene._native, width, height, camera, args, surface_aovs, True)
-        return Frame(native)
+        args["width"], args["height"] = width, height
+        native = self._native.render(scene._native, camera, _setting_values(args), bool(surface_aovs), True)
+        frame = Frame(native)
+        _warn(frame.warnings)
+        return frame
 
     def release(self) -> None:
         """Frees every scene upload and buffer this renderer keeps (the device stays open)."""
@@ -340,6 +417,19 @@ class Renderer:
 
     def __repr__(self) -> str:
         return f"raster.Renderer({self.device.backend!r}, {self.device.index}: {self.device.name})"
+
+
+def _setting_values(args: Dict[str, Any]) -> Dict[str, Any]:
+    """Keyword settings as the native module takes them: numpy scalars and 0-d arrays as the Python
+    number, bool or string they hold (np.int64(4) is 4), anything else as given (the schema checks it)."""
+    out = {}
+    for key, value in args.items():
+        if isinstance(value, np.ndarray) and value.ndim == 0:
+            value = value.item()
+        elif isinstance(value, np.generic):
+            value = value.item()
+        out[key] = value
+    return out
 
 
 def _default(setting: Dict[str, Any]) -> Any:
@@ -385,6 +475,20 @@ _IDENTITY = np.eye(4, dtype=np.float32)
 _GL_TO_VULKAN_DEPTH = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0.5, 0.5], [0, 0, 0, 1]], np.float32)
 
 
+def _resolution(resolution: Any) -> Tuple[int, int]:
+    """(height, width) as two integers within the settings' range, or raster.Error with the value given."""
+    limit = {s["key"]: int(s["max"]) for s in SETTINGS if s["key"] in ("width", "height")}
+    try:
+        height, width = resolution
+    except (TypeError, ValueError):
+        raise Error(f"resolution must be (height, width), not {_shown(resolution)}") from None
+    for name, v in (("height", height), ("width", width)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral) or not 1 <= v <= limit[name]:
+            raise Error(f"resolution {_shown(resolution)}: the {name} must be an integer in "
+                        f"1..{limit[name]}, not {_shown(v)}")
+    return int(height), int(width)
+
+
 def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
               msaa: int = 1) -> np.ndarray:
     """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
@@ -405,34 +509,38 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     rasterize's output and a Frame line up without a flip. Unlike nvdiffrast it returns the array
     alone (no derivatives, no gradients).
     """
-    pos = np.asarray(pos)
+    pos = _real_array(pos, "rasterize: pos")
     if pos.ndim == 2:
         pos = pos[None]
     if pos.ndim != 3 or pos.shape[2] != 4:
         raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {tuple(pos.shape)}")
-    pos = np.ascontiguousarray(pos, dtype=np.float32)
+    for b in range(pos.shape[0]):
+        if not np.isfinite(pos[b]).all():
+            raise Error(f"rasterize: pos[{b}] has non-finite values")
     tri = np.asarray(tri)
-    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and not np.issubdtype(tri.dtype, np.integer)):
+    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
         raise Error(f"rasterize: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
     if tri.size and (tri.min() < 0 or tri.max() >= pos.shape[1]):
         raise Error(f"rasterize: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())} "
                     f"of {pos.shape[1]}")
-    height, width = (int(v) for v in resolution)
+    height, width = _resolution(resolution)
     batch = pos.shape[0]
-    out = np.zeros((batch, height, width, 4), np.float32)
+    try:
+        out = np.zeros((batch, height, width, 4), np.float32)
+    except MemoryError:
+        raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
+                    f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
     if tri.shape[0] == 0:
         return out
     indices = tri.astype(np.uint32)
     normals = np.zeros((pos.shape[1], 3), np.float32)
     renderer = _shared_renderer(backend)
-    settings = {"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id"}
+    settings = _setting_values({"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id",
+                                "width": width, "height": height})
     for b in range(batch):
-        if not np.isfinite(pos[b]).all():
-            raise Error(f"rasterize: pos[{b}] has non-finite values")
         scene = _raster.Scene.from_arrays(pos[b], indices, normals, None, None, None, True, None, None,
                                           (1.0, 1.0, 1.0, 1.0), False)
-        frame = renderer._native.render(scene, width, height, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings,
-                                        True, False)
+        frame = renderer._native.render(scene, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings, True, False)
         ids = frame.ids
         covered = ids != EMPTY_ID
         bary = frame.bary
@@ -451,15 +559,27 @@ def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarr
     Returns float32 (B, H, W, C) = u * a0 + v * a1 + (1 - u - v) * a2 of the pixel's triangle, 0 where
     empty. Unlike nvdiffrast it returns the array alone (no derivatives).
     """
-    attr = np.asarray(attr, np.float32)
-    rast = np.asarray(rast, np.float32)
+    attr = _real_array(attr, "interpolate: attr")
+    rast = _real_array(rast, "interpolate: rast")
     tri = np.asarray(tri)
     if rast.ndim != 4 or rast.shape[3] != 4:
         raise Error(f"interpolate: rast must have shape (B, H, W, 4), not {tuple(rast.shape)}")
     if attr.ndim not in (2, 3) or (attr.ndim == 3 and attr.shape[0] != rast.shape[0]):
         raise Error(f"interpolate: attr must have shape (V, C) or (B, V, C) with B = {rast.shape[0]}, "
                     f"not {tuple(attr.shape)}")
-    ids = rast[..., 3].astype(np.int64) - 1
+    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
+        raise Error(f"interpolate: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
+    vertices = attr.shape[-2]
+    if tri.size and (tri.min() < 0 or tri.max() >= vertices):
+        raise Error(f"interpolate: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())}, "
+                    f"but attr has {vertices} rows")
+    slots = rast[..., 3]
+    if not (np.isfinite(slots).all() and (slots == np.floor(slots)).all()) or (
+            slots.size and (slots.min() < 0 or slots.max() > tri.shape[0])):
+        bad = slots[~(np.isfinite(slots) & (slots == np.floor(slots)) & (slots >= 0) & (slots <= tri.shape[0]))]
+        raise Error(f"interpolate: rast[..., 3] holds {_shown(float(bad.flat[0]))}, not a triangle id + 1 "
+                    f"of the {tri.shape[0]} triangles in tri (or 0)")
+    ids = slots.astype(np.int64) - 1
     covered = ids >= 0
     corners = tri[np.where(covered, ids, 0)]  # (B, H, W, 3)
     if attr.ndim == 2:

@@ -7,6 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 class Error(Exception): ...
+class RasterWarning(UserWarning): ...
 
 EMPTY_ID: int
 SETTINGS: List[Dict[str, Any]]
@@ -57,6 +58,7 @@ class Frame:
     width: int
     height: int
     gpu_ms: float
+    warnings: List[str]
     @property
     def color(self) -> npt.NDArray[np.uint8]: ...
     @property

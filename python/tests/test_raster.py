@@ -256,6 +256,73 @@ def test_bad_input_raises_one_line_errors(vulkan):
         assert text in str(error.value) and "\n" not in str(error.value)
 
 
+def test_every_bad_input_is_a_raster_error_naming_the_value(vulkan):
+    # The campaign's Python inputs: each raised something other than raster.Error, was taken wrongly, or
+    # named the value wrongly. Every one is a one-line raster.Error now, checked before any allocation.
+    scene = raster.Scene.load("builtin")
+    tri = np.array([[-1, -1, 0.5, 1], [1, -1, 0.5, 1], [0, 1, 0.5, 1]], np.float32)
+    rast = raster.rasterize(tri, [[0, 1, 2]], (8, 8))
+    cases = [
+        (lambda: vulkan.render(scene, np.float32(32.7), 16), "width must be a non-negative integer, not 32.7"),
+        (lambda: vulkan.render(scene, True, 16), "width must be a non-negative integer, not true"),
+        (lambda: vulkan.render(scene, 2**31, 16), "width 2147483648 is outside 1..16384"),
+        (lambda: vulkan.render(scene, -4, 16), "width must be a non-negative integer, not '-4'"),
+        (lambda: vulkan.render(scene, 16, 16, ambient=float("nan")), "ambient nan is not a finite number"),
+        (lambda: vulkan.render(scene, 16, 16, light_dir=(1, float("inf"), 0)), "light_dir 1,inf,0 is not three finite"),
+        (lambda: vulkan.render(None, 16, 16), "render: scene must be a raster.Scene, not None"),
+        (lambda: raster.rasterize(tri, [[0, 1, 2]], (-8, 8)), "the height must be an integer in 1..16384, not -8"),
+        (lambda: raster.rasterize(tri, [[0, 1, 2]], (100000, 100000)), "not 100000"),
+        (lambda: raster.rasterize(tri, [[0, 1, 2]], (8.5, 8)), "not 8.5"),
+        (lambda: raster.interpolate(np.ones((3, 2)), rast, np.zeros((0, 3), np.int32)),
+         "rast[..., 3] holds 1.0, not a triangle id + 1 of the 0 triangles"),
+        (lambda: raster.interpolate(np.ones((2, 2)), rast, [[0, 1, 2]]), "tri indexes vertex 2, but attr has 2 rows"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3], [[0, 1, 2]], colors=np.full((3, 3), np.nan)),
+         "colors has a non-finite value in row 0"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3], [[0, 1, 2]], base_color=(1, float("nan"), 1, 1)),
+         "base colour must be finite"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3].astype(np.complex64), [[0, 1, 2]]), "not complex64"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3].astype(str), [[0, 1, 2]]), "must hold real numbers, not <U"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3] > 0, [[0, 1, 2]]), "must hold real numbers, not bool"),
+        (lambda: raster.Scene.from_arrays(np.array([[1, 2, 3], [4, 5], [6]], dtype=object), [[0, 1, 2]]),
+         "not object"),
+        (lambda: raster.Scene.from_arrays(tri[:, :3], [[True, False, True]]), "indices must be integers, not bool"),
+        (lambda: vulkan.render(scene, 16, 16, **{"k" * 10_000_000: 1}), "... (10000000 bytes)"),
+        (lambda: vulkan.render(scene, 16, 16, shading="x" * 10_000_000), "... (10000000 bytes)"),
+    ]
+    for call, text in cases:
+        with pytest.raises(raster.Error) as error:
+            call()
+        message = str(error.value)
+        assert text in message and "\n" not in message and len(message) < 2000, message[:300]
+    # NumPy scalars are the numbers they hold.
+    a = vulkan.render(scene, np.int32(24), np.int64(16), msaa=np.int64(4), ao="gtao", ao_radius=np.float32(0.5))
+    b = vulkan.render(scene, 24, 16, msaa=4, ao="gtao", ao_radius=0.5)
+    assert (a.width, a.height) == (24, 16) and a.stats["settings"]["msaa"] == 4
+    np.testing.assert_array_equal(a.color, b.color)
+
+
+def test_the_documented_maximum_is_accepted(vulkan):
+    frame = vulkan.render(raster.Scene.load("builtin"), 8, 8, ao="gtao", ao_radius=1e20)
+    assert frame.stats["settings"]["ao_radius"] == pytest.approx(1e20)
+
+
+def test_dropped_primitives_keep_their_ids_and_warn(backend):
+    # A triangle with an index out of range and one with a NaN corner are drawn by nothing but keep their
+    # ids, so that the ids name rows of the caller's arrays (the campaign's shifted down past each);
+    # the warning arrives through Python's warnings.
+    positions = np.array([[-1, -1, 0.5], [0, -1, 0.5], [0, 1, 0.5], [-1, 1, 0.5],
+                          [0, -1, 0.5], [1, -1, 0.5], [1, 1, 0.5], [0, 1, 0.5], [np.nan, 0, 0]], np.float32)
+    triangles = np.array([[0, 1, 99], [0, 1, 2], [4, 5, 8], [0, 2, 3], [4, 5, 6], [4, 6, 7]], np.int64)
+    with pytest.warns(raster.RasterWarning, match="dropped 2 triangle"):
+        scene = raster.Scene.from_arrays(positions, triangles, double_sided=True)
+    assert scene.triangle_count == 6
+    ids = set(np.unique(renderer(backend).render(scene, 16, 16, (np.eye(4), np.eye(4))).ids).tolist())
+    assert ids == {1, 3, 4, 5}
+    rast = raster.rasterize(np.concatenate([positions, np.ones((9, 1), np.float32)], 1)[:8],
+                            triangles[[1, 3, 4, 5]], (16, 16), backend=backend)
+    assert set(np.unique(rast[..., 3]).tolist()) == {1.0, 2.0, 3.0, 4.0}  # the kept four fill the view
+
+
 # ---- scenes from arrays ------------------------------------------------------------------------------
 
 def wavy_grid(n=12):
