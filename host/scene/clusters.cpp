@@ -34,17 +34,19 @@ bool isFinite(const glm::vec4& p)
 }
 
 // The scene triangles sorted by their corner triple (by id among equal ones), to find the id of a
-// triangle a cluster holds.
+// triangle a cluster holds. Each entry holds its corners, so a search reads the sorted array alone.
 class TriangleLookup {
 public:
-    explicit TriangleLookup(const std::vector<uint32_t>& indices) : indices_(indices)
+    explicit TriangleLookup(const std::vector<uint32_t>& indices)
     {
         const uint32_t count = uint32_t(indices.size() / 3);
-        order_.resize(count);
-        for (uint32_t t = 0; t < count; ++t) order_[t] = t;
-        std::stable_sort(order_.begin(), order_.end(),
-                         [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-        taken_.assign(count, 0u);
+        entries_.resize(count);
+        for (uint32_t t = 0; t < count; ++t)
+            entries_[t] = {
+                {indices[3 * size_t(t)], indices[3 * size_t(t) + 1], indices[3 * size_t(t) + 2]}, t, 0u};
+        std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
+            return x.corners < y.corners || (x.corners == y.corners && x.id < y.id);
+        });
     }
 
     // The lowest untaken scene triangle with corners (a, b, c) in this order, marked taken; or
@@ -54,25 +56,23 @@ public:
     uint32_t take(uint32_t a, uint32_t b, uint32_t c)
     {
         const std::array<uint32_t, 3> want{a, b, c};
-        auto it = std::lower_bound(order_.begin(), order_.end(), want,
-                                   [&](uint32_t t, const std::array<uint32_t, 3>& k) { return key(t) < k; });
-        if (it == order_.end() || key(*it) != want) return UINT32_MAX;
-        uint32_t& taken = taken_[size_t(it - order_.begin())];
-        const auto next = it + taken;
-        if (next == order_.end() || key(*next) != want) return UINT32_MAX;
-        ++taken;
-        return *next;
+        auto it =
+            std::lower_bound(entries_.begin(), entries_.end(), want,
+                             [](const Entry& e, const std::array<uint32_t, 3>& k) { return e.corners < k; });
+        if (it == entries_.end() || it->corners != want) return UINT32_MAX;
+        const auto next = it + it->taken;
+        if (next == entries_.end() || next->corners != want) return UINT32_MAX;
+        ++it->taken;
+        return next->id;
     }
 
 private:
-    std::array<uint32_t, 3> key(uint32_t t) const
-    {
-        return {indices_[3 * size_t(t)], indices_[3 * size_t(t) + 1], indices_[3 * size_t(t) + 2]};
-    }
-
-    const std::vector<uint32_t>& indices_;
-    std::vector<uint32_t> order_;
-    std::vector<uint32_t> taken_;  // at a run's first entry: how many of the run are taken
+    struct Entry {
+        std::array<uint32_t, 3> corners;
+        uint32_t id;
+        uint32_t taken;  // at a run's first entry: how many of the run are taken
+    };
+    std::vector<Entry> entries_;
 };
 
 // Triangles around one vertex that meshoptimizer's clusterizer is given at most. It grows a cluster by
@@ -250,18 +250,33 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
     // all (the campaign's million copies of one triangle did not finish in 180 s). They are packed in
     // centroid order by meshoptimizer's scan instead, in linear time: they lie on one point, so no order
     // of them is more compact than another.
-    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> byCentroid(count);
+    //
+    // Triangles are counted first in hash buckets (about one per triangle): a run of equal centroids lies in
+    // one bucket, so only the triangles of buckets holding more than kMaxCoincidentTriangles are sorted by
+    // centroid to find the runs; an ordinary mesh has none, and costs one linear pass.
+    std::vector<std::array<uint32_t, 3>> centroid(count);
+    size_t bucketCount = 1;
+    while (bucketCount < count) bucketCount *= 2;
+    std::vector<uint32_t> bucketOf(count), inBucket(bucketCount, 0u);
     for (size_t t = 0; t < count; ++t) {
         const glm::vec3 c =
             positions[welded[3 * t]] + positions[welded[3 * t + 1]] + positions[welded[3 * t + 2]];
-        byCentroid[t] = {{floatBits(c.x), floatBits(c.y), floatBits(c.z)}, uint32_t(t)};
+        centroid[t] = {floatBits(c.x), floatBits(c.y), floatBits(c.z)};
+        const uint64_t h = (uint64_t(centroid[t][0]) * 0x9E3779B97F4A7C15ull) ^
+                           (uint64_t(centroid[t][1]) * 0xC2B2AE3D27D4EB4Full) ^
+                           (uint64_t(centroid[t][2]) * 0x165667B19E3779F9ull);
+        bucketOf[t] = uint32_t((h ^ (h >> 29)) & (bucketCount - 1));
+        ++inBucket[bucketOf[t]];
     }
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> byCentroid;
+    for (size_t t = 0; t < count; ++t)
+        if (inBucket[bucketOf[t]] > kMaxCoincidentTriangles) byCentroid.push_back({centroid[t], uint32_t(t)});
     std::sort(byCentroid.begin(), byCentroid.end());
     std::vector<bool> crowdedTriangle(count, false);
     std::vector<uint32_t> crowded;  // the scan's corners, in centroid order
-    for (size_t run = 0; run < count;) {
+    for (size_t run = 0; run < byCentroid.size();) {
         size_t end = run + 1;
-        while (end < count && byCentroid[end].first == byCentroid[run].first) ++end;
+        while (end < byCentroid.size() && byCentroid[end].first == byCentroid[run].first) ++end;
         if (end - run > kMaxCoincidentTriangles)
             for (size_t i = run; i < end; ++i) {
                 const uint32_t t = byCentroid[i].second;
@@ -310,6 +325,9 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
     set.localIndices.reserve(indexCount);
     std::vector<bool> clusterFinite;  // per cluster: every vertex finite
     bool placed = true;               // every triangle found in the scene once
+    std::vector<uint32_t> stamp(vertexCount, 0u);
+    std::vector<uint8_t> slotIn(vertexCount);
+    uint32_t clusterStamp = 0;
     for (const Meshlets* from : {&built, &scanned})
         for (const meshopt_Meshlet& m : from->meshlets) {
             Cluster c;
@@ -319,19 +337,26 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
             const unsigned int* mv = &from->vertices[m.vertex_offset];
             // The cluster's welded vertices, each once (copies of a split vertex become one), and the
             // clusterizer's local vertices as indices into them.
-            std::vector<uint32_t> welds;
+            // (slotIn[w] is w's place in the cluster that stamp[w] names: O(1) per vertex.)
+            uint32_t welds[kClusterMaxVertices];
+            uint32_t weldCount = 0;
             uint8_t localOf[kClusterMaxVertices];
             bool allFinite = true;
+            ++clusterStamp;
             for (uint32_t i = 0; i < m.vertex_count; ++i) {
                 const uint32_t w = origin[mv[i]];
-                const auto at = std::find(welds.begin(), welds.end(), w);
-                localOf[i] = uint8_t(at - welds.begin());
-                if (at != welds.end()) continue;
-                welds.push_back(w);
+                if (stamp[w] == clusterStamp) {
+                    localOf[i] = slotIn[w];
+                    continue;
+                }
+                stamp[w] = clusterStamp;
+                slotIn[w] = uint8_t(weldCount);
+                localOf[i] = uint8_t(weldCount);
+                welds[weldCount++] = w;
                 set.vertices.push_back(global[w]);
                 allFinite = allFinite && finite[w];
             }
-            c.vertexCount = uint32_t(welds.size());
+            c.vertexCount = weldCount;
             const unsigned char* localTriangles = &from->triangles[m.triangle_offset];
             for (uint32_t t = 0; t < m.triangle_count; ++t) {
                 const unsigned char* raw = localTriangles + 3 * size_t(t);
