@@ -16,13 +16,13 @@
 // The CUDA kernels and the GLSL compute shaders include only this file; they are thin shells that index
 // threads, load buffers, call these functions and do the atomics.
 //
-// Rules that keep every file of the family valid in three languages (see
-// ../shared/notes/style-and-ecosystem.md): include guards (glslang has no '#pragma once'), GLSL type
-// names, no swizzles, no constructors or aggregate initialisers for structs, arrays passed through
-// SR_ARRAY_INOUT, and every float expression whose bits matter across backends stored in a `precise`
-// variable (GLSL NoContraction; CUDA is built with --fmad=false and the host with -ffp-contract=off, so
-// no backend fuses a*b+c). Float literals carry an 'f' so that C++ and CUDA never widen an expression
-// to double where GLSL stays in float. glslang resolves the includes (GL_GOOGLE_include_directive).
+// Rules that keep every file of the family valid in three languages (their reasons in
+// docs/shared-header.md): include guards (glslang has no '#pragma once'), GLSL type names, no swizzles,
+// no constructors or aggregate initialisers for structs, arrays passed through SR_ARRAY_INOUT, and every
+// float expression whose bits matter across backends stored in a `precise` variable (GLSL NoContraction;
+// CUDA is built with --fmad=false and the host with -ffp-contract=off, so no backend fuses a*b+c). Float
+// literals carry an 'f' so that C++ and CUDA never widen an expression to double where GLSL stays in
+// float. glslang resolves the includes (GL_GOOGLE_include_directive).
 #ifndef RASTER_SHARED_H
 #define RASTER_SHARED_H
 

@@ -25,7 +25,7 @@ namespace {
 constexpr uint32_t kSize = 64;          // power of two: window <-> NDC conversions are exact
 constexpr size_t kProjectedBound = 64;  // differing samples allowed in projected scenes
 // Depth difference allowed in projected scenes: lavapipe interpolates depth from the unsnapped vertices
-// (../shared/notes/rasterization-rules.md section 4). Measured on the built-in scene at 64x48: 1.1e-4 at
+// (docs/rasterization-rules.md, section 3). Measured on the built-in scene at 64x48: 1.1e-4 at
 // the pixel centres (1x), 4.4e-4 at the 4x samples, which reach further along the steep ground plane.
 constexpr double kProjectedDepthBound = 1e-3;
 

@@ -1,6 +1,6 @@
 // oracle_test.cpp - the compute pipeline against a conformant rasterizer: the same scenes through the
 // real Vulkan graphics pipeline (`vulkan-graphics`; Mesa's rasterizer on lavapipe, 8 subpixel bits,
-// top-left rule), on scenes built to probe the rules in ../shared/notes/rasterization-rules.md.
+// top-left rule), on scenes built to probe the rules in docs/rasterization-rules.md.
 //
 // Criteria: scenes whose vertices sit on the 1/256-pixel grid and need no clipping must give identical
 // triangle ids at every pixel (0 differing) and identical depth. Scenes that go through the clipper, or
