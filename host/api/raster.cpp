@@ -532,15 +532,7 @@ Result<Session> Session::create(Device& device, const Scene& scene)
 
 Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
 {
-    sr::WarningCapture capture;
-    auto frame = renderFrame(camera, settings, request);
-    if (frame) frame->warnings = capture.take();
-    return frame;
-}
-
-Result<Frame> Session::renderFrame(const Camera& camera, const Settings& settings,
-                                   const RenderRequest& request)
-{
+    sr::WarningCapture capture;  // the frame's warnings go to Frame::warnings, not to stderr
     Impl& self = *impl_;
     const sr::RenderOptions& options = settings.impl().options;
     const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
@@ -566,7 +558,9 @@ Result<Frame> Session::renderFrame(const Camera& camera, const Settings& setting
     auto out = self.session ? self.session->render(*matrices, s)
                             : sr::renderGraphics(scene, *matrices, s, self.device->info.index);
     if (!out) return toPublic(out.error());
-    return toFrame(*out, options, self.device->info, "api", scene, request);
+    auto frame = toFrame(*out, options, self.device->info, "api", scene, request);
+    frame.warnings = capture.take();
+    return frame;
 }
 
 // ---- comparisons ------------------------------------------------------------------------------

@@ -24,8 +24,8 @@ WarningCapture::~WarningCapture()
 
 void warnLine(std::string text)
 {
-    // One line, bounded, whatever the input quoted in it.
-    text = clippedText(text, 2000);
+    // One line, bounded as the command line bounds its messages, whatever the input quoted in it.
+    text = clippedText(text, 2 * kMaxQuotedBytes);
     if (innermost) {
         innermost->lines_.push_back(std::move(text));
         return;

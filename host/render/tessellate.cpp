@@ -1,8 +1,6 @@
 // tessellate.cpp - tessellation records, the host's oracle of the tess_* stages, id mapping.
 #include "render/tessellate.h"
 
-#include "base/warnings.h"
-
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "base/warnings.h"
 #include "shared/tess_emit.h"
 
 namespace sr {

@@ -329,15 +329,15 @@ Status checkFramable(const CameraMatrices& m, const Scene& scene)
                          "the scene is {:.3g} units across, too small for a camera in float to frame (at "
                          "least {:.0g}): scale its coordinates up",
                          extent, kSmallestScene);
+    bool finiteMatrix = true;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) finiteMatrix = finiteMatrix && std::isfinite(m.clipFromWorld[i][j]);
     const glm::dmat4 clip(m.clipFromWorld);
     for (int k = 0; k < 8; ++k) {
         const glm::dvec4 corner(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
         const glm::dvec4 c = clip * corner;
         const double largest = std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z), std::abs(c.w)});
-        bool finite = std::isfinite(largest);
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) finite = finite && std::isfinite(m.clipFromWorld[i][j]);
-        if (!finite || largest > 0.25 * FLT_MAX)
+        if (!finiteMatrix || !std::isfinite(largest) || largest > 0.25 * FLT_MAX)
             return makeError(ExitCode::Usage,
                              "the scene's bounds reach {:.3g} units, too far for a camera in float to "
                              "transform them (at most about 1e37 from the origin): scale its coordinates "
@@ -346,22 +346,6 @@ Status checkFramable(const CameraMatrices& m, const Scene& scene)
     }
     return okStatus();
 }
-
-Result<CameraMatrices> resolveCameraMatrices(const CameraSpec& spec, const Scene& scene, unsigned width,
-                                             unsigned height, const ModelTransform& model);
-
-}  // namespace
-
-Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
-                                     unsigned height, const ModelTransform& model)
-{
-    auto m = resolveCameraMatrices(spec, scene, width, height, model);
-    if (!m) return m;
-    SR_TRY(checkFramable(*m, scene));
-    return m;
-}
-
-namespace {
 
 Result<CameraMatrices> resolveCameraMatrices(const CameraSpec& spec, const Scene& scene, unsigned width,
                                              unsigned height, const ModelTransform& model)
@@ -398,6 +382,15 @@ Result<CameraMatrices> resolveCameraMatrices(const CameraSpec& spec, const Scene
 }
 
 }  // namespace
+
+Result<CameraMatrices> resolveCamera(const CameraSpec& spec, const Scene& scene, unsigned width,
+                                     unsigned height, const ModelTransform& model)
+{
+    auto m = resolveCameraMatrices(spec, scene, width, height, model);
+    if (!m) return m;
+    SR_TRY(checkFramable(*m, scene));
+    return m;
+}
 
 BoundingSphere boundingSphere(const Scene& scene)
 {

@@ -336,8 +336,8 @@ ClusterSet buildChunk(const Scene& scene, const std::vector<uint32_t>& list, siz
             c.triangleCount = m.triangle_count;
             const unsigned int* mv = &from->vertices[m.vertex_offset];
             // The cluster's welded vertices, each once (copies of a split vertex become one), and the
-            // clusterizer's local vertices as indices into them.
-            // (slotIn[w] is w's place in the cluster that stamp[w] names: O(1) per vertex.)
+            // clusterizer's local vertices as indices into them; slotIn[w] is w's place in the cluster
+            // that stamp[w] names, so each vertex costs O(1).
             uint32_t welds[kClusterMaxVertices];
             uint32_t weldCount = 0;
             uint8_t localOf[kClusterMaxVertices];

@@ -1,8 +1,6 @@
 // scene.cpp - loader dispatch and the checks every loaded scene goes through.
 #include "scene/scene.h"
 
-#include "base/warnings.h"
-
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -12,6 +10,8 @@
 #include <cstdio>
 #include <cstring>
 #include <unordered_map>
+
+#include "base/warnings.h"
 
 namespace sr {
 namespace {
@@ -209,6 +209,15 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     if (anchor == kDroppedVertex)
         return makeError(ExitCode::Usage, "{}: no triangles, lines or points to draw", errorPrefix);
 
+    // One warning for each kind of primitive dropped.
+    auto report = [&](uint64_t dropped, uint64_t& total, const char* kind) {
+        if (dropped == 0) return;
+        total += dropped;
+        warn(
+            "{}: dropped {} {}(s) with out-of-range indices or non-finite positions (their ids stay "
+            "reserved)",
+            warnAs, dropped, kind);
+    };
     uint64_t dropped = 0;
     for (size_t t = 0; t < triangles; ++t) {
         uint32_t* tri = &scene.indices[3 * t];
@@ -216,39 +225,21 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         tri[0] = tri[1] = tri[2] = anchor;
         ++dropped;
     }
-    if (dropped > 0) {
-        scene.droppedTriangles += dropped;
-        warn(
-            "{}: dropped {} triangle(s) with out-of-range indices or non-finite positions (their ids stay "
-            "reserved)",
-            warnAs, dropped);
-    }
-    uint64_t droppedLines = 0;
+    report(dropped, scene.droppedTriangles, "triangle");
+    dropped = 0;
     for (size_t k = 0; k + 1 < scene.lines.size(); k += 2) {
         if (usable(scene.lines[k]) && usable(scene.lines[k + 1])) continue;
         scene.lines[k] = scene.lines[k + 1] = kDroppedVertex;
-        ++droppedLines;
+        ++dropped;
     }
-    if (droppedLines > 0) {
-        scene.droppedLines += droppedLines;
-        warn(
-            "{}: dropped {} segment(s) with out-of-range indices or non-finite positions (their ids stay "
-            "reserved)",
-            warnAs, droppedLines);
-    }
-    uint64_t droppedPoints = 0;
+    report(dropped, scene.droppedLines, "segment");
+    dropped = 0;
     for (uint32_t& v : scene.points) {
         if (usable(v)) continue;
         v = kDroppedVertex;
-        ++droppedPoints;
+        ++dropped;
     }
-    if (droppedPoints > 0) {
-        scene.droppedPoints += droppedPoints;
-        warn(
-            "{}: dropped {} point(s) with out-of-range indices or non-finite positions (their ids stay "
-            "reserved)",
-            warnAs, droppedPoints);
-    }
+    report(dropped, scene.droppedPoints, "point");
 
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     auto include = [&](uint32_t i) {

@@ -32,9 +32,8 @@
 #include <cstring>
 #include <sstream>
 
-#include "scene/safe_file.h"
-
 #include "base/warnings.h"
+#include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/triangulate.h"
 

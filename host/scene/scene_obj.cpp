@@ -33,9 +33,8 @@
 #include <streambuf>
 #include <string_view>
 
-#include "scene/safe_file.h"
-
 #include "base/warnings.h"
+#include "scene/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 #include "scene/triangulate.h"

@@ -289,7 +289,6 @@ public:
 
 private:
     explicit Session(std::unique_ptr<Impl> impl);
-    Result<Frame> renderFrame(const Camera& camera, const Settings& settings, const RenderRequest& request);
     std::unique_ptr<Impl> impl_;
 };
 

@@ -489,6 +489,17 @@ def _resolution(resolution: Any) -> Tuple[int, int]:
     return int(height), int(width)
 
 
+def _triangles(tri: Any, vertices: int, what: str, vertices_text: str) -> np.ndarray:
+    """`tri` as an integer (T, 3) array naming vertices below `vertices`, or raster.Error (`vertices_text`
+    says what the vertices are, after the index named)."""
+    tri = np.asarray(tri)
+    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
+        raise Error(f"{what}: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
+    if tri.size and (tri.min() < 0 or tri.max() >= vertices):
+        raise Error(f"{what}: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())}{vertices_text}")
+    return tri
+
+
 def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
               msaa: int = 1) -> np.ndarray:
     """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
@@ -514,15 +525,10 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
         pos = pos[None]
     if pos.ndim != 3 or pos.shape[2] != 4:
         raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {tuple(pos.shape)}")
-    for b in range(pos.shape[0]):
-        if not np.isfinite(pos[b]).all():
-            raise Error(f"rasterize: pos[{b}] has non-finite values")
-    tri = np.asarray(tri)
-    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
-        raise Error(f"rasterize: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
-    if tri.size and (tri.min() < 0 or tri.max() >= pos.shape[1]):
-        raise Error(f"rasterize: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())} "
-                    f"of {pos.shape[1]}")
+    finite = np.isfinite(pos).all(axis=(1, 2))
+    if not finite.all():
+        raise Error(f"rasterize: pos[{int(np.argmin(finite))}] has non-finite values")
+    tri = _triangles(tri, pos.shape[1], "rasterize", f" of {pos.shape[1]}")
     height, width = _resolution(resolution)
     batch = pos.shape[0]
     try:
@@ -561,24 +567,20 @@ def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarr
     """
     attr = _real_array(attr, "interpolate: attr")
     rast = _real_array(rast, "interpolate: rast")
-    tri = np.asarray(tri)
     if rast.ndim != 4 or rast.shape[3] != 4:
         raise Error(f"interpolate: rast must have shape (B, H, W, 4), not {tuple(rast.shape)}")
     if attr.ndim not in (2, 3) or (attr.ndim == 3 and attr.shape[0] != rast.shape[0]):
         raise Error(f"interpolate: attr must have shape (V, C) or (B, V, C) with B = {rast.shape[0]}, "
                     f"not {tuple(attr.shape)}")
-    if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
-        raise Error(f"interpolate: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
     vertices = attr.shape[-2]
-    if tri.size and (tri.min() < 0 or tri.max() >= vertices):
-        raise Error(f"interpolate: tri indexes vertex {int(tri.min() if tri.min() < 0 else tri.max())}, "
-                    f"but attr has {vertices} rows")
+    tri = _triangles(tri, vertices, "interpolate", f", but attr has {vertices} rows")
+    # Each pixel's slot is 0 (empty) or a triangle id + 1 of tri: a whole number in 0..T.
     slots = rast[..., 3]
-    if not (np.isfinite(slots).all() and (slots == np.floor(slots)).all()) or (
-            slots.size and (slots.min() < 0 or slots.max() > tri.shape[0])):
-        bad = slots[~(np.isfinite(slots) & (slots == np.floor(slots)) & (slots >= 0) & (slots <= tri.shape[0]))]
-        raise Error(f"interpolate: rast[..., 3] holds {_shown(float(bad.flat[0]))}, not a triangle id + 1 "
-                    f"of the {tri.shape[0]} triangles in tri (or 0)")
+    with np.errstate(invalid="ignore"):
+        valid = np.isfinite(slots) & (slots == np.floor(slots)) & (slots >= 0) & (slots <= tri.shape[0])
+    if not valid.all():
+        raise Error(f"interpolate: rast[..., 3] holds {_shown(float(slots[~valid].flat[0]))}, not a triangle "
+                    f"id + 1 of the {tri.shape[0]} triangles in tri (or 0)")
     ids = slots.astype(np.int64) - 1
     covered = ids >= 0
     corners = tri[np.where(covered, ids, 0)]  # (B, H, W, 3)
