@@ -50,7 +50,8 @@ SR_NAMESPACE_BEGIN
 #define BUF_VISIBILITY \
     14  // uint64 per sample, sample s of pixel p at s * samplePlane + p: depth bits << 32 |
         // primitive id, ~0 = empty
-#define BUF_FRAMEBUFFER 15  // uint per output pixel: RGBA8, sRGB-encoded, resolved colour
+#define BUF_FRAMEBUFFER 15  // uint per output pixel: RGBA8, sRGB-encoded, resolved colour; then stage aovs's
+                            // arrays (shared/aovs.h)
 #define BUF_HIT_COUNT 16    // uint per sample: covering triangles (written only with DEBUG_COUNT_HITS)
 #define BUF_MATERIALS 17    // GpuMaterial per scene material (RasterParams.materialCount of them)
 #define BUF_TRI_MATERIALS \
@@ -191,6 +192,13 @@ SR_NAMESPACE_BEGIN
 // triangles, 5.6M groups.
 #define MAX_DISPATCH_GROUPS 16777216u
 #define EMPTY_ID 0xFFFFFFFFu
+
+// RasterParams.aovOutputs: what stage aovs writes to BUF_FRAMEBUFFER after the colour (shared/aovs.h)
+// besides each output pixel's id and depth.
+#define AOV_OUT_IDS_DEPTH 1u  // the ids and depths alone
+#define AOV_OUT_SURFACE 2u    // and the surface AOVs: barycentrics, texture coordinates, shading normal
+#define AOV_OUT_RAST 4u       // and rasterize's (u, v, z/w, id + 1), from the barycentrics
+#define AOV_SURFACE_PLANES 7  // the surface AOVs' planes: bary u, v; texture u, v; normal x, y, z
 
 #define TRI_FLAG_DOUBLE_SIDED 1u  // never culled by facing (glTF doubleSided materials)
 #define TRI_FLAG_ALPHA_MASK 2u    // material is alphaMode MASK: the visibility stages test its alpha
@@ -388,7 +396,7 @@ struct RasterParams {
     float aoInvFalloff;
     float aoInvWidth;
     float aoInvHeight;
-    uint aoPad0;
+    uint aovOutputs;  // AOV_OUT_* bits: what stage aovs writes after the colour (0: the stage does not run)
 };
 
 // A glTF metallic-roughness material as far as the pipeline uses it: base colour, alpha and emission.
@@ -476,6 +484,7 @@ SR_NAMESPACE_END
 #include "shared/tessellate.h"
 #include "shared/cluster.h"
 #include "shared/ao.h"
+#include "shared/aovs.h"
 
 #if defined(__cplusplus)
 #include "shared/stages.h"

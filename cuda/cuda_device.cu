@@ -85,12 +85,14 @@ public:
         return okStatus();
     }
 
-    Status download(uint32_t buffer, void* data, size_t bytes) override
+    Status download(uint32_t buffer, void* data, size_t bytes, size_t offset = 0) override
     {
-        if (buffer >= BUF_COUNT || bytes > bytes_[buffer])
-            return makeError(ExitCode::Runtime, "cuda: download of {} bytes from buffer {} ({} bytes)", bytes,
-                             buffer, buffer < BUF_COUNT ? bytes_[buffer] : 0);
-        if (bytes) CUDA_TRY(cudaMemcpy(data, ptr_[buffer], bytes, cudaMemcpyDeviceToHost));
+        if (buffer >= BUF_COUNT || offset > bytes_[buffer] || bytes > bytes_[buffer] - offset)
+            return makeError(ExitCode::Runtime, "cuda: download of {} bytes at {} from buffer {} ({} bytes)",
+                             bytes, offset, buffer, buffer < BUF_COUNT ? bytes_[buffer] : 0);
+        if (bytes)
+            CUDA_TRY(cudaMemcpy(data, static_cast<const char*>(ptr_[buffer]) + offset, bytes,
+                                cudaMemcpyDeviceToHost));
         return okStatus();
     }
 

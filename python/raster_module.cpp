@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -284,13 +285,15 @@ public:
     py::dict info() const { return deviceDict(device_->info()); }
 
     // Renders `scene`; with keep, the scene's session (its upload and buffers) stays for the next call.
+    // outputs: raster::Output bits, the images the frame fills.
     std::shared_ptr<FrameHolder> render(const std::shared_ptr<raster::Scene>& scene, const py::object& camera,
-                                        const py::dict& kwargs, bool surfaceAovs, bool keep)
+                                        const py::dict& kwargs, bool surfaceAovs, bool keep, uint32_t outputs)
     {
         const raster::Settings settings = makeSettings(camera, kwargs);
         const raster::Camera cam = makeCamera(camera);
         raster::RenderRequest request;
         request.surfaceAovs = surfaceAovs;
+        request.outputs = outputs;
         auto holder = std::make_shared<FrameHolder>();
         py::gil_scoped_release release;
         std::lock_guard<std::mutex> lock(mutex_);
@@ -303,6 +306,35 @@ public:
         if (session == nullptr) session = &add(scene);
         holder->frame = take(session->render(cam, settings, request));
         return holder;
+    }
+
+    // rasterize's batch: view b of `scene` has the positions pos[b] (B x V x 4, the scene's vertices), and
+    // its (u, v, z/w, id + 1) go straight from the device into out[b] (B x H x W x 4, the frame's size).
+    // The scene's positions are replaced in place from view to view (`fresh`: it was made from pos[0]),
+    // in the renderer's one session of it, so the batch uploads positions alone.
+    void rasterize(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
+                   py::array_t<float, py::array::c_style>& out, const py::object& camera,
+                   const py::dict& kwargs, bool fresh)
+    {
+        const raster::Settings settings = makeSettings(camera, kwargs);
+        const raster::Camera cam = makeCamera(camera);
+        const py::ssize_t batch = pos.shape(0), vertices = pos.shape(1);
+        const size_t viewFloats = size_t(out.shape(1)) * size_t(out.shape(2)) * 4;
+        const float* positions = pos.data();
+        float* target = out.mutable_data();
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(mutex_);
+        raster::Session* session = cached(scene);
+        if (session == nullptr) session = &add(scene);
+        for (py::ssize_t b = 0; b < batch; ++b) {
+            if (b > 0 || !fresh)
+                check(scene->updatePositions(positions + size_t(b) * size_t(vertices) * 4, size_t(vertices),
+                                             4));
+            raster::RenderRequest request;
+            request.outputs = 0;
+            request.rast = target + size_t(b) * viewFloats;
+            take(session->render(cam, settings, request));
+        }
     }
 
     // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the
@@ -383,6 +415,43 @@ py::list devices()
 
 }  // namespace
 
+// nvdiffrast's interpolate: out[b, y, x] = u a0 + v a1 + (1 - u - v) a2 of the vertices of triangle
+// rast[b, y, x, 3] - 1 of `tri`, 0 where that is 0 (empty); attr is (1 or B, V, C). Returns -1, or the
+// flat pixel index of the first rast[..., 3] that is not a whole number in 0..T (nothing is written
+// after it; the caller raises the error with the value).
+py::ssize_t interpolateInto(const FloatArray& attr, const FloatArray& rast, const IndexArray& tri,
+                            py::array_t<float, py::array::c_style>& out)
+{
+    const auto attrBatch = size_t(attr.shape(0)), vertices = size_t(attr.shape(1)),
+               channels = size_t(attr.shape(2));
+    const auto pixelsPerView = size_t(rast.shape(1)) * size_t(rast.shape(2));
+    const size_t pixels = size_t(rast.shape(0)) * pixelsPerView;
+    const auto triangles = size_t(tri.shape(0));
+    const float* a = attr.data();
+    const float* r = rast.data();
+    const uint32_t* t = tri.data();
+    float* o = out.mutable_data();
+    py::gil_scoped_release release;
+    for (size_t p = 0; p < pixels; ++p) {
+        const float slot = r[4 * p + 3];
+        float* dst = o + p * channels;
+        if (!(slot >= 0.0f && slot <= float(triangles) && slot == std::floor(slot))) return py::ssize_t(p);
+        if (slot == 0.0f) {
+            std::fill(dst, dst + channels, 0.0f);
+            continue;
+        }
+        const size_t id = size_t(slot) - 1;
+        const float u = r[4 * p], v = r[4 * p + 1];
+        const float w = 1.0f - u - v;
+        const float* view = a + (attrBatch == 1 ? 0 : p / pixelsPerView) * vertices * channels;
+        const float* a0 = view + size_t(t[3 * id]) * channels;
+        const float* a1 = view + size_t(t[3 * id + 1]) * channels;
+        const float* a2 = view + size_t(t[3 * id + 2]) * channels;
+        for (size_t c = 0; c < channels; ++c) dst[c] = u * a0[c] + v * a1[c] + w * a2[c];
+    }
+    return -1;
+}
+
 PYBIND11_MODULE(_raster, m)
 {
     m.doc() = "raster's C++ API (include/raster/raster.h) for the Python package raster; use raster itself.";
@@ -390,6 +459,7 @@ PYBIND11_MODULE(_raster, m)
 
     m.def("version", &raster::version);
     m.def("devices", &devices);
+    m.def("interpolate", &interpolateInto, py::arg("attr"), py::arg("rast"), py::arg("tri"), py::arg("out"));
     m.def("settings_schema", &raster::Settings::schemaJson);
     m.def("settings_names", &raster::Settings::names);
 
@@ -408,6 +478,28 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("line_count", &raster::Scene::lineCount)
         .def_property_readonly("point_count", &raster::Scene::pointCount)
         .def_property_readonly("warnings", &raster::Scene::warnings)
+        .def("update_positions",
+             [](raster::Scene& scene, const FloatArray& positions) {
+                 if (positions.ndim() != 2)
+                     throw RasterError("update_positions: positions must have shape (N, 3) or (N, 4), not " +
+                                       shapeText(positions));
+                 const float* data = positions.data();
+                 const auto rows = size_t(positions.shape(0));
+                 const auto components = uint32_t(positions.shape(1));
+                 raster::Status status;
+                 {
+                     py::gil_scoped_release release;
+                     status = scene.updatePositions(data, rows, components);
+                 }
+                 // The library names its C++ function; the Python caller called update_positions.
+                 const std::string cpp = "updatePositions";
+                 if (!status) {
+                     std::string message = status.error().message;
+                     if (message.compare(0, cpp.size(), cpp) == 0)
+                         message = "update_positions" + message.substr(cpp.size());
+                     throw RasterError(message);
+                 }
+             })
         .def_property_readonly("bounds_min", &raster::Scene::boundsMin)
         .def_property_readonly("bounds_max", &raster::Scene::boundsMax);
 
@@ -469,7 +561,9 @@ PYBIND11_MODULE(_raster, m)
         .def(py::init<const std::string&, int>(), py::arg("backend"), py::arg("device"))
         .def_property_readonly("device", &Renderer::info)
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
-             py::arg("surface_aovs"), py::arg("keep"))
+             py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"))
+        .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("pos"), py::arg("out"),
+             py::arg("camera"), py::arg("settings"), py::arg("fresh"))
         .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("camera"),
              py::arg("settings"), py::arg("count"))
         .def("release", &Renderer::release)

@@ -33,9 +33,9 @@ public:
         ++uploads;
         return inner_.upload(buffer, data, bytes);
     }
-    Status download(uint32_t buffer, void* data, size_t bytes) override
+    Status download(uint32_t buffer, void* data, size_t bytes, size_t offset) override
     {
-        return inner_.download(buffer, data, bytes);
+        return inner_.download(buffer, data, bytes, offset);
     }
     Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                std::vector<double>& gpuMs) override

@@ -219,7 +219,7 @@ public:
     Status resize(uint32_t, size_t) override { return okStatus(); }
     size_t size(uint32_t) const override { return 0; }
     Status upload(uint32_t, const void*, size_t) override { return okStatus(); }
-    Status download(uint32_t, void*, size_t) override { return okStatus(); }
+    Status download(uint32_t, void*, size_t, size_t) override { return okStatus(); }
     Status run(const RasterParams&, const std::vector<Dispatch>&, std::vector<double>&) override
     {
         return okStatus();

@@ -61,6 +61,8 @@
     X(AO_DENOISE,       ao_denoise,       aoDenoise,      GROUP_SIZE,            PLAIN)                   \
     /* per pixel: resolve the visibility key and shade */                                                 \
     X(SHADE,            shade,            shade,          GROUP_SIZE,            SHADE)                   \
+    /* per output pixel: its AOV sample's id and depth, and its surface or rasterize's output */       \
+    X(AOVS,             aovs,             aovs,           GROUP_SIZE,            PLAIN)                   \
     /* Tessellation, before the others (a frame of its own: tess_count and the scans run first, the */    \
     /* host sizes the generated buffers from their totals, then tess_emit runs at the head of the */      \
     /* frame). */                                                                                         \

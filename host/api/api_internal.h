@@ -22,6 +22,15 @@ struct raster::Device::Impl {
 struct raster::Scene::Impl {
     sr::Scene scene;
     std::vector<std::string> warnings;  // of loading or making it
+    // Scene::fromArrays's record of the arrays, for updatePositions: the arrays' vertex each scene vertex
+    // copies (flat normals give every triangle corners of its own), their count and width, whether
+    // the normals are the triangles' own; positionsVersion counts updates, for the sessions.
+    bool fromArrays = false;
+    std::vector<uint32_t> sourceVertex;
+    size_t sourceVertexCount = 0;
+    uint32_t positionComponents = 3;
+    bool flatNormals = false;
+    uint64_t positionsVersion = 0;
 };
 
 struct raster::Settings::Impl {
@@ -38,6 +47,7 @@ struct raster::Session::Impl {
     sr::PrimitiveMode drawnMode = sr::PrimitiveMode::Triangles;
     bool drawnWireframe = false;
     std::optional<sr::RenderSession> session;  // compute backends: the uploaded scene and its buffers
+    uint64_t positionsVersion = 0;             // Scene::Impl::positionsVersion the session drew last
 };
 
 namespace raster {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -235,7 +236,9 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     sr::Scene s;
     const uint32_t flags = m.doubleSided ? TRI_FLAG_DOUBLE_SIDED : 0u;
     // Vertex v of the arrays as scene vertex, with normal n (the arrays' own when given).
+    std::vector<uint32_t> sourceVertex;  // per scene vertex, the arrays' vertex it copies
     auto pushVertex = [&](size_t v, glm::vec3 n) {
+        sourceVertex.push_back(uint32_t(v));
         s.positions.push_back(positionAt(m.positions, m.positionComponents, v));
         s.normals.emplace_back(m.normals ? vec3At(m.normals, v) : n, 0.0f);
         if (m.colors)
@@ -297,7 +300,45 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     auto impl = std::make_unique<Impl>();
     impl->scene = std::move(s);
     impl->warnings = capture.take();
+    impl->fromArrays = true;
+    impl->sourceVertex = std::move(sourceVertex);
+    impl->sourceVertexCount = m.vertexCount;
+    impl->positionComponents = m.positionComponents;
+    impl->flatNormals = m.normals == nullptr;
     return Scene(std::move(impl));
+}
+
+Status Scene::updatePositions(const float* positions, size_t vertexCount, uint32_t components)
+{
+    Impl& self = *impl_;
+    if (!self.fromArrays)
+        return usage("updatePositions: only a scene made from arrays can move its vertices");
+    if (vertexCount != self.sourceVertexCount || components != self.positionComponents)
+        return usage(
+            fmt::format("updatePositions: {} positions of {} components for a scene made from {} of {}",
+                        vertexCount, components, self.sourceVertexCount, self.positionComponents));
+    if (vertexCount > 0 && positions == nullptr) return usage("updatePositions: no positions");
+    for (size_t i = 0; i < vertexCount * components; ++i)
+        if (!std::isfinite(positions[i]))
+            return usage(fmt::format("updatePositions: the position of vertex {} is not finite ({})",
+                                     i / components, positions[i]));
+    sr::Scene& s = self.scene;
+    for (size_t v = 0; v < self.sourceVertex.size(); ++v)
+        s.positions[v] = positionAt(positions, components, self.sourceVertex[v]);
+    if (self.flatNormals) {
+        // Each triangle's corners are its own vertices (a dropped one's all one anchor vertex, which keeps
+        // the normal of the primitive it belongs to).
+        for (size_t t = 0; t < s.triangleCount(); ++t) {
+            const uint32_t* c = &s.indices[3 * t];
+            if (c[0] == c[1] && c[1] == c[2]) continue;
+            const glm::vec3 n = faceNormal(euclidean(s.positions[c[0]]), euclidean(s.positions[c[1]]),
+                                           euclidean(s.positions[c[2]]));
+            for (int k = 0; k < 3; ++k) s.normals[c[k]] = glm::vec4(n, 0.0f);
+        }
+    }
+    sr::updateBounds(s);
+    ++self.positionsVersion;
+    return Status();
 }
 
 // ---- settings and cameras -----------------------------------------------------------------------
@@ -466,15 +507,27 @@ Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::Render
     return sr::withModel(m, *model, sr::boundingSphere(scene).center);
 }
 
+bool littleEndian()
+{
+    const uint32_t word = 1;
+    uint8_t first = 0;
+    std::memcpy(&first, &word, 1);
+    return first == 1;
+}
+
 Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,
               const std::string& sceneName, const sr::Scene& scene, const RenderRequest& request)
 {
     Frame f;
     f.width = out.color.width;
     f.height = out.color.height;
+    // Each pixel's word holds R in its low byte: the bytes of a little-endian word in memory order.
     f.color.resize(out.color.pixels.size() * 4);
-    for (size_t i = 0; i < out.color.pixels.size(); ++i)
-        for (int c = 0; c < 4; ++c) f.color[4 * i + c] = uint8_t(out.color.pixels[i] >> (8 * c));
+    if (littleEndian())
+        std::memcpy(f.color.data(), out.color.pixels.data(), f.color.size());
+    else
+        for (size_t i = 0; i < out.color.pixels.size(); ++i)
+            for (int c = 0; c < 4; ++c) f.color[4 * i + c] = uint8_t(out.color.pixels[i] >> (8 * c));
     if (request.surfaceAovs && !out.aov.hasBary()) sr::fillSurfaceAovs(scene, out.params, out.aov);
     f.id = std::move(out.aov.id);
     f.depth = std::move(out.aov.depth);
@@ -536,7 +589,19 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     Impl& self = *impl_;
     const sr::RenderOptions& options = settings.impl().options;
     const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
-    if (options.primitiveMode != self.drawnMode || options.wireframe != self.drawnWireframe) {
+    if (request.rast && !self.device->compute)
+        return usage(
+            "rasterize's output comes from the compute backends (cuda, vulkan), not vulkan-graphics");
+    // Positions moved in place (Scene::updatePositions): the session uploads them again; a derived scene
+    // (lines, points, the overlay) is derived again.
+    const bool moved = self.scene->positionsVersion != self.positionsVersion;
+    self.positionsVersion = self.scene->positionsVersion;
+    if (moved && plain && self.session) {
+        auto status = self.session->positionsChanged();
+        if (!status) return toPublic(status.error());
+    }
+    if (options.primitiveMode != self.drawnMode || options.wireframe != self.drawnWireframe ||
+        (moved && !plain)) {
         // Lines and points modes and the wireframe overlay draw a scene derived from the loaded one; the
         // device's buffers get that scene (or the loaded one again) in a session of their own.
         self.session.reset();
@@ -555,9 +620,21 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     if (!matrices) return matrices.error();
     sr::RenderSettings s = options.resolved();
     s.surfaceAovs = request.surfaceAovs;
+    s.outputs = ((request.outputs & OutputColor) ? sr::OUTPUT_COLOR : 0u) |
+                ((request.outputs & OutputId) ? sr::OUTPUT_ID : 0u) |
+                ((request.outputs & OutputDepth) ? sr::OUTPUT_DEPTH : 0u) |
+                (request.rast ? sr::OUTPUT_RAST : 0u);
     auto out = self.session ? self.session->render(*matrices, s)
                             : sr::renderGraphics(scene, *matrices, s, self.device->info.index);
     if (!out) return toPublic(out.error());
+    if (request.rast) {
+        auto read = self.session->readRast(request.rast, size_t(4) * s.width * s.height);
+        if (!read) return toPublic(read.error());
+    }
+    // The graphics reference fills every image: the ones not asked for are dropped, as the others skip them.
+    if (!(request.outputs & OutputColor)) out->color.pixels.clear();
+    if (!(request.outputs & OutputId)) out->aov.id.clear();
+    if (!(request.outputs & OutputDepth)) out->aov.depth.clear();
     auto frame = toFrame(*out, options, self.device->info, "api", scene, request);
     frame.warnings = capture.take();
     return frame;

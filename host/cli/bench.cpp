@@ -358,6 +358,9 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 r.textureFilter = s.textureFilter;
                                 r.clusters = clusters;
                                 r.ao = aoMode;
+                                // The colour alone comes back, as before stage aovs: no ids or depths
+                                // unpacked for the host in the timed frame.
+                                r.outputs = OUTPUT_COLOR;
                                 Result<RenderOutput> out = makeError(ExitCode::Runtime, "not rendered");
                                 if (lodError > 0.0f) {
                                     r.lod = LOD_ON;

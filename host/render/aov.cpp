@@ -7,22 +7,6 @@
 #include "render/materials.h"
 
 namespace sr {
-namespace {
-
-// The normal shadePixel (shade.h) lights with: the interpolated vertex normal, or the face normal where
-// that is zero, turned to the viewer's side of the face. Spelled out here because shadePixel returns a
-// colour, not the normal; the steps and their order are the same so the bits are too.
-vec3 shadingNormal(const SurfacePoint& s)
-{
-    vec3 v = normalize(vec3(0.0f) - s.viewPos);
-    vec3 fn = dot(s.faceNormal, s.faceNormal) > 0.0f ? normalize(s.faceNormal) : vec3(0.0f, 0.0f, 1.0f);
-    if (dot(fn, v) < 0.0f) fn = vec3(0.0f) - fn;
-    vec3 n = dot(s.viewNormal, s.viewNormal) > 0.0f ? normalize(s.viewNormal) : fn;
-    if (dot(n, fn) < 0.0f) n = vec3(0.0f) - n;
-    return n;
-}
-
-}  // namespace
 
 void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& aov)
 {
@@ -50,13 +34,10 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
         const uint32_t i0 = scene.indices[3 * size_t(id)];
         const uint32_t i1 = scene.indices[3 * size_t(id) + 1];
         const uint32_t i2 = scene.indices[3 * size_t(id) + 2];
-        const int px = int(i % aov.width), py = int(i / aov.width);
-        const int half = int(params.ssaa / 2u);
-        const ivec2 sample = samplePosition(params.sampleCount, 0u, px * int(params.ssaa) + half,
-                                            py * int(params.ssaa) + half);
-        const SurfacePoint s = surfaceAtNdc(output, subpixelNdc(sample, params.width, params.height), false,
-                                            scene.positions[i0], scene.positions[i1], scene.positions[i2],
-                                            scene.normals[i0], scene.normals[i1], scene.normals[i2]);
+        const auto px = uint32_t(i % aov.width), py = uint32_t(i / aov.width);
+        const SurfacePoint s = surfaceAtNdc(output, aovSampleNdc(params, px, py), false, scene.positions[i0],
+                                            scene.positions[i1], scene.positions[i2], scene.normals[i0],
+                                            scene.normals[i1], scene.normals[i2]);
         aov.baryU[i] = s.bary.y;
         aov.baryV[i] = s.bary.z;
 
@@ -72,7 +53,7 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
             }
         }
 
-        const vec3 n = shadingNormal(s);
+        const vec3 n = aovShadingNormal(s);
         aov.normalX[i] = n.x;
         aov.normalY[i] = n.y;
         aov.normalZ[i] = n.z;

@@ -52,7 +52,8 @@ public:
     virtual Status resize(uint32_t buffer, size_t bytes) = 0;
     virtual size_t size(uint32_t buffer) const = 0;
     virtual Status upload(uint32_t buffer, const void* data, size_t bytes) = 0;
-    virtual Status download(uint32_t buffer, void* data, size_t bytes) = 0;
+    // Copies `bytes` from `offset` bytes into `buffer` to `data`.
+    virtual Status download(uint32_t buffer, void* data, size_t bytes, size_t offset = 0) = 0;
 
     // Runs the dispatches in order with a full memory barrier between each, with `params` visible to
     // every stage, waits for completion, and stores each dispatch's GPU time in ms (same order).

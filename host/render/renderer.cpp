@@ -111,6 +111,11 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         if (p.aoPlane == AO_PLANE_DENOISED) ao.push_back({STAGE_AO_DENOISE, groups});
         dispatches.insert(dispatches.end() - 1, ao.begin(), ao.end());
     }
+    // A frame whose colour nobody reads has no shade; one whose ids nobody reads has no aovs.
+    if (!work.shade)
+        dispatches.erase(std::find_if(dispatches.begin(), dispatches.end(),
+                                      [](const Dispatch& d) { return d.stage == STAGE_SHADE; }));
+    if (p.aovOutputs != 0u) dispatches.push_back({STAGE_AOVS, groupsFor(outputPixels, GROUP_SIZE)});
     for (Dispatch& d : dispatches) {
         d.alphaTest = work.alphaTest &&
                       (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES);
@@ -132,30 +137,18 @@ bool countsHits(const RenderSettings& s)
 
 // The id and depth AOVs of every output pixel from the downloaded visibility keys (the first sample
 // plane at least, every plane with aovSamples), and with aovSamples every sample's (SampleAovs).
-void visibilityAovs(const std::vector<uint64_t>& visibility, const RenderSettings& settings,
-                    const RasterParams& params, RenderOutput& out)
+// Every sample's id and depth (RenderSettings::aovSamples) from their visibility keys.
+void sampleAovs(const std::vector<uint64_t>& visibility, const RenderSettings& settings,
+                const RasterParams& params, SampleAovs& all)
 {
-    const uint64_t pixels = uint64_t(settings.width) * settings.height;
-    out.aov.id.resize(pixels);
-    out.aov.depth.resize(pixels);
-    for (uint32_t y = 0; y < settings.height; ++y) {
-        for (uint32_t x = 0; x < settings.width; ++x) {
-            uint64_t key = visibility[aovSampleIndex(x, y, params.width, settings.ssaa)];
-            out.aov.id[uint64_t(y) * settings.width + x] = visibilityId(key);
-            out.aov.depth[uint64_t(y) * settings.width + x] = visibilityDepth(key);
-        }
-    }
-    if (settings.aovSamples) {
-        SampleAovs& all = out.samples;
-        all.rasterWidth = params.width;
-        all.rasterHeight = params.height;
-        all.samples = settings.msaa;
-        all.id.resize(visibility.size());
-        all.depth.resize(visibility.size());
-        for (uint64_t i = 0; i < visibility.size(); ++i) {
-            all.id[i] = visibilityId(visibility[i]);
-            all.depth[i] = visibilityDepth(visibility[i]);
-        }
+    all.rasterWidth = params.width;
+    all.rasterHeight = params.height;
+    all.samples = settings.msaa;
+    all.id.resize(visibility.size());
+    all.depth.resize(visibility.size());
+    for (uint64_t i = 0; i < visibility.size(); ++i) {
+        all.id[i] = visibilityId(visibility[i]);
+        all.depth[i] = visibilityDepth(visibility[i]);
     }
 }
 
@@ -246,7 +239,17 @@ RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const
         p.aoInvWidth = recipDet(float(p.width));
         p.aoInvHeight = recipDet(float(p.height));
     }
+    p.aovOutputs = aovOutputs(s);
     return p;
+}
+
+uint32_t aovOutputs(const RenderSettings& s)
+{
+    if (s.download != ImageDownload::All) return 0u;
+    uint32_t bits = (s.outputs & (OUTPUT_ID | OUTPUT_DEPTH)) != 0u ? AOV_OUT_IDS_DEPTH : 0u;
+    if (s.surfaceAovs) bits |= AOV_OUT_IDS_DEPTH | AOV_OUT_SURFACE;
+    if ((s.outputs & OUTPUT_RAST) != 0u) bits |= AOV_OUT_IDS_DEPTH | AOV_OUT_RAST;
+    return bits;
 }
 
 double aoStagesMs(const std::vector<StageTiming>& stages)
@@ -269,20 +272,6 @@ double aoWorldRadius(const Scene& scene, const RenderSettings& s)
 double aoViewScale(const glm::mat4& viewFromWorld)
 {
     return std::cbrt(std::abs(glm::determinant(glm::dmat3(glm::dmat4(viewFromWorld)))));
-}
-
-RasterParams outputParams(const RasterParams& params)
-{
-    RasterParams p = params;
-    p.width /= params.ssaa;
-    p.height /= params.ssaa;
-    p.ssaa = 1;
-    p.samplePlane = p.width * p.height;
-    // Every sample of the output pixel: more than one means its centre need not be covered by the
-    // triangle a sample shows, and surfaceAt extrapolates the triangle's plane there.
-    p.sampleCount = params.sampleCount * params.ssaa * params.ssaa;
-    p.sampleBounds = 0u;
-    return p;
 }
 
 double median(std::vector<double> values)
@@ -318,6 +307,11 @@ Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
         return makeError(ExitCode::Usage,
                          "--lod on draws triangles; it does not combine with --primitive-mode "
                          "lines or points or --wireframe");
+    // The device's triangles are then generated or simplified ones: the ids rasterize's output carries
+    // would not be the scene's.
+    if ((settings.outputs & OUTPUT_RAST) != 0u && (settings.tessellate != TESS_OFF || settings.lod == LOD_ON))
+        return makeError(ExitCode::Usage,
+                         "rasterize's output does not combine with --tessellate or --lod on");
     return checkSceneInputs(scene);
 }
 
@@ -481,6 +475,23 @@ Status RenderSession::upload()
     return okStatus();
 }
 
+Status RenderSession::positionsChanged()
+{
+    clustersBuilt_ = clustersUploaded_ = false;
+    clusterSet_ = ClusterSet();
+    clusterCount_ = 0;
+    clusterTriangles_ = 0.0;
+    lod_.reset();
+    aoBvh_.reset();
+    tessPrepared_ = false;
+    // Buffers another session holds now are uploaded whole before this one's next frame anyway.
+    if (!uploaded_ || device_->resident() != id_) return okStatus();
+    // Same sizes: copied over the old ones, with no reallocation (a CUDA resize is a free and a malloc).
+    const size_t bytes = scene_->positions.size() * sizeof(glm::vec4);
+    SR_TRY(device_->upload(BUF_POSITIONS, scene_->positions.data(), bytes));
+    return device_->upload(BUF_NORMALS, scene_->normals.data(), bytes);
+}
+
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,
                                  const RenderSettings& settings)
 {
@@ -622,7 +633,7 @@ Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const R
     timings(f);
     statistics(f);
     SR_TRY(download(settings, f));
-    if (settings.download == ImageDownload::All) SR_TRY(remap(settings, f));
+    if (settings.download == ImageDownload::All && f.tessellating) SR_TRY(remapTessellatedIds(f));
     return std::move(f.out);
 }
 
@@ -653,7 +664,10 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
 
     // One key per sample: memory grows with the sample count asked for, and 1x has no sample buffers.
     SR_TRY(ensureSize(BUF_VISIBILITY, f.samples * sizeof(uint64_t)));
-    SR_TRY(ensureSize(BUF_FRAMEBUFFER, f.pixels * sizeof(uint32_t)));
+    // The colours, then stage aovs's arrays, only those the host asked for.
+    aovPixels_ = f.pixels;
+    aovOutputs_ = aovOutputs(settings);
+    SR_TRY(ensureSize(BUF_FRAMEBUFFER, uint64_t(aovsLayout(uint32_t(f.pixels), aovOutputs_).words) * 4));
     // The debug counter costs memory only when it is asked for.
     SR_TRY(ensureSize(BUF_HIT_COUNT, countsHits(settings) ? f.samples * sizeof(uint32_t) : 16));
     SR_TRY(ensureSize(BUF_TILE_BINS, f.tiles * sizeof(uint32_t)));
@@ -743,6 +757,7 @@ Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& s
     f.work.binBig = f.work.countSplit = !settings.firstFrameSkipsBinning;
     f.work.rasterMethod = settings.rasterMethod;
     f.work.alphaTest = alphaTest_;
+    f.work.shade = settings.download != ImageDownload::All || (settings.outputs & OUTPUT_COLOR) != 0u;
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
         f.params = frameParams(*scene_, camera, settings, capacities_, f.work.groups);
         setClusterParams(f.params, f.clusters, settings.rasterMethod);
@@ -928,8 +943,10 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;
     if (settings.download == ImageDownload::None) return okStatus();
-    out.color.pixels.resize(f.pixels);
-    SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), f.pixels * sizeof(uint32_t)));
+    if (settings.download == ImageDownload::Colour || (settings.outputs & OUTPUT_COLOR) != 0u) {
+        out.color.pixels.resize(f.pixels);
+        SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), f.pixels * sizeof(uint32_t)));
+    }
     if (settings.download == ImageDownload::Colour) return okStatus();
     if (countsHits(settings)) {
         out.hitCount.resize(f.samples);
@@ -944,32 +961,49 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
         for (float& v : planes) v = aoShaded(v);
         out.aov.ao = resolveAo(planes, settings.width, settings.height, settings.ssaa);
     }
-    // The AOVs read sample 0 of the raster grid, the first plane; every plane only when asked for.
-    std::vector<uint64_t> visibility(settings.aovSamples ? f.samples : f.rasterPixels);
-    SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
-    visibilityAovs(visibility, settings, f.params, out);
+    // Every sample's key only when asked for; the pixels' AOVs come from stage aovs, already unpacked.
+    if (settings.aovSamples) {
+        std::vector<uint64_t> visibility(f.samples);
+        SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
+        sampleAovs(visibility, settings, f.params, out.samples);
+    }
+    const AovsLayout l = aovsLayout(uint32_t(f.pixels), aovOutputs_);
+    auto plane = [&](auto& values, uint32_t word) {
+        values.resize(f.pixels);
+        return device.download(BUF_FRAMEBUFFER, values.data(), f.pixels * 4, uint64_t(word) * 4);
+    };
+    if ((settings.outputs & OUTPUT_ID) != 0u) SR_TRY(plane(out.aov.id, l.ids));
+    if ((settings.outputs & OUTPUT_DEPTH) != 0u) SR_TRY(plane(out.aov.depth, l.depths));
+    if (settings.surfaceAovs) {
+        uint32_t word = l.surface;
+        for (std::vector<float>* p : {&out.aov.baryU, &out.aov.baryV, &out.aov.uvU, &out.aov.uvV,
+                                      &out.aov.normalX, &out.aov.normalY, &out.aov.normalZ}) {
+            SR_TRY(plane(*p, word));
+            word += uint32_t(f.pixels);
+        }
+    }
     return okStatus();
 }
 
-// The surface AOVs when asked for; with tessellation, the ids of generated triangles mapped back to the
-// scene's triangles.
-Status RenderSession::remap(const RenderSettings& settings, FrameState& f)
+Status RenderSession::readRast(float* destination, size_t floats)
 {
-    const Scene& scene = *scene_;
-    RenderOutput& out = f.out;
-    if (f.tessellating) {
-        // Generated triangles map back to the scene's (their surfaces come from the host's copy of the
-        // generated mesh, bit for bit the device's).
-        std::vector<uint32_t> sourceIds(f.tessTotals.y);
-        SR_TRY(device_->download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
-        if (settings.surfaceAovs)
-            fillSurfaceAovs(tessellateOnHost(scene, tessSources_, f.params).scene, out.params, out.aov);
-        const auto sceneTriangles = uint32_t(scene.triangleCount());
-        mapToSourceIds(out.aov.id, sourceIds, sceneTriangles);
-        mapToSourceIds(out.samples.id, sourceIds, sceneTriangles);
-        return okStatus();
-    }
-    if (settings.surfaceAovs) fillSurfaceAovs(scene, out.params, out.aov);
+    if ((aovOutputs_ & AOV_OUT_RAST) == 0u || floats != 4 * aovPixels_ || device_->resident() != id_)
+        return makeError(ExitCode::Usage,
+                         "no rasterize output of {} floats to read: the session's last frame "
+                         "was not drawn with it, or another session drew since",
+                         floats);
+    const AovsLayout l = aovsLayout(uint32_t(aovPixels_), aovOutputs_);
+    return device_->download(BUF_FRAMEBUFFER, destination, floats * sizeof(float), uint64_t(l.rast) * 4);
+}
+
+// With tessellation, the ids of generated triangles mapped back to the scene's triangles.
+Status RenderSession::remapTessellatedIds(FrameState& f)
+{
+    std::vector<uint32_t> sourceIds(f.tessTotals.y);
+    SR_TRY(device_->download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
+    const auto sceneTriangles = uint32_t(scene_->triangleCount());
+    mapToSourceIds(f.out.aov.id, sourceIds, sceneTriangles);
+    mapToSourceIds(f.out.samples.id, sourceIds, sceneTriangles);
     return okStatus();
 }
 

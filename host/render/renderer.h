@@ -50,6 +50,7 @@ struct FrameWork {
     bool countSplit = true;  // bin_count
     bool alphaTest = false;  // setup, clusters and raster_tiles with the alpha test: some triangle is MASK
     uint32_t rasterMethod = RASTER_FIXED8;  // RenderSettings::rasterMethod, for every dispatch
+    bool shade = true;  // stage shade: not for a frame whose colour nobody reads (ids, depth, rasterize's)
 };
 
 struct StageTiming {
@@ -151,6 +152,16 @@ public:
     // Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
     Result<RenderOutput> render(const CameraMatrices& camera, const RenderSettings& settings);
 
+    // The scene's vertex positions and normals changed in place (same vertices, same primitives): they are
+    // uploaded again, and what was derived from them (clusters, the level-of-detail hierarchy, the AO
+    // reference's BVH, tessellation's sources) is built again when a frame needs it. Nothing else is.
+    Status positionsChanged();
+
+    // Copies the last frame's rasterize output (a frame drawn with OUTPUT_RAST; 4 floats per output pixel)
+    // from the device into `destination`, which the caller sized (the Python module writes its batch's
+    // array in place, with no copy in between).
+    Status readRast(float* destination, size_t floats);
+
     ComputeDevice& device() const { return *device_; }
     const Scene& scene() const { return *scene_; }
 
@@ -195,7 +206,7 @@ private:
     void statistics(FrameState& f) const;
     Status shadeReferenceAo(const RenderSettings& settings, FrameState& f);
     Status download(const RenderSettings& settings, FrameState& f);
-    Status remap(const RenderSettings& settings, FrameState& f);
+    Status remapTessellatedIds(FrameState& f);
 
     ComputeDevice* device_;
     const Scene* scene_;
@@ -219,6 +230,9 @@ private:
     std::shared_ptr<LodState> lod_;               // renderLod's hierarchy, scene and session
     const LodHierarchy* lodHierarchy_ = nullptr;  // on LodState's session: its scene's clusters
     std::shared_ptr<AoBvh> aoBvh_;  // --ao reference's BVH of the scene, built by its first frame
+    // The last frame's output pixels and what stage aovs wrote after its colours (AOV_OUT_* bits).
+    uint64_t aovPixels_ = 0;
+    uint32_t aovOutputs_ = 0;
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline
@@ -263,11 +277,9 @@ double aoStagesMs(const std::vector<StageTiming>& stages);
 
 RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& settings,
                          const ListCapacities& capacities, const GroupCounts& groups);
-
-// `params` for evaluating surfaces at output pixel centres (the surface AOVs): width and height divided
-// by the SSAA factor, ssaa 1, and sampleCount the output pixel's samples (msaa x ssaa^2), so that a
-// surface whose triangle covers only some of them extrapolates to the centre. Not for rasterizing.
-RasterParams outputParams(const RasterParams& params);
+// What stage aovs writes for a frame with these settings (RasterParams.aovOutputs, AOV_OUT_* bits): the
+// ids and depths where the host asked for them, the surface AOVs, rasterize's output; 0: it does not run.
+uint32_t aovOutputs(const RenderSettings& settings);
 
 // Median of a non-empty list (mean of the two middle values for even sizes).
 double median(std::vector<double> values);

@@ -241,6 +241,14 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
     }
     report(dropped, scene.droppedPoints, "point");
 
+    updateBounds(scene);
+    return okStatus();
+}
+
+}  // namespace
+
+void updateBounds(Scene& scene)
+{
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     auto include = [&](uint32_t i) {
         glm::vec3 p(scene.positions[i]);
@@ -254,10 +262,7 @@ Status finalizeImpl(Scene& scene, const std::string& warnAs, const std::string& 
         if (i != kDroppedVertex) include(i);
     scene.boundsMin = lo;
     scene.boundsMax = hi;
-    return okStatus();
 }
-
-}  // namespace
 
 std::string flattenMessage(const std::string& text)
 {

@@ -160,6 +160,10 @@ constexpr uint32_t kDroppedVertex = 0xffffffffu;
 // drawable is left.
 Status finalizeScene(Scene& scene, const std::string& what);
 
+// The bounds of every drawn primitive's vertices (Scene::boundsMin, boundsMax), as finalizeScene leaves
+// them; for a scene whose positions changed in place.
+void updateBounds(Scene& scene);
+
 // finalizeScene for a scene read from `path`: warnings name the file and a failure reads
 // "cannot load '<path>': <reason>", like every other loader error.
 Status finalizeLoadedScene(Scene& scene, const std::string& path);

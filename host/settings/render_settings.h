@@ -33,6 +33,16 @@ constexpr uint32_t kAutoTessLevel = 0xffffffffu;
 // images stay on the device; statistics and timings are still filled).
 enum class ImageDownload { All, Colour, None };
 
+// RenderSettings::outputs: the images a frame downloaded with ImageDownload::All brings back.
+constexpr uint32_t OUTPUT_COLOR = 1;  // RenderOutput::color
+constexpr uint32_t OUTPUT_ID = 2;     // RenderOutput::aov.id
+constexpr uint32_t OUTPUT_DEPTH = 4;  // RenderOutput::aov.depth
+// nvdiffrast's rasterize output, (u, v, z/w, id + 1) per pixel (shared/aovs.h), computed on the device for
+// RenderSession::readRast, for a frame drawn with rasterize's camera (OpenGL's depth range mapped to
+// Vulkan's); not with tessellation or level of detail, whose ids are not the scene's triangles there.
+constexpr uint32_t OUTPUT_RAST = 8;
+constexpr uint32_t OUTPUT_IMAGES = OUTPUT_COLOR | OUTPUT_ID | OUTPUT_DEPTH;
+
 // --clusters (RenderSettings::clusters): whether a frame's triangles go through stage clusters
 // (common/shared/cluster.h) or setup. The image is the same either way; auto takes clusters where they pay
 // (RenderSession::sizeFrame).
@@ -101,6 +111,9 @@ struct RenderSettings {
     // What of the frame comes back to the host (ImageDownload): the viewer presenting from the device
     // needs nothing, through the host only the colour image.
     ImageDownload download = ImageDownload::All;
+    // With ImageDownload::All, which images (OUTPUT_* bits): only those are computed for the host and
+    // copied back (the AO, hit counts, every sample and the surface AOVs as their own settings ask).
+    uint32_t outputs = OUTPUT_IMAGES;
     // Tessellation (--tessellate, common/shared/tessellate.h): TESS_*. flat and pn split every edge into
     // pieces of at most tessEdgePx output pixels on screen, at most tessMaxLevel of them; centroid splits
     // each triangle at its centroid tessMaxLevel times. The id AOV names the scene's triangles.

@@ -901,11 +901,11 @@ Status VulkanContext::upload(VkBuffer dst, const void* data, VkDeviceSize bytes,
     return submitAndWait();
 }
 
-Status VulkanContext::download(VkBuffer src, void* data, VkDeviceSize bytes)
+Status VulkanContext::download(VkBuffer src, void* data, VkDeviceSize bytes, VkDeviceSize offset)
 {
     SR_TRY(ensureStaging(bytes));
     SR_TRY(beginCommands());
-    VkBufferCopy region{0, 0, bytes};
+    VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(commandBuffer_, src, staging_.buffer, 1, &region);
     memoryBarrier(commandBuffer_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);

@@ -204,7 +204,7 @@ public:
     Status upload(VkBuffer dst, const void* data, VkDeviceSize bytes, VkPipelineStageFlags readerStages,
                   VkAccessFlags readerAccess);
     // Copies the first `bytes` of `src` to host memory through the staging buffer.
-    Status download(VkBuffer src, void* data, VkDeviceSize bytes);
+    Status download(VkBuffer src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 
     // Descriptor set 0 as compute_glsl/buffers.glsl declares it (binding BUF_PARAMS a uniform
     // buffer, the others storage buffers; on a CPU device, texelViews(), also the VIEW_* uniform texel

@@ -178,9 +178,9 @@ public:
     {
         return checked([&] { return uploadBuffer(buffer, data, bytes); });
     }
-    Status download(uint32_t buffer, void* data, size_t bytes) override
+    Status download(uint32_t buffer, void* data, size_t bytes, size_t offset = 0) override
     {
-        return checked([&] { return downloadBuffer(buffer, data, bytes); });
+        return checked([&] { return downloadBuffer(buffer, data, bytes, offset); });
     }
     Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                std::vector<double>& gpuMs) override
@@ -234,7 +234,7 @@ private:
     Status checkTransfer(const char* what, uint32_t buffer, size_t bytes) const;
     Status resizeBuffer(uint32_t buffer, size_t bytes);
     Status uploadBuffer(uint32_t buffer, const void* data, size_t bytes);
-    Status downloadBuffer(uint32_t buffer, void* data, size_t bytes);
+    Status downloadBuffer(uint32_t buffer, void* data, size_t bytes, size_t offset);
     Status runDispatches(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                          std::vector<double>& gpuMs);
     // Records stage clear as buffer fills (CPU devices): what compute_glsl/clear.comp writes.
@@ -583,11 +583,13 @@ Status VulkanDevice::uploadBuffer(uint32_t buffer, const void* data, size_t byte
     return context_.upload(buffers_[buffer].buffer, data, bytes, kBufferUserStages, kBufferUserAccess);
 }
 
-Status VulkanDevice::downloadBuffer(uint32_t buffer, void* data, size_t bytes)
+Status VulkanDevice::downloadBuffer(uint32_t buffer, void* data, size_t bytes, size_t offset)
 {
-    SR_TRY(checkTransfer("download", buffer, bytes));
+    if (offset > SIZE_MAX - bytes)
+        return makeError(ExitCode::Runtime, "vulkan: download of {} bytes at offset {}", bytes, offset);
+    SR_TRY(checkTransfer("download", buffer, offset + bytes));
     if (bytes == 0) return okStatus();
-    return context_.download(buffers_[buffer].buffer, data, bytes);
+    return context_.download(buffers_[buffer].buffer, data, bytes, offset);
 }
 
 void VulkanDevice::fillForClear(VkCommandBuffer cmd, const RasterParams& params) const

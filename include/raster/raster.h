@@ -164,6 +164,14 @@ public:
     // given); a texture within the size limit.
     static Result<Scene> fromArrays(const MeshArrays& mesh);
 
+    // Replaces the vertex positions of a scene made by fromArrays, in place: `vertexCount` vertices of
+    // `components` (3 or 4) floats, as many and as wide as it was made with; every triangle, segment and
+    // point keeps its vertices (primitives dropped when the scene was made stay dropped). Flat normals
+    // follow the new positions. Sessions of the scene upload the positions alone before their next frame
+    // (no scene rebuild; clusters, level of detail and the AO reference's BVH are built again when a frame
+    // uses them). A non-finite position is an error, and the scene is then unchanged.
+    Status updatePositions(const float* positions, size_t vertexCount, uint32_t components);
+
     // What making the scene dropped or drew otherwise than the input asked, one line each (the lines
     // `raster render` prints after "warning: ").
     const std::vector<std::string>& warnings() const;
@@ -268,8 +276,24 @@ struct Frame {
     std::vector<std::string> warnings;  // what rendering drew otherwise than asked, one line each
 };
 
+// Which of a frame's images a render fills (RenderRequest::outputs): the others are left empty, and are
+// neither unpacked on the device nor copied back.
+enum Output : uint32_t {
+    OutputColor = 1,  // Frame::color
+    OutputId = 2,     // Frame::id
+    OutputDepth = 4,  // Frame::depth
+    OutputImages = OutputColor | OutputId | OutputDepth,
+};
+
 struct RenderRequest {
-    bool surfaceAovs = false;  // fill Frame::bary, uv, normal (a host pass over the frame)
+    bool surfaceAovs = false;         // fill Frame::bary, uv, normal (computed on the device)
+    uint32_t outputs = OutputImages;  // Output bits: which of Frame::color, id, depth to fill
+    // nvdiffrast's rasterize output of the frame, written here when not null: width x height x 4 floats
+    // (u, v, z/w, id + 1) in host memory the caller owns, computed on the device and copied straight in
+    // (u, v: the perspective-correct weights of the triangle's vertices 0 and 1; z/w: 2 depth - 1; all
+    // 0 where empty). For frames drawn with rasterize's camera (identity view, OpenGL's depth mapped to
+    // Vulkan's); compute backends only, without tessellation or level of detail.
+    float* rast = nullptr;
 };
 
 // A scene uploaded to a device once and rendered any number of times with any camera and settings:

@@ -26,6 +26,7 @@ import os
 import numbers
 import threading
 import warnings
+import weakref
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -35,6 +36,7 @@ from . import _raster
 
 __all__ = [
     "EMPTY_ID",
+    "OUTPUTS",
     "SETTINGS",
     "DeviceInfo",
     "Error",
@@ -110,6 +112,11 @@ keyword argument (width, height and camera are its positional parameters)."""
 _SESSION_DEFAULTS = {"warmup": 0}
 # Settings that are Renderer.render's parameters rather than keywords.
 _PARAMETERS = ("width", "height", "camera")
+
+OUTPUTS = ("color", "ids", "depth")
+"""The images a Frame can hold (Renderer.render's ``outputs``; all of them by default)."""
+# The library's raster::Output bits of each.
+_OUTPUT_BITS = {"color": 1, "ids": 2, "depth": 4}
 
 
 def version() -> str:
@@ -256,6 +263,14 @@ class Scene:
         _warn(native.warnings)
         return Scene(native)
 
+    def update_positions(self, positions: np.ndarray) -> None:
+        """Moves the vertices of a scene made by from_arrays, in place: `positions` has the shape the
+        scene was made with ((N, 3) or (N, 4)); every primitive keeps its vertices, flat normals follow.
+        A Renderer that drew this Scene uploads the positions alone before its next frame (no rebuild).
+        Non-finite positions raise raster.Error and leave the scene as it was."""
+        positions = _real_array(positions, "update_positions: positions")
+        self._native.update_positions(positions)
+
     @property
     def vertex_count(self) -> int:
         """Vertices after loading (flat-shaded meshes have three per triangle)."""
@@ -386,7 +401,7 @@ class Renderer:
         self.device: DeviceInfo = _device(self._native.device)
 
     def render(self, scene: Scene, width: int, height: int, camera: Camera = "auto", *,
-               surface_aovs: bool = False, **settings: Any) -> Frame:
+               surface_aovs: bool = False, outputs: Sequence[str] = OUTPUTS, **settings: Any) -> Frame:
         """Renders `scene` at width x height and returns the Frame.
 
         camera: a spec string as ``raster render --camera`` takes ("auto": framed from the bounds, or
@@ -394,7 +409,10 @@ class Renderer:
         or a (view, projection) pair of 4x4 numpy matrices in Vulkan's clip conventions (row-major as
         numpy prints them; depth 0..1 with the near plane at 0; NDC y = -1 the top row; a projection
         whose last row is (0, 0, -1, 0) is perspective, any other orthographic).
-        surface_aovs: also compute Frame.bary, uv and normal (a host pass over the frame).
+        surface_aovs: also compute Frame.bary, uv and normal (on the device).
+        outputs: which of "color", "ids" and "depth" the frame holds (the others are None): only
+            those are unpacked on the device and copied back, so a frame of ids alone moves a third of
+            the bytes.
         settings: any render setting of the schema by its key (raster.SETTINGS; the list below), with
         the schema's checks and one-line errors (raster.Error). Defaults are the schema's, except
         warmup = 0 (a session's earlier frames warm it up).
@@ -406,7 +424,8 @@ class Renderer:
         args = dict(_SESSION_DEFAULTS)
         args.update(settings)
         args["width"], args["height"] = width, height
-        native = self._native.render(scene._native, camera, _setting_values(args), bool(surface_aovs), True)
+        native = self._native.render(scene._native, camera, _setting_values(args), bool(surface_aovs), True,
+                                     _output_bits(outputs))
         frame = Frame(native)
         _warn(frame.warnings)
         return frame
@@ -417,6 +436,19 @@ class Renderer:
 
     def __repr__(self) -> str:
         return f"raster.Renderer({self.device.backend!r}, {self.device.index}: {self.device.name})"
+
+
+def _output_bits(outputs: Any) -> int:
+    """Renderer.render's outputs as the library's Output bits, or raster.Error naming what is wrong."""
+    if isinstance(outputs, str) or not isinstance(outputs, (list, tuple, set, frozenset)):
+        raise Error(f"render: outputs must be a sequence of names out of {', '.join(OUTPUTS)}, not "
+                    f"{_shown(outputs)}")
+    bits = 0
+    for name in outputs:
+        if name not in _OUTPUT_BITS:
+            raise Error(f"render: unknown output {_shown(name)} (expected {', '.join(OUTPUTS)})")
+        bits |= _OUTPUT_BITS[name]
+    return bits
 
 
 def _setting_values(args: Dict[str, Any]) -> Dict[str, Any]:
@@ -501,7 +533,7 @@ def _triangles(tri: Any, vertices: int, what: str, vertices_text: str) -> np.nda
 
 
 def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
-              msaa: int = 1) -> np.ndarray:
+              msaa: int = 1, *, renderer: Optional["Renderer"] = None) -> np.ndarray:
     """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
     (1/256-pixel vertices, top-left rule: Vulkan's coverage rules on every backend).
 
@@ -511,6 +543,10 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     resolution: (height, width).
     backend: "auto", "cuda" or "vulkan"; msaa: 1, 2, 4, 8 or 16 samples per pixel (the output then
         describes each pixel's first sample).
+    renderer: draw with this Renderer (its device; backend is then ignored) instead of the module's
+        own one per backend, opened on first use. Either keeps one scene per topology and replaces its
+        positions in place from call to call: the batch's B views upload their positions alone, and
+        (u, v, z/w, id + 1) are computed on the device and copied straight into the returned array.
 
     Returns float32 (B, H, W, 4) = (u, v, z/w, triangle_id + 1), all 0 where no triangle covers the
     pixel centre: u and v are the perspective-correct weights of the triangle's first and second
@@ -532,30 +568,43 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     height, width = _resolution(resolution)
     batch = pos.shape[0]
     try:
-        out = np.zeros((batch, height, width, 4), np.float32)
+        out = np.empty((batch, height, width, 4), np.float32)
     except MemoryError:
         raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
                     f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
-    if tri.shape[0] == 0:
+    if tri.shape[0] == 0 or batch == 0:
+        out.fill(0)
         return out
-    indices = tri.astype(np.uint32)
-    normals = np.zeros((pos.shape[1], 3), np.float32)
-    renderer = _shared_renderer(backend)
+    if renderer is None:
+        renderer = _shared_renderer(backend)
+    elif not isinstance(renderer, Renderer):
+        raise Error(f"rasterize: renderer must be a raster.Renderer, not {_shown(renderer)}")
     settings = _setting_values({"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id",
                                 "width": width, "height": height})
-    for b in range(batch):
-        scene = _raster.Scene.from_arrays(pos[b], indices, normals, None, None, None, True, None, None,
-                                          (1.0, 1.0, 1.0, 1.0), False)
-        frame = renderer._native.render(scene, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings, True, False)
-        ids = frame.ids
-        covered = ids != EMPTY_ID
-        bary = frame.bary
-        o = out[b]
-        o[..., 0] = np.where(covered, np.float32(1) - bary[..., 0] - bary[..., 1], 0)
-        o[..., 1] = bary[..., 0]
-        o[..., 2] = np.where(covered, np.float32(2) * frame.depth - np.float32(1), 0)
-        o[..., 3] = np.where(covered, ids.astype(np.float32) + np.float32(1), 0)
+    scene, fresh = _topology_scene(renderer, pos[0], tri)
+    renderer._native.rasterize(scene, pos, out, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings, fresh)
     return out
+
+
+# rasterize's scenes: per Renderer, the last topology drawn (its triangles and vertex count) and the
+# scene made for it, whose positions each call replaces in place (Scene.update_positions), so that a
+# training loop's calls upload positions alone.
+_topologies: "weakref.WeakKeyDictionary[Renderer, Tuple[np.ndarray, int, Any]]" = weakref.WeakKeyDictionary()
+
+
+def _topology_scene(renderer: Renderer, pos: np.ndarray, tri: np.ndarray) -> Tuple[Any, bool]:
+    """The native scene of `tri` over pos.shape[0] vertices for `renderer`, and whether it was made now
+    (from `pos`, so that the first view needs no update)."""
+    indices = np.ascontiguousarray(tri, dtype=np.uint32)
+    with _shared_lock:
+        known = _topologies.get(renderer)
+        if known is not None and known[1] == pos.shape[0] and np.array_equal(known[0], indices):
+            return known[2], False
+        # No normals to shade with (rasterize shades ids): zeros, so that no flat normals are made.
+        scene = _raster.Scene.from_arrays(pos, indices, np.zeros((pos.shape[0], 3), np.float32), None, None,
+                                          None, True, None, None, (1.0, 1.0, 1.0, 1.0), False)
+        _topologies[renderer] = (indices, pos.shape[0], scene)
+        return scene, True
 
 
 def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarray:
@@ -574,25 +623,14 @@ def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarr
                     f"not {tuple(attr.shape)}")
     vertices = attr.shape[-2]
     tri = _triangles(tri, vertices, "interpolate", f", but attr has {vertices} rows")
-    # Each pixel's slot is 0 (empty) or a triangle id + 1 of tri: a whole number in 0..T.
-    slots = rast[..., 3]
-    with np.errstate(invalid="ignore"):
-        valid = np.isfinite(slots) & (slots == np.floor(slots)) & (slots >= 0) & (slots <= tri.shape[0])
-    if not valid.all():
-        raise Error(f"interpolate: rast[..., 3] holds {_shown(float(slots[~valid].flat[0]))}, not a triangle "
-                    f"id + 1 of the {tri.shape[0]} triangles in tri (or 0)")
-    ids = slots.astype(np.int64) - 1
-    covered = ids >= 0
-    corners = tri[np.where(covered, ids, 0)]  # (B, H, W, 3)
-    if attr.ndim == 2:
-        a = attr[corners]  # (B, H, W, 3, C)
-    else:
-        a = attr[np.arange(attr.shape[0])[:, None, None, None], corners]
-    u = rast[..., 0:1]
-    v = rast[..., 1:2]
-    out = u * a[..., 0, :] + v * a[..., 1, :] + (np.float32(1) - u - v) * a[..., 2, :]
-    out[~covered] = 0
-    return out.astype(np.float32, copy=False)
+    out = np.empty(rast.shape[:3] + (attr.shape[-1],), np.float32)
+    bad = _raster.interpolate(attr if attr.ndim == 3 else attr[None], rast,
+                              np.ascontiguousarray(tri, dtype=np.uint32), out)
+    if bad >= 0:
+        slot = float(rast[..., 3].flat[bad])
+        raise Error(f"interpolate: rast[..., 3] holds {_shown(slot)}, not a triangle id + 1 of the "
+                    f"{tri.shape[0]} triangles in tri (or 0)")
+    return out
 
 
 def compare(a: Union[Frame, str, os.PathLike], b: Union[Frame, str, os.PathLike], *, what: str = "both",

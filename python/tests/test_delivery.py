@@ -1,0 +1,157 @@
+"""What a caller receives and how: rasterize's output computed on the device against the frames'
+own ids, depth and barycentrics (the form it was assembled from on the host before), a batch against
+its views drawn one by one, positions replaced in place against a scene made from them, only the images
+asked for, interpolate against its definition in numpy, and host frames handed to other libraries
+through DLPack without a copy."""
+
+import numpy as np
+import pytest
+
+import raster
+from conftest import renderer
+
+# rasterize's camera: identity view, OpenGL's depth range mapped to Vulkan's.
+GL_TO_VK = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0.5, 0.5], [0, 0, 0, 1]], np.float32)
+
+
+def mesh(views, seed=1):
+    """A 12 x 12 grid of clip-space quads (288 triangles) seen `views` ways: per view its own
+    perspective tilt and offset, some of it outside the view."""
+    rng = np.random.default_rng(seed)
+    n = 12
+    y, x = np.mgrid[0:n + 1, 0:n + 1] / n * 2.2 - 1.1
+    tri = []
+    for j in range(n):
+        for i in range(n):
+            v = j * (n + 1) + i
+            tri += [[v, v + 1, v + n + 2], [v, v + n + 2, v + n + 1]]
+    pos = np.zeros((views, x.size, 4), np.float32)
+    for b in range(views):
+        w = 1.0 + 0.4 * rng.random() * (x.ravel() + 1.1)
+        pos[b, :, 0] = (x.ravel() + 0.2 * rng.standard_normal()) * w
+        pos[b, :, 1] = (y.ravel() + 0.1 * rng.standard_normal()) * w
+        pos[b, :, 2] = (0.3 * np.sin(3 * x.ravel() + b) * y.ravel()) * w
+        pos[b, :, 3] = w
+    return pos, np.array(tri, np.int32)
+
+
+def host_rast(frame):
+    """rasterize's output assembled on the host from a frame's ids, depth and surface AOVs, as the
+    module did before the device computed it."""
+    ids, depth, bary = frame.ids, frame.depth, frame.bary
+    covered = ids != raster.EMPTY_ID
+    out = np.zeros(ids.shape + (4,), np.float32)
+    out[..., 0] = np.where(covered, np.float32(1) - bary[..., 0] - bary[..., 1], 0)
+    out[..., 1] = bary[..., 0]
+    out[..., 2] = np.where(covered, np.float32(2) * depth - np.float32(1), 0)
+    out[..., 3] = np.where(covered, ids.astype(np.float32) + np.float32(1), 0)
+    return out
+
+
+def test_rasterize_equals_the_frames_ids_depth_and_barycentrics(backend):
+    pos, tri = mesh(3)
+    r = renderer(backend)
+    rast = raster.rasterize(pos, tri, (48, 64), renderer=r)
+    assert (rast[..., 3] > 0).sum() > 3 * 48 * 64 // 2
+    for b in range(3):
+        scene = raster.Scene.from_arrays(pos[b], tri, normals=np.zeros((pos.shape[1], 3)))
+        frame = r.render(scene, 64, 48, (np.eye(4), GL_TO_VK), cull="none", shading="id", surface_aovs=True)
+        np.testing.assert_array_equal(rast[b].view(np.uint32), host_rast(frame).view(np.uint32))
+
+
+def test_a_batch_equals_its_views_one_by_one_and_a_moved_topology_draws_anew(backend):
+    pos, tri = mesh(4, seed=2)
+    r = renderer(backend)
+    batch = raster.rasterize(pos, tri, (40, 40), renderer=r, msaa=4)
+    for b in range(4):
+        one = raster.rasterize(pos[b], tri, (40, 40), renderer=r, msaa=4)
+        np.testing.assert_array_equal(batch[b].view(np.uint32), one[0].view(np.uint32))
+    # The same topology again (the scene kept, its positions replaced), then another one.
+    again = raster.rasterize(pos[::-1], tri, (40, 40), renderer=r, msaa=4)
+    np.testing.assert_array_equal(again.view(np.uint32), batch[::-1].view(np.uint32))
+    fewer = raster.rasterize(pos[0], tri[::2], (40, 40), renderer=r, msaa=4)
+    ids = fewer[0, ..., 3]
+    assert set(np.unique(ids)) <= {0} | set(range(1, len(tri[::2]) + 1))
+    assert (ids > 0).sum() < (batch[0, ..., 3] > 0).sum()
+
+
+def test_update_positions_equals_a_scene_made_from_them(backend):
+    pos, tri = mesh(2, seed=3)
+    world = [p[:, :3] / p[:, 3:] for p in pos]
+    r = renderer(backend)
+    kwargs = dict(camera="orbit:10,20,3.5", clusters="on")
+    scene = raster.Scene.from_arrays(world[0], tri, double_sided=True)  # flat normals, from the positions
+    first = r.render(scene, 64, 48, **kwargs)
+    scene.update_positions(world[1])
+    moved = r.render(scene, 64, 48, **kwargs)
+    fresh = r.render(raster.Scene.from_arrays(world[1], tri, double_sided=True), 64, 48, **kwargs)
+    for name in ("color", "ids", "depth"):
+        np.testing.assert_array_equal(getattr(moved, name), getattr(fresh, name), err_msg=name)
+    assert (moved.ids != first.ids).any()
+    with pytest.raises(raster.Error, match="update_positions: 168 positions of 3 components for a scene made from 169"):
+        scene.update_positions(world[1][:-1])
+    bad = world[1].copy()
+    bad[5, 1] = np.inf
+    with pytest.raises(raster.Error, match="vertex 5 is not finite"):
+        scene.update_positions(bad)
+    with pytest.raises(raster.Error, match="only a scene made from arrays"):
+        raster.Scene.load("builtin").update_positions(world[1])
+
+
+def test_only_the_images_asked_for(vulkan):
+    scene = raster.Scene.load("builtin")
+    every = vulkan.render(scene, 80, 60)
+    ids = vulkan.render(scene, 80, 60, outputs=("ids",))
+    assert ids.color is None and ids.depth is None
+    np.testing.assert_array_equal(ids.ids, every.ids)
+    colour = vulkan.render(scene, 80, 60, outputs=["color"])
+    assert colour.ids is None and colour.depth is None
+    np.testing.assert_array_equal(colour.color, every.color)
+    np.testing.assert_array_equal(vulkan.render(scene, 80, 60, outputs={"depth"}).depth, every.depth)
+    with pytest.raises(raster.Error, match="unknown output 'colour'"):
+        vulkan.render(scene, 80, 60, outputs=("colour",))
+    with pytest.raises(raster.Error, match="outputs must be a sequence of names"):
+        vulkan.render(scene, 80, 60, outputs="ids")
+
+
+def numpy_interpolate(attr, rast, tri):
+    """nvdiffrast's interpolate in numpy, in float32, in the order the module's documentation gives."""
+    ids = rast[..., 3].astype(np.int64) - 1
+    covered = ids >= 0
+    corners = tri[np.where(covered, ids, 0)]
+    a = attr[corners] if attr.ndim == 2 else attr[np.arange(attr.shape[0])[:, None, None, None], corners]
+    u, v = rast[..., 0:1], rast[..., 1:2]
+    out = u * a[..., 0, :] + v * a[..., 1, :] + (np.float32(1) - u - v) * a[..., 2, :]
+    out[~covered] = 0
+    return out.astype(np.float32)
+
+
+def test_interpolate_equals_its_definition_bit_for_bit(vulkan):
+    pos, tri = mesh(2, seed=4)
+    rast = raster.rasterize(pos, tri, (36, 44), renderer=vulkan)
+    rng = np.random.default_rng(5)
+    shared = rng.standard_normal((pos.shape[1], 5)).astype(np.float32)
+    per_view = rng.standard_normal((2, pos.shape[1], 3)).astype(np.float32)
+    for attr in (shared, per_view):
+        got = raster.interpolate(attr, rast, tri)
+        np.testing.assert_array_equal(got.view(np.uint32), numpy_interpolate(attr, rast, tri).view(np.uint32))
+    broken = rast.copy()
+    broken[1, 7, 9, 3] = 2.5
+    with pytest.raises(raster.Error, match=r"rast\[\.\.\., 3\] holds 2\.5, not a triangle id \+ 1"):
+        raster.interpolate(shared, broken, tri)
+
+
+def test_host_frames_go_to_dlpack_consumers_without_a_copy(vulkan):
+    frame = vulkan.render(raster.Scene.load("builtin"), 48, 32)
+    for name in ("color", "ids", "depth"):
+        array = getattr(frame, name)
+        assert array.__dlpack_device__() == (1, 0)  # kDLCPU, device 0
+        shared = np.from_dlpack(array)
+        assert shared.__array_interface__["data"][0] == array.__array_interface__["data"][0], name
+        np.testing.assert_array_equal(shared, array)
+    try:
+        import torch
+    except ImportError:
+        return  # the module's own DLPack export is numpy's; torch's view of it is checked where torch is
+    tensor = torch.from_dlpack(frame.depth)
+    assert tensor.data_ptr() == frame.depth.__array_interface__["data"][0]

@@ -1,0 +1,296 @@
+// delivery_test.cpp - what a frame hands back, as stage aovs computes it on the device: each pixel's id
+// and depth equal to its AOV sample's key (read from every sample, which the host unpacks itself), the
+// surface AOVs bit for bit those of the host's evaluation (fillSurfaceAovs, the form vulkan-graphics
+// keeps, and the form every backend used before the stage), rasterize's output from them by its
+// definition, only the images asked for, and positions replaced in place (Scene::updatePositions) against
+// a scene made from the new positions. A missing backend fails these tests unless SR_ALLOW_MISSING_BACKENDS
+// names it.
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "raster/raster.h"
+
+#include "render/aov.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+namespace sr::test {
+namespace {
+
+// Bit-for-bit equality of two float planes, reporting the first difference.
+void expectSameBits(const std::vector<float>& a, const std::vector<float>& b, const std::string& what)
+{
+    ASSERT_EQ(a.size(), b.size()) << what;
+    for (size_t i = 0; i < a.size(); ++i) {
+        uint32_t x = 0, y = 0;
+        std::memcpy(&x, &a[i], 4);
+        std::memcpy(&y, &b[i], 4);
+        if (x != y) {
+            ADD_FAILURE() << what << ": pixel " << i << " holds " << a[i] << ", the host's evaluation "
+                          << b[i];
+            return;
+        }
+    }
+}
+
+struct Case {
+    std::string scene;
+    uint32_t msaa = 1, ssaa = 1;
+    uint32_t tessellate = TESS_OFF;
+    uint32_t clusters = CLUSTERS_AUTO;
+};
+
+class DeliveryTest : public BackendTest {
+protected:
+    // `c` at 64 x 48 under the auto camera, with the surface AOVs and every sample's key.
+    RenderOutput renderCase(const Case& c, Scene& scene, RenderSettings& s)
+    {
+        auto loaded = loadScene(c.scene);
+        EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error().message);
+        if (!loaded.ok()) return {};
+        scene = std::move(*loaded);
+        s = testSettings(64, 48);
+        s.cullMode = CULL_BACK;
+        s.msaa = c.msaa;
+        s.ssaa = c.ssaa;
+        s.tessellate = c.tessellate;
+        s.clusters = c.clusters;
+        s.surfaceAovs = true;
+        s.aovSamples = true;
+        auto camera = resolveCamera(CameraSpec{}, scene, s.width, s.height);
+        EXPECT_TRUE(camera.ok());
+        return camera.ok() ? render(scene, s, *camera) : RenderOutput{};
+    }
+};
+
+TEST_P(DeliveryTest, DeviceAovsEqualTheSampleKeysAndTheHostsSurfaces)
+{
+    for (const Case& c : {Case{"builtin"}, Case{"builtin:checker", 4, 1}, Case{"builtin:lowpoly", 1, 2},
+                          Case{"builtin:cutout", 8, 1}, Case{"builtin:dense", 1, 1, TESS_OFF, CLUSTERS_ON},
+                          Case{"builtin:lowpoly", 1, 1, TESS_PN}}) {
+        SCOPED_TRACE(c.scene + " msaa " + std::to_string(c.msaa) + " ssaa " + std::to_string(c.ssaa) +
+                     (c.tessellate != TESS_OFF ? " tessellated" : ""));
+        Scene scene;
+        RenderSettings s;
+        RenderOutput out = renderCase(c, scene, s);
+        ASSERT_EQ(out.aov.id.size(), size_t(64) * 48);
+        ASSERT_EQ(out.aov.depth.size(), size_t(64) * 48);
+        uint64_t covered = 0;
+        for (uint32_t y = 0; y < 48; ++y)
+            for (uint32_t x = 0; x < 64; ++x) {
+                const uint64_t k = aovSampleIndex(x, y, out.samples.rasterWidth, c.ssaa);
+                const size_t i = size_t(y) * 64 + x;
+                ASSERT_EQ(out.aov.id[i], out.samples.id[k]) << "pixel " << x << "," << y;
+                ASSERT_EQ(std::memcmp(&out.aov.depth[i], &out.samples.depth[k], 4), 0)
+                    << "pixel " << x << "," << y;
+                covered += out.aov.id[i] != EMPTY_ID;
+            }
+        EXPECT_GT(covered, 64u * 48u / 8u);
+        if (c.tessellate != TESS_OFF) continue;  // the host's evaluation needs the generated mesh's ids
+        AovImage host;
+        host.width = 64;
+        host.height = 48;
+        host.id = out.aov.id;
+        fillSurfaceAovs(scene, out.params, host);
+        expectSameBits(out.aov.baryU, host.baryU, "bary.u");
+        expectSameBits(out.aov.baryV, host.baryV, "bary.v");
+        expectSameBits(out.aov.uvU, host.uvU, "uv.u");
+        expectSameBits(out.aov.uvV, host.uvV, "uv.v");
+        expectSameBits(out.aov.normalX, host.normalX, "N.x");
+        expectSameBits(out.aov.normalY, host.normalY, "N.y");
+        expectSameBits(out.aov.normalZ, host.normalZ, "N.z");
+    }
+}
+
+// Names of the stages a frame ran.
+std::vector<std::string> stageNames(const RenderOutput& out)
+{
+    std::vector<std::string> names;
+    for (const StageTiming& t : out.stages) names.push_back(t.name);
+    return names;
+}
+
+bool ran(const RenderOutput& out, const std::string& stage)
+{
+    const std::vector<std::string> names = stageNames(out);
+    return std::find(names.begin(), names.end(), stage) != names.end();
+}
+
+TEST_P(DeliveryTest, OnlyTheImagesAskedForAreComputedAndCopied)
+{
+    FramedScene f = framedBuiltin(96, 64);
+    const RenderOutput all = render(f.scene, f.settings, f.camera);
+    ASSERT_EQ(all.color.pixels.size(), size_t(96) * 64);
+    EXPECT_TRUE(ran(all, "shade") && ran(all, "aovs"));
+
+    RenderSettings ids = f.settings;
+    ids.outputs = OUTPUT_ID;
+    const RenderOutput idsOnly = render(f.scene, ids, f.camera);
+    EXPECT_TRUE(idsOnly.color.pixels.empty());
+    EXPECT_TRUE(idsOnly.aov.depth.empty());
+    EXPECT_EQ(idsOnly.aov.id, all.aov.id);
+    EXPECT_FALSE(ran(idsOnly, "shade")) << "nobody reads the colour";
+
+    RenderSettings colour = f.settings;
+    colour.outputs = OUTPUT_COLOR;
+    const RenderOutput colourOnly = render(f.scene, colour, f.camera);
+    EXPECT_EQ(colourOnly.color.pixels, all.color.pixels);
+    EXPECT_TRUE(colourOnly.aov.id.empty());
+    EXPECT_TRUE(colourOnly.aov.depth.empty());
+    EXPECT_FALSE(ran(colourOnly, "aovs")) << "no id or depth to unpack";
+
+    RenderSettings depth = f.settings;
+    depth.outputs = OUTPUT_DEPTH;
+    EXPECT_EQ(render(f.scene, depth, f.camera).aov.depth, all.aov.depth);
+}
+
+TEST_P(DeliveryTest, RasterizeOutputFollowsItsDefinition)
+{
+    FramedScene f = framedBuiltin(80, 56);
+    f.settings.cullMode = CULL_NONE;
+    f.settings.surfaceAovs = true;
+    f.settings.outputs = OUTPUT_ID | OUTPUT_DEPTH | OUTPUT_RAST;
+    auto session = RenderSession::create(*device_, f.scene);
+    ASSERT_TRUE(session.ok());
+    auto out = session->render(f.camera, f.settings);
+    ASSERT_TRUE(out.ok()) << out.error().message;
+    std::vector<float> rast(size_t(4) * 80 * 56, -7.0f);
+    ASSERT_TRUE(session->readRast(rast.data(), rast.size()).ok());
+    for (size_t i = 0; i < out->aov.id.size(); ++i) {
+        const uint32_t id = out->aov.id[i];
+        // nvdiffrast's layout: the weights of vertices 0 and 1, OpenGL's z/w from Vulkan's window depth,
+        // the id plus one; all zero where empty.
+        const float b1 = out->aov.baryU[i], b2 = out->aov.baryV[i];
+        const float expected[4] = {id == EMPTY_ID ? 0.0f : 1.0f - b1 - b2, id == EMPTY_ID ? 0.0f : b1,
+                                   id == EMPTY_ID ? 0.0f : 2.0f * out->aov.depth[i] - 1.0f,
+                                   id == EMPTY_ID ? 0.0f : float(id) + 1.0f};
+        ASSERT_EQ(std::memcmp(expected, &rast[4 * i], sizeof(expected)), 0) << "pixel " << i;
+    }
+    // A frame without it has none to read, and a wrong size is refused.
+    EXPECT_FALSE(session->readRast(rast.data(), rast.size() - 4).ok());
+    RenderSettings plain = f.settings;
+    plain.outputs = OUTPUT_IMAGES;
+    ASSERT_TRUE(session->render(f.camera, plain).ok());
+    EXPECT_FALSE(session->readRast(rast.data(), rast.size()).ok());
+    // Not with generated or simplified triangles, whose ids the device does not know as the scene's.
+    f.settings.tessellate = TESS_PN;
+    EXPECT_FALSE(session->render(f.camera, f.settings).ok());
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, DeliveryTest, ::testing::Values("vulkan", "cuda"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+// ---- positions replaced in place, through the public API ----------------------------------------------
+
+// A small mesh with shared vertices: a 6 x 6 grid of quads over [-1, 1]^2 bent along z by `bend`.
+struct Grid {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+};
+
+Grid grid(float bend)
+{
+    Grid g;
+    constexpr int n = 6;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = -1.0f + 2.0f * float(i) / n, y = -1.0f + 2.0f * float(j) / n;
+            g.positions.insert(g.positions.end(), {x, y, bend * (x * x - 0.5f * y)});
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto v = uint32_t(j * (n + 1) + i);
+            g.triangles.insert(g.triangles.end(), {v, v + 1, v + n + 2, v, v + n + 2, v + n + 1});
+        }
+    return g;
+}
+
+raster::Scene sceneOf(const Grid& g)
+{
+    raster::MeshArrays m;
+    m.positions = g.positions.data();
+    m.vertexCount = g.positions.size() / 3;
+    m.triangles = g.triangles.data();
+    m.triangleCount = g.triangles.size() / 3;
+    m.doubleSided = true;
+    auto scene = raster::Scene::fromArrays(m);
+    EXPECT_TRUE(scene.ok());
+    return std::move(*scene);
+}
+
+class UpdatePositionsTest : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override
+    {
+        bool skip = false;
+        if (!openBackend(GetParam(), skip)) {
+            if (skip) GTEST_SKIP() << GetParam() << " absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+            FAIL() << "no " << GetParam() << " device";
+        }
+        auto device =
+            raster::Device::open(GetParam() == "cuda" ? raster::Backend::Cuda : raster::Backend::Vulkan);
+        ASSERT_TRUE(device.ok());
+        device_.emplace(std::move(*device));
+    }
+    std::optional<raster::Device> device_;
+};
+
+TEST_P(UpdatePositionsTest, EqualsASceneMadeFromTheNewPositions)
+{
+    raster::Settings settings;
+    ASSERT_TRUE(settings.set("width", 72).ok());
+    ASSERT_TRUE(settings.set("height", 64).ok());
+    ASSERT_TRUE(settings.set("camera", "orbit:20,30,3").ok());
+    for (const char* clusters : {"off", "on"}) {
+        SCOPED_TRACE(std::string("clusters ") + clusters);
+        ASSERT_TRUE(settings.set("clusters", clusters).ok());
+        raster::Scene moving = sceneOf(grid(0.0f));
+        auto session = raster::Session::create(*device_, moving);
+        ASSERT_TRUE(session.ok());
+        const raster::Camera camera = raster::Camera::fromSpec("auto");
+        ASSERT_TRUE(
+            session->render(camera, settings).ok());  // uploads (and builds clusters of) the flat grid
+        for (float bend : {0.8f, -0.5f}) {
+            const Grid moved = grid(bend);
+            ASSERT_TRUE(moving.updatePositions(moved.positions.data(), moved.positions.size() / 3, 3).ok());
+            auto updated = session->render(camera, settings);
+            ASSERT_TRUE(updated.ok()) << updated.error().message;
+            const raster::Scene fresh = sceneOf(moved);
+            auto expected = raster::render(*device_, fresh, camera, settings);
+            ASSERT_TRUE(expected.ok());
+            EXPECT_EQ(updated->color, expected->color) << "flat normals follow the positions";
+            EXPECT_EQ(updated->id, expected->id);
+            EXPECT_EQ(updated->depth, expected->depth);
+            EXPECT_EQ(moving.boundsMin(), fresh.boundsMin());
+            EXPECT_EQ(moving.boundsMax(), fresh.boundsMax());
+        }
+    }
+}
+
+TEST_P(UpdatePositionsTest, RefusesAnotherShapeOrNonFiniteValuesAndKeepsTheScene)
+{
+    Grid g = grid(0.3f);
+    raster::Scene scene = sceneOf(g);
+    const auto before = scene.boundsMax();
+    EXPECT_FALSE(scene.updatePositions(g.positions.data(), g.positions.size() / 3 - 1, 3).ok());
+    EXPECT_FALSE(scene.updatePositions(g.positions.data(), g.positions.size() / 4, 4).ok());
+    g.positions[7] = NAN;
+    const raster::Status nan = scene.updatePositions(g.positions.data(), g.positions.size() / 3, 3);
+    ASSERT_FALSE(nan.ok());
+    EXPECT_NE(nan.error().message.find("vertex 2 is not finite"), std::string::npos) << nan.error().message;
+    EXPECT_EQ(scene.boundsMax(), before);
+    auto loaded = raster::Scene::load("builtin");
+    ASSERT_TRUE(loaded.ok());
+    EXPECT_FALSE(loaded->updatePositions(g.positions.data(), 3, 3).ok()) << "only scenes made from arrays";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, UpdatePositionsTest, ::testing::Values("vulkan", "cuda"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+}  // namespace
+}  // namespace sr::test
