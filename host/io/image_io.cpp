@@ -178,8 +178,13 @@ bool runPngEncode(PngEncode& encode)
         return false;
     }
     png_infop info = png_create_info_struct(png);
-    if (!info || setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, info ? &info : nullptr);
+    if (!info) {
+        png_destroy_write_struct(&png, nullptr);
+        std::snprintf(encode.error, sizeof encode.error, "libpng could not start (out of memory)");
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
         return false;
     }
     png_set_write_fn(png, &encode, pngAppend, pngFlush);
