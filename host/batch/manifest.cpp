@@ -198,7 +198,7 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     const std::string output = merged.value("output", merged.value("png", std::string()));
     const std::string aov = merged.value("aov", merged.value("exr", std::string()));
     const std::string stats = merged.value("stats", std::string());
-    if (output.empty()) return makeError(ExitCode::Usage, "{}: no 'output' (the PNG to write)", where);
+    if (output.empty()) return makeError(ExitCode::Usage, "{}: no 'output' (the PNG or NPY to write)", where);
     // "output" is the colour image in either format, its extension choosing; "png" names a PNG.
     if (!merged.contains("png")) {
         auto extension = checkColorExtension("output", output);
