@@ -26,8 +26,9 @@ std::string pngCompressionHelp()
 
 std::string exrCompressionHelp()
 {
-    return "EXR codec, all lossless: none (quickest, largest), rle, zips (zlib per scanline), zip (zlib per "
-           "16 scanlines, the default) or piz (wavelet)";
+    return "EXR codec, all lossless: none (quick, largest), rle (about as quick, several times smaller: the "
+           "fast choice), zips (zlib per scanline), zip (zlib per 16 scanlines, the default) or piz "
+           "(wavelet)";
 }
 
 std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName)
