@@ -21,7 +21,7 @@ std::string pngCompressionHelp()
 {
     return "PNG encoder: fast (zlib level 1, no row filter: several times quicker, files 1.5-2x larger), "
            "default (level 6, adaptive filters) or small (level 9, every filter tried per row: slowest, "
-           "a few % smaller); the pixels are the same";
+           "under 2% smaller); the pixels are the same";
 }
 
 std::string exrCompressionHelp()
