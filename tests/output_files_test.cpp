@@ -185,7 +185,7 @@ TEST(OutputFiles, TwoSpellingsOfOneFileAreOneOutput)
     };
     for (const Case& c : std::vector<Case>{
              {"-o s.png --aov s.png", "--aov 's.png' must end in .exr"},
-             {"-o s.exr", "-o 's.exr' must end in .png"},
+             {"-o s.exr", "-o 's.exr' must end in .png or .npy"},
              {"-o s.png --stats ./s.png", "-o 's.png' and --stats './s.png' name the same file"},
              {"-o sub/../t.png --stats t.png", "-o 'sub/../t.png' and --stats 't.png' name the same file"},
          }) {

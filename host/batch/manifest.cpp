@@ -20,16 +20,24 @@ using nlohmann::json;
 
 enum class Kind { String, Integer };
 // The keys of a job that are no render setting (those come from the settings schema, by their keys:
-// width, shading, texture_filter, ...). png and exr are other names of output and aov.
+// width, shading, texture_filter, ...). png and exr are other names of output and aov. png_compression and
+// exr_compression say how the job's files are encoded (io/image_io.h).
 struct KeyInfo {
     const char* name;
     Kind kind;
     bool defaultable;  // may appear in the header's defaults and on the command line
 };
-const std::vector<KeyInfo> kJobKeys = {
-    {"id", Kind::String, false},     {"scene", Kind::String, true},   {"orbit", Kind::String, true},
-    {"frames", Kind::Integer, true}, {"output", Kind::String, false}, {"png", Kind::String, false},
-    {"aov", Kind::String, false},    {"exr", Kind::String, false},    {"stats", Kind::String, false}};
+const std::vector<KeyInfo> kJobKeys = {{"id", Kind::String, false},
+                                       {"scene", Kind::String, true},
+                                       {"orbit", Kind::String, true},
+                                       {"frames", Kind::Integer, true},
+                                       {"output", Kind::String, false},
+                                       {"png", Kind::String, false},
+                                       {"aov", Kind::String, false},
+                                       {"exr", Kind::String, false},
+                                       {"stats", Kind::String, false},
+                                       {"png_compression", Kind::String, true},
+                                       {"exr_compression", Kind::String, true}};
 
 const KeyInfo* findJobKey(const std::string& name)
 {
@@ -190,10 +198,16 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     const std::string output = merged.value("output", merged.value("png", std::string()));
     const std::string aov = merged.value("aov", merged.value("exr", std::string()));
     const std::string stats = merged.value("stats", std::string());
-    if (output.empty()) return makeError(ExitCode::Usage, "{}: no 'output' (the PNG to write)", where);
-    auto named = checkOutputNames({{merged.contains("png") ? "png" : "output", output, ".png"},
-                                   {merged.contains("exr") ? "exr" : "aov", aov, ".exr"},
-                                   {"stats", stats, ""}});
+    if (output.empty()) return makeError(ExitCode::Usage, "{}: no 'output' (the PNG or NPY to write)", where);
+    // "output" is the colour image in either format, its extension choosing; "png" names a PNG.
+    if (!merged.contains("png")) {
+        auto extension = checkColorExtension("output", output);
+        if (!extension) return makeError(ExitCode::Usage, "{}: {}", where, extension.error().message);
+    }
+    auto named = checkOutputNames(
+        {{merged.contains("png") ? "png" : "output", output, merged.contains("png") ? ".png" : ""},
+         {merged.contains("exr") ? "exr" : "aov", aov, ".exr"},
+         {"stats", stats, ""}});
     if (!named) return makeError(ExitCode::Usage, "{}: {}", where, named.error().message);
 
     const std::string scene = merged["scene"].get<std::string>();
@@ -216,6 +230,23 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     auto samples = checkAovSamples(job.options.resolved(), !aov.empty(), "aov_samples", "an 'aov' file");
     if (!samples) return makeError(ExitCode::Usage, "{}: {}", where, samples.error().message);
 
+    // An encoder setting is for a file the job writes: one without that file would change nothing.
+    if (merged.contains("png_compression")) {
+        auto png = parsePngCompression(merged["png_compression"].get<std::string>(), "'png_compression'");
+        if (!png) return makeError(ExitCode::Usage, "{}: {}", where, png.error().message);
+        if (isNpyPath(output))
+            return makeError(ExitCode::Usage, "{}: 'png_compression' needs a PNG 'output', not {}", where,
+                             quotedInput(output));
+        job.encoding.png = *png;
+    }
+    if (merged.contains("exr_compression")) {
+        auto exr = parseExrCompression(merged["exr_compression"].get<std::string>(), "'exr_compression'");
+        if (!exr) return makeError(ExitCode::Usage, "{}: {}", where, exr.error().message);
+        if (aov.empty())
+            return makeError(ExitCode::Usage, "{}: 'exr_compression' needs an 'aov' file", where);
+        job.encoding.exr = *exr;
+    }
+
     job.outputPattern = output;
     job.aovPattern = aov;
     job.statsPattern = stats;
@@ -232,6 +263,12 @@ Result<ManifestJob> makeJob(const json& merged, int line, const std::string& whe
     c["output"] = output;
     if (!aov.empty()) c["aov"] = aov;
     if (!stats.empty()) c["stats"] = stats;
+    // The encoders change the files' bytes: a job asked for at other settings is written again. Recorded
+    // only when not the default, so that the sidecars of jobs written before the setting existed still
+    // vouch for their files.
+    if (job.encoding.png != PngCompression::Default)
+        c["png_compression"] = pngCompressionName(job.encoding.png);
+    if (job.encoding.exr != ExrCompression::Zip) c["exr_compression"] = exrCompressionName(job.encoding.exr);
     return job;
 }
 

@@ -1,6 +1,7 @@
 // manifest.h - the job list of `raster batch`: JSON Lines, one job per line, with the options of
 // `raster render` as keys (every setting of the schema, `raster settings`, by its key; and scene,
-// output/png, aov/exr, stats, frames, orbit, id).
+// output/png, aov/exr, stats, frames, orbit, id, png_compression, exr_compression).
+// The output's extension selects its format: .png, or .npy for the raw RGBA8 array ("png" takes .png only).
 //
 //   {"defaults": {"width": 256, "height": 256, "shading": "lambert"}}      optional first line
 //   {"scene": "bunny.obj", "camera": "orbit:30,20,3", "output": "bunny.png", "aov": "bunny.exr"}
@@ -19,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/result.h"
+#include "io/image_io.h"
 #include "settings/render_settings.h"
 
 namespace sr {
@@ -34,6 +36,7 @@ struct ManifestJob {
     RenderOptions options = imageRenderOptions();
     std::string output, aov, stats;  // resolved paths (patterns when frames > 0); aov, stats may be empty
     std::string outputPattern, aovPattern, statsPattern;  // the same as written (joined after expansion)
+    ImageEncoding encoding;                               // png_compression, exr_compression
     // Every setting that decides the images, with the defaults filled in and the paths as written:
     // equal for two jobs exactly when they render the same files (the sidecar records it).
     nlohmann::json canonical;

@@ -55,12 +55,20 @@ CLI::App* addBatchCommand(CLI::App& app, BatchOptions& o)
                       "SLURM_ARRAY_TASK_ID, else every job)");
     batch
         ->add_option("--io-threads", o.ioThreads,
-                     "threads encoding and writing files (default: spare cores, 1..8)")
+                     "threads encoding and writing files (default: every core not running a device's worker, "
+                     "at least 1)")
         ->check(CLI::Range(1, 256));
     batch
         ->add_option("--queue", o.queueFrames,
                      "rendered frames waiting to be written (default: 2 per I/O thread)")
         ->check(CLI::Range(1, 4096));
+    // Stored as the manifest's keys, under its header's and its jobs' values, checked with them.
+    batch->add_option_function<std::string>(
+        "--png-compression", [&o](const std::string& value) { o.defaults["png_compression"] = value; },
+        pngCompressionHelp() + " (manifest key png_compression)");
+    batch->add_option_function<std::string>(
+        "--exr-compression", [&o](const std::string& value) { o.defaults["exr_compression"] = value; },
+        exrCompressionHelp() + " (manifest key exr_compression)");
     batch->add_option("--summary", o.summaryPath, "write the JSON summary to this file too");
     batch->add_flag("--force", o.force, "render every job of the shard, even those already done");
     batch->add_flag("-q,--quiet", o.quiet, "no progress line and no summary on stdout");
@@ -621,7 +629,7 @@ private:
         FileGroup files;
         OutputTimes spent;
         SR_TRY(stageOutputs(files, item.out, *item.scene, item.options, OutputPaths{f.png, f.aov, f.stats},
-                            f.job->scene, &spent));
+                            f.job->scene, f.job->encoding, &spent));
         times.encode = spent.encode;
         times.aux = spent.aux;
         auto start = Clock::now();
@@ -730,11 +738,11 @@ Result<bool> runBatch(const BatchOptions& options)
         // A resumed shard with nothing left to do needs no device at all.
         auto devices = resolveDevices(kind, options.devices);
         if (!devices) return devices.error();
+        // Encoding is the I/O threads' work and scales with them (each frame on one core), so every core
+        // a device's worker leaves idle gets one; on a many-core node a cap would leave them unused.
         const size_t cores = std::max(1u, std::thread::hardware_concurrency());
         const size_t ioThreads =
-            options.ioThreads
-                ? options.ioThreads
-                : std::clamp<size_t>(cores > devices->size() ? cores - devices->size() : 1, 1, 8);
+            options.ioThreads ? options.ioThreads : (cores > devices->size() ? cores - devices->size() : 1);
         const size_t queueFrames = options.queueFrames ? options.queueFrames : 2 * ioThreads;
         BatchRun run(options, *frames, pending, ioThreads, queueFrames);
         SR_TRY(run.run(kind, *devices));

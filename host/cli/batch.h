@@ -29,7 +29,7 @@ struct BatchOptions {
     std::string backend = "auto";  // auto, cuda or vulkan
     std::string devices;           // --devices: "all" or "0,1"; empty: the backend's first device
     std::string shard;             // --shard i/N; empty: the Slurm array task, else every job
-    uint32_t ioThreads = 0;        // encoder/writer threads; 0: the cores left over by the workers, 1..8
+    uint32_t ioThreads = 0;        // encoder/writer threads; 0: the cores left over by the workers (>= 1)
     uint32_t queueFrames = 0;      // finished frames waiting for the I/O threads; 0: 2 per I/O thread
     std::string summaryPath;       // --summary FILE: the JSON summary there too
     bool force = false;            // render every job of the shard, done or not

@@ -1,7 +1,8 @@
 // main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
 //
-//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [-o out.png]
+//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [-o out.png|out.npy]
 //                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1[)]] [-q]
+//                 [--png-compression fast|default|small] [--exr-compression none|rle|zips|zip|piz]
 //                 [--quality psnr:N [--study FILE]] [SETTINGS: every option of `raster settings`]
 //   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
 //                  [--max-fraction F]
@@ -13,7 +14,8 @@
 //                [--repeat N] [--lod-scenes sphere,bunny,bunny-fine] [--lod-errors E,...] [--lod-rings N]
 //                [--ao-scenes builtin,bunny-plane,stress-grazing,stress-near] [--json F]
 //   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
-//                [--io-threads N] [--queue N] [--summary F] [SETTINGS as defaults under the manifest's]
+//                [--io-threads N] [--queue N] [--summary F] [--png-compression C] [--exr-compression C]
+//                [SETTINGS as defaults under the manifest's]
 //   raster settings [--format markdown|json]
 #include <algorithm>
 #include <cstdio>
@@ -67,6 +69,7 @@ struct RenderCommand {
     bool quiet = false;
     std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
     std::string studyPath;  // --study FILE: ... from this study JSON instead of measuring
+    std::string pngCompression, exrCompression;    // --png-compression, --exr-compression; empty: not given
     RenderOptions options = imageRenderOptions();  // every render setting (settings/schema.h)
 };
 
@@ -122,8 +125,25 @@ Status runRender(RenderCommand& cmd)
     if (cmd.output.empty() && cmd.aovPath.empty()) cmd.output = "render.png";
     RenderSettings s = cmd.options.resolved();
     // Each output in its format and a file of its own, before anything is loaded or rendered.
+    SR_TRY(checkColorExtension("-o", cmd.output));
     SR_TRY(checkOutputNames(
-        {{"-o", cmd.output, ".png"}, {"--aov", cmd.aovPath, ".exr"}, {"--stats", cmd.statsPath, ""}}));
+        {{"-o", cmd.output, ""}, {"--aov", cmd.aovPath, ".exr"}, {"--stats", cmd.statsPath, ""}}));
+    // An encoder setting is for a file it encodes: one given without that file would change nothing.
+    ImageEncoding encoding;
+    if (!cmd.pngCompression.empty()) {
+        auto png = parsePngCompression(cmd.pngCompression, "--png-compression");
+        if (!png) return png.error();
+        if (cmd.output.empty() || isNpyPath(cmd.output))
+            return makeError(ExitCode::Usage, "--png-compression needs a PNG output (-o FILE.png){}",
+                             cmd.output.empty() ? "" : ", not " + quotedInput(cmd.output));
+        encoding.png = *png;
+    }
+    if (!cmd.exrCompression.empty()) {
+        auto exr = parseExrCompression(cmd.exrCompression, "--exr-compression");
+        if (!exr) return exr.error();
+        if (cmd.aovPath.empty()) return makeError(ExitCode::Usage, "--exr-compression needs --aov FILE");
+        encoding.exr = *exr;
+    }
     if (!cmd.scenePath.empty() && cmd.scenePath.compare(0, 7, "builtin") != 0)
         for (const auto& [label, path] : {std::pair<const char*, const std::string&>{"-o", cmd.output},
                                           {"--aov", cmd.aovPath},
@@ -155,6 +175,7 @@ Status runRender(RenderCommand& cmd)
         if (!range) return range.error();
         frames.frames = cmd.frames;
         frames.azimuth = *range;
+        frames.encoding = encoding;
         if ((frames.hasPng = !cmd.output.empty())) {
             auto png = parseFramePattern("-o", cmd.output);
             if (!png) return png.error();
@@ -254,7 +275,7 @@ Status runRender(RenderCommand& cmd)
     if (!out) return out.error();
 
     SR_TRY(writeOutputs(*out, *scene, cmd.options, OutputPaths{cmd.output, cmd.aovPath, cmd.statsPath},
-                        sceneName));
+                        sceneName, encoding));
     if (!cmd.quiet) {
         const RenderStats& st = out->stats;
         std::string lines =
@@ -461,13 +482,16 @@ int main(int argc, char** argv)
     render->add_option("--device", cmd.device, "device index within the backend (default: first)");
     render->add_option(
         "-o,--output", cmd.output,
-        "colour image (PNG, sRGB; default render.png, none when only --aov is given); with --frames a "
-        "pattern with one %d or %0Nd (frame_%04d.png)");
+        "colour image, its extension choosing the format: .png (sRGB PNG) or .npy (the same RGBA8 pixels "
+        "as a NumPy (H, W, 4) uint8 array); default render.png, none when only --aov is given; with "
+        "--frames a pattern with one %d or %0Nd (frame_%04d.png)");
     render->add_option(
         "--aov", cmd.aovPath,
         "EXR with channels id (UINT), Z, bary.u, bary.v, uv.u, uv.v, N.x, N.y, N.z (FLOAT) and "
         "the linear colour R, G, B, A (HALF)");
     render->add_option("--stats", cmd.statsPath, "JSON statistics and per-stage GPU times");
+    render->add_option("--png-compression", cmd.pngCompression, pngCompressionHelp());
+    render->add_option("--exr-compression", cmd.exrCompression, exrCompressionHelp());
     CLI::Option* framesOption =
         render
             ->add_option("--frames", cmd.frames,

@@ -8,16 +8,21 @@
 
 #include "base/result.h"
 #include "io/file_write.h"
+#include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace sr {
 
 struct OutputPaths {
-    std::string png;    // colour image (sRGB PNG)
+    std::string png;    // colour image: an sRGB PNG, or the same pixels as a NumPy array when it ends in .npy
     std::string aov;    // EXR of the AOVs; empty: none
     std::string stats;  // JSON statistics; empty: none
 };
+
+// The help of --png-compression and --exr-compression (render and batch).
+std::string pngCompressionHelp();
+std::string exrCompressionHelp();
 
 // What would make a render of `scene` from `camera` with `settings` a plain image without the user
 // knowing why, one line each (without the "warning: " prefix): a texture debug view (--shading texcoord
@@ -35,23 +40,26 @@ OutputPaths savePaths(const std::string& prefix);
 // Who made the frame, as its PNG and EXR record it (ImageOrigin: the backend and the device's name).
 ImageOrigin outputOrigin(const RenderOutput& out);
 
-// Time a frame's files took, ms: encoding the PNG; computing and encoding the EXR's channels and the
-// JSON; writing them under their temporary names.
+// Time a frame's files took, ms: encoding the colour image (PNG or NPY); computing and encoding the EXR's
+// channels and the JSON; writing them under their temporary names.
 struct OutputTimes {
     double encode = 0.0, aux = 0.0, write = 0.0;
 };
 
-// Encodes the PNG, the EXR (with the surface channels, computed here from the ids if the frame was
-// rendered without RenderSettings::surfaceAovs, every sample with aovSamples, and the linear colour
-// decoded from the PNG's, linearColorAov) and the JSON where `paths` names them (an empty path: none),
-// the image files tagged with outputOrigin, and stages them in `files` (files.commit() puts them in
-// place). `out` is the frame of `scene` rendered with `options`; its AOV image gains the channels the EXR
-// needs. `times`, when given, receives what each part took.
+// Encodes the colour image (PNG or NPY, by its extension), the EXR (with the surface channels, computed here
+// from the ids if the frame was rendered without RenderSettings::surfaceAovs, every sample with aovSamples,
+// and the linear colour decoded from the PNG's, linearColorAov) and the JSON where `paths` names them (an
+// empty path: none), the image files tagged with outputOrigin, and stages them in `files` (files.commit()
+// puts them in place). `out` is the frame of `scene` rendered with `options`; its AOV image gains the
+// channels the EXR needs. The images are encoded as `encoding` says. `times`, when given, receives what each
+// part took.
 Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
-                    const OutputPaths& paths, const std::string& sceneName, OutputTimes* times = nullptr);
+                    const OutputPaths& paths, const std::string& sceneName, const ImageEncoding& encoding,
+                    OutputTimes* times = nullptr);
 // stageOutputs, then the commit: every file of the frame, or none of them.
 Status writeOutputs(RenderOutput& out, const Scene& scene, const RenderOptions& options,
-                    const OutputPaths& paths, const std::string& sceneName);
+                    const OutputPaths& paths, const std::string& sceneName,
+                    const ImageEncoding& encoding = {});
 
 }  // namespace sr
 

@@ -108,7 +108,7 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
         // Each frame's statistics name its own camera, so that any frame renders again from its JSON.
         RenderOptions frame = render;
         frame.camera = camera.specString();
-        SR_TRY(writeOutputs(*out, session.scene(), frame, paths, options.sceneName));
+        SR_TRY(writeOutputs(*out, session.scene(), frame, paths, options.sceneName, options.encoding));
         result.device = out->device;
         result.frameGpuMs.push_back(out->total.medianMs);
         if (options.progress) options.progress(k + 1, options.frames);

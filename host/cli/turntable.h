@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/result.h"
+#include "cli/outputs.h"
 #include "render/renderer.h"
 #include "scene/orbit.h"
 
@@ -44,7 +45,8 @@ struct TurntableOptions {
     FramePattern png;         // used when hasPng (no -o with --aov: EXRs only)
     FramePattern aov, stats;  // used when hasAov / hasStats
     bool hasPng = true, hasAov = false, hasStats = false;
-    std::string sceneName;  // for the JSON
+    std::string sceneName;   // for the JSON
+    ImageEncoding encoding;  // how the PNGs and EXRs are encoded
     // Called after each frame is written with (frames done, frames): the progress line.
     std::function<void(uint32_t, uint32_t)> progress;
 };

@@ -277,7 +277,7 @@ Status runView(const ViewOptions& o)
             // The save's five files appear together or not at all.
             FileGroup files;
             SR_TRY(stageOutputs(files, *out, scene, viewOptions(state), savePaths(prefix),
-                                o.scenePath.empty() ? "builtin" : o.scenePath));
+                                o.scenePath.empty() ? "builtin" : o.scenePath, ImageEncoding{}));
             auto shownPng = encodePng(shown);
             if (!shownPng) return shownPng.error();
             SR_TRY(files.stage(prefix + ".window.png", shownPng->data(), shownPng->size()));

@@ -1,10 +1,11 @@
-// image_io.cpp - PNG through stb, the AOV EXR (id, depth and the surface channels) through tinyexr.
+// image_io.cpp - PNG written through libpng and read through stb, NPY by hand, the AOV EXR (id, depth and
+// the surface channels) through tinyexr.
 #include "io/image_io.h"
 
 #include "io/file_write.h"
 
+#include <png.h>
 #include <stb_image.h>
-#include <stb_image_write.h>
 #include <tinyexr.h>
 
 #include <algorithm>
@@ -105,28 +106,6 @@ struct ExrPlane {
     int filePixelType;  // ... stored in the file (tinyexr converts FLOAT to HALF)
 };
 
-// The PNG CRC (ISO 3309, as zlib's crc32) of a chunk's type and data.
-uint32_t pngCrc(const unsigned char* data, size_t size)
-{
-    static const std::array<uint32_t, 256> table = [] {
-        std::array<uint32_t, 256> t{};
-        for (uint32_t n = 0; n < 256; ++n) {
-            uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    uint32_t c = 0xffffffffu;
-    for (size_t i = 0; i < size; ++i) c = table[(c ^ data[i]) & 0xffu] ^ (c >> 8);
-    return c ^ 0xffffffffu;
-}
-
-void putBigEndian(std::vector<unsigned char>& out, uint32_t v)
-{
-    for (int shift = 24; shift >= 0; shift -= 8) out.push_back((v >> shift) & 0xffu);
-}
-
 // A tEXt value must be Latin-1 without NUL; device names are ASCII, anything else becomes '?'.
 std::string latin1Text(const std::string& text)
 {
@@ -134,21 +113,6 @@ std::string latin1Text(const std::string& text)
     for (char& c : out)
         if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
     return out;
-}
-
-// One tEXt chunk: length, type, keyword, NUL, text, CRC.
-std::vector<unsigned char> pngTextChunk(const std::string& keyword, const std::string& text)
-{
-    std::vector<unsigned char> body = {'t', 'E', 'X', 't'};
-    body.insert(body.end(), keyword.begin(), keyword.end());
-    body.push_back(0);
-    const std::string value = latin1Text(text);
-    body.insert(body.end(), value.begin(), value.end());
-    std::vector<unsigned char> chunk;
-    putBigEndian(chunk, uint32_t(body.size() - 4));
-    chunk.insert(chunk.end(), body.begin(), body.end());
-    putBigEndian(chunk, pngCrc(body.data(), body.size()));
-    return chunk;
 }
 
 // The origin's (key, value) pairs that are set, in file order.
@@ -166,49 +130,239 @@ void setOriginField(ImageOrigin& origin, const std::string& key, const std::stri
     if (key == kOriginDeviceKey) origin.device = value;
 }
 
-// RGBA bytes, spelled out byte by byte so the file does not depend on the host's endianness.
-std::vector<unsigned char> rgbaBytes(const RgbaImage& image)
+// One row's RGBA bytes, spelled out byte by byte so the file does not depend on the host's endianness.
+void rgbaRow(const RgbaImage& image, uint32_t y, unsigned char* row)
 {
-    std::vector<unsigned char> bytes(image.pixels.size() * 4);
-    for (size_t i = 0; i < image.pixels.size(); ++i)
-        for (int c = 0; c < 4; ++c) bytes[4 * i + size_t(c)] = (image.pixels[i] >> (8 * c)) & 0xffu;
-    return bytes;
+    const uint32_t* p = image.pixels.data() + size_t(y) * image.width;
+    for (uint32_t x = 0; x < image.width; ++x)
+        for (int c = 0; c < 4; ++c) row[4 * size_t(x) + size_t(c)] = (p[x] >> (8 * c)) & 0xffu;
+}
+
+// What one libpng encode needs and gives back, reached from libpng's callbacks through its pointers.
+struct PngEncode {
+    const RgbaImage* image = nullptr;
+    int level = 6;    // zlib level
+    int filters = 0;  // PNG_FILTER_* mask: libpng tries each per row and keeps the cheapest
+    const png_text* text = nullptr;
+    int textCount = 0;
+    std::vector<unsigned char>* file = nullptr;
+    unsigned char* row = nullptr;  // one row of RGBA bytes
+    char error[256] = {};
+};
+
+[[noreturn]] void pngFailed(png_structp png, png_const_charp message)
+{
+    auto* encode = static_cast<PngEncode*>(png_get_error_ptr(png));
+    std::snprintf(encode->error, sizeof encode->error, "%s", message ? message : "libpng error");
+    png_longjmp(png, 1);
+}
+
+// libpng warns only about what it corrects itself (such as text it shortens); the file is still right.
+void pngWarned(png_structp, png_const_charp) {}
+
+void pngAppend(png_structp png, png_bytep data, size_t size)
+{
+    auto* encode = static_cast<PngEncode*>(png_get_io_ptr(png));
+    encode->file->insert(encode->file->end(), data, data + size);
+}
+
+void pngFlush(png_structp) {}
+
+// The encode itself. libpng reports errors by longjmp to the setjmp here, so this function holds no
+// object with a destructor: what it skips on the way out is only plain data.
+bool runPngEncode(PngEncode& encode)
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &encode, pngFailed, pngWarned);
+    if (!png) {
+        std::snprintf(encode.error, sizeof encode.error, "libpng could not start (out of memory)");
+        return false;
+    }
+    png_infop info = png_create_info_struct(png);
+    if (!info) {
+        png_destroy_write_struct(&png, nullptr);
+        std::snprintf(encode.error, sizeof encode.error, "libpng could not start (out of memory)");
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_set_write_fn(png, &encode, pngAppend, pngFlush);
+    const RgbaImage& image = *encode.image;
+    png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, encode.level);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, encode.filters);
+    // Written by png_write_info, before the first IDAT, where readPngOrigin looks for them.
+    if (encode.textCount > 0) png_set_text(png, info, encode.text, encode.textCount);
+    png_write_info(png, info);
+    for (uint32_t y = 0; y < image.height; ++y) {
+        rgbaRow(image, y, encode.row);
+        png_write_row(png, encode.row);
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
+// "a, b or c" for messages.
+std::string choiceList(const std::vector<std::string>& names)
+{
+    std::string text;
+    for (size_t i = 0; i < names.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return text;
+}
+
+template <typename Enum>
+Result<Enum> parseChoice(const std::vector<std::string>& names, const std::string& name,
+                         const std::string& option)
+{
+    for (size_t i = 0; i < names.size(); ++i)
+        if (names[i] == name) return Enum(i);
+    return makeError(ExitCode::Usage, "{} must be {}, not {}", option, choiceList(names), quotedInput(name));
 }
 
 }  // namespace
 
-Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin)
+const std::vector<std::string>& pngCompressionNames()
+{
+    static const std::vector<std::string> names = {"fast", "default", "small"};
+    return names;
+}
+
+const char* pngCompressionName(PngCompression compression)
+{
+    return pngCompressionNames()[size_t(compression)].c_str();
+}
+
+Result<PngCompression> parsePngCompression(const std::string& name, const std::string& option)
+{
+    return parseChoice<PngCompression>(pngCompressionNames(), name, option);
+}
+
+const std::vector<std::string>& exrCompressionNames()
+{
+    static const std::vector<std::string> names = {"none", "rle", "zips", "zip", "piz"};
+    return names;
+}
+
+const char* exrCompressionName(ExrCompression compression)
+{
+    return exrCompressionNames()[size_t(compression)].c_str();
+}
+
+Result<ExrCompression> parseExrCompression(const std::string& name, const std::string& option)
+{
+    return parseChoice<ExrCompression>(exrCompressionNames(), name, option);
+}
+
+const std::vector<std::string>& colorExtensions()
+{
+    static const std::vector<std::string> extensions = {".png", ".npy"};
+    return extensions;
+}
+
+bool isNpyPath(const std::string& path)
+{
+    return hasExtension(path, ".npy");
+}
+
+Status checkColorExtension(const std::string& label, const std::string& path)
+{
+    if (path.empty()) return okStatus();
+    for (const std::string& extension : colorExtensions())
+        if (hasExtension(path, extension)) return okStatus();
+    return makeError(ExitCode::Usage, "{} {} must end in .png or .npy", label, quotedInput(path));
+}
+
+Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin,
+                PngCompression compression)
 {
     SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
-    auto file = encodePng(image, origin);
+    auto file = encodePng(image, origin, compression);
     if (!file) return file.error();
     return writeFileAtomically(path, file->data(), file->size());
 }
 
-Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin)
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin,
+                                             PngCompression compression)
 {
     SR_TRY(checkSize("a PNG in memory", image.width, image.height, image.pixels.size(), "the image"));
-    const std::vector<unsigned char> bytes = rgbaBytes(image);
-    std::vector<unsigned char> file;
-    auto append = [](void* context, void* data, int size) {
-        auto* out = static_cast<std::vector<unsigned char>*>(context);
-        out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
-    };
-    // The same encoder and settings as stbi_write_png, so the bytes equal writePng's file.
-    if (!stbi_write_png_to_func(append, &file, int(image.width), int(image.height), 4, bytes.data(),
-                                int(image.width * 4)))
-        return makeError(ExitCode::Usage, "cannot encode a {}x{} PNG: stb_image_write failed", image.width,
-                         image.height);
-    // The text chunks go right after IHDR (8 bytes of signature, then 25 of IHDR), before the pixels,
-    // so that readPngOrigin stops reading at the first IDAT.
-    constexpr size_t kAfterHeader = 8 + 25;
-    std::vector<unsigned char> text;
-    for (const auto& [key, value] : originFields(origin)) {
-        std::vector<unsigned char> chunk = pngTextChunk(key, value);
-        text.insert(text.end(), chunk.begin(), chunk.end());
+    PngEncode encode;
+    encode.image = &image;
+    switch (compression) {
+    case PngCompression::Fast:
+        encode.level = 1;
+        encode.filters = PNG_FILTER_NONE;
+        break;
+    case PngCompression::Default:
+        encode.level = 6;
+        encode.filters = PNG_ALL_FILTERS;
+        break;
+    case PngCompression::Small:
+        encode.level = 9;
+        encode.filters = PNG_ALL_FILTERS;
+        break;
     }
-    if (file.size() >= kAfterHeader) file.insert(file.begin() + kAfterHeader, text.begin(), text.end());
+    // libpng keeps pointers to the keys and values until the file is written.
+    const auto fields = originFields(origin);
+    std::vector<std::string> values;
+    values.reserve(fields.size());
+    std::vector<png_text> text(fields.size());
+    for (size_t i = 0; i < fields.size(); ++i) {
+        values.push_back(latin1Text(fields[i].second));
+        text[i] = {};
+        text[i].compression = PNG_TEXT_COMPRESSION_NONE;
+        text[i].key = const_cast<char*>(fields[i].first);
+        text[i].text = values.back().data();
+        text[i].text_length = values.back().size();
+    }
+    encode.text = text.data();
+    encode.textCount = int(text.size());
+    std::vector<unsigned char> row(size_t(image.width) * 4);
+    encode.row = row.data();
+    std::vector<unsigned char> file;
+    // Deflate at the fast setting shrinks a rendered frame to about a third of its raw size: start there.
+    file.reserve(image.pixels.size() + 1024);
+    encode.file = &file;
+    if (!runPngEncode(encode))
+        return makeError(ExitCode::Usage, "cannot encode a {}x{} PNG: {}", image.width, image.height,
+                         printableText(encode.error));
     return file;
+}
+
+Result<std::vector<unsigned char>> encodeNpy(const RgbaImage& image)
+{
+    SR_TRY(checkSize("an NPY in memory", image.width, image.height, image.pixels.size(), "the image"));
+    // Format 1.0: the magic "\x93NUMPY", the version 1 0, the header's length (little-endian uint16),
+    // then the header: a Python dict literal, padded with spaces and ended by '\n' so that the array
+    // starts at a multiple of 64 bytes (numpy can then map it aligned). Its keys in numpy's order.
+    std::string header = fmt::format("{{'descr': '|u1', 'fortran_order': False, 'shape': ({}, {}, 4), }}",
+                                     image.height, image.width);
+    constexpr size_t kPrefix = 10;  // magic, version, length
+    const size_t total = (kPrefix + header.size() + 1 + 63) / 64 * 64;
+    header.append(total - kPrefix - header.size() - 1, ' ');
+    header.push_back('\n');
+    std::vector<unsigned char> file;
+    file.reserve(total + image.pixels.size() * 4);
+    static const unsigned char kMagic[8] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0};
+    file.insert(file.end(), kMagic, kMagic + 8);
+    file.push_back(header.size() & 0xffu);
+    file.push_back(header.size() >> 8);
+    file.insert(file.end(), header.begin(), header.end());
+    file.resize(total + image.pixels.size() * 4);
+    for (uint32_t y = 0; y < image.height; ++y)
+        rgbaRow(image, y, file.data() + total + size_t(y) * image.width * 4);
+    return file;
+}
+
+Status writeNpy(const std::string& path, const RgbaImage& image)
+{
+    SR_TRY(checkSize(path, image.width, image.height, image.pixels.size(), "the image"));
+    auto file = encodeNpy(image);
+    if (!file) return file.error();
+    return writeFileAtomically(path, file->data(), file->size());
 }
 
 Result<ImageOrigin> readPngOrigin(const std::string& path)
@@ -260,15 +414,16 @@ Result<RgbaImage> readPng(const std::string& path)
     return image;
 }
 
-Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin)
+Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin,
+                   ExrCompression compression)
 {
-    auto file = encodeAovExr(aov, origin, path);
+    auto file = encodeAovExr(aov, origin, path, compression);
     if (!file) return file.error();
     return writeFileAtomically(path, file->data(), file->size());
 }
 
 Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const ImageOrigin& origin,
-                                                const std::string& path)
+                                                const std::string& path, ExrCompression compression)
 {
     SR_TRY(checkSize(path, aov.width, aov.height, aov.id.size(), "the id channel"));
     SR_TRY(checkSize(path, aov.width, aov.height, aov.depth.size(), "the depth channel"));
@@ -302,7 +457,7 @@ Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const Image
                           TINYEXR_PIXELTYPE_FLOAT});
     }
     // OpenEXR wants channels sorted by name (bytewise: "A" < "N.x" < "R" < "Z" < "bary.u" < "id" <
-    // "uv.u"). ZIP is lossless, so ids and float bits survive exactly.
+    // "uv.u"). Every codec offered is lossless, so ids and float bits survive exactly.
     std::sort(planes.begin(), planes.end(),
               [](const ExrPlane& a, const ExrPlane& b) { return std::strcmp(a.name, b.name) < 0; });
 
@@ -335,7 +490,10 @@ Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const Image
     header.channels = channels.data();
     header.pixel_types = pixelTypes.data();
     header.requested_pixel_types = requestedTypes.data();
-    header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+    static const int kCodecs[] = {TINYEXR_COMPRESSIONTYPE_NONE, TINYEXR_COMPRESSIONTYPE_RLE,
+                                  TINYEXR_COMPRESSIONTYPE_ZIPS, TINYEXR_COMPRESSIONTYPE_ZIP,
+                                  TINYEXR_COMPRESSIONTYPE_PIZ};
+    header.compression_type = kCodecs[size_t(compression)];
     header.data_window = {0, 0, int(aov.width) - 1, int(aov.height) - 1};
     header.display_window = header.data_window;
     header.num_custom_attributes = int(attributes.size());

@@ -1,11 +1,12 @@
 // image_io.h - PNG colour images and EXR AOVs.
 //
-// PNG: 8-bit RGBA through stb (Debian's libstb). EXR: through tinyexr, with a UINT channel `id`
-// (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window depth, 1.0 background),
-// plus, when the renderer was asked for them (RenderSettings::surfaceAovs), the FLOAT surface channels
-// `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background), the HALF
-// colour channels `R`, `G`, `B`, `A` (linear), and with anti-aliasing and --aov-samples every sample's
-// `id.s<k>` and `Z.s<k>`. Both formats carry an ImageOrigin: PNG tEXt chunks, EXR string attributes.
+// PNG: 8-bit RGBA, written through libpng at a chosen speed (PngCompression), read through stb (Debian's
+// libstb). NPY: the same RGBA8 pixels as a NumPy (H, W, 4) uint8 array, uncompressed. EXR: through tinyexr,
+// with a UINT channel `id` (triangle id, 0xFFFFFFFF for background) and a FLOAT channel `Z` (window
+// depth, 1.0 background), plus, when the renderer was asked for them (RenderSettings::surfaceAovs), the FLOAT
+// surface channels `bary.u`, `bary.v`, `uv.u`, `uv.v`, `N.x`, `N.y`, `N.z` (see AovImage; 0 on background),
+// the HALF colour channels `R`, `G`, `B`, `A` (linear), and with anti-aliasing and --aov-samples every
+// sample's `id.s<k>` and `Z.s<k>`. Both formats carry an ImageOrigin: PNG tEXt chunks, EXR string attributes.
 #ifndef RASTER_IMAGE_IO_H
 #define RASTER_IMAGE_IO_H
 
@@ -68,17 +69,60 @@ struct ImageOrigin {
 constexpr const char* kOriginBackendKey = "raster:backend";
 constexpr const char* kOriginDeviceKey = "raster:device";
 
-Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin = {});
+// How hard the PNG encoder works: the pixels are the same (lossless), the file's size and the time to
+// write it are not. Fast: zlib level 1, no row filter (of the level-1 settings the quickest on a rendered
+// frame; the Up filter saves 15% of the size for 10-25% more time, docs/batch.md); default: level 6 with
+// libpng's adaptive filter choice per row; small: level 9, every filter tried per row.
+enum class PngCompression { Fast, Default, Small };
+// "fast", "default", "small" (the values of --png-compression and png_compression).
+const std::vector<std::string>& pngCompressionNames();
+const char* pngCompressionName(PngCompression compression);
+// The compression `name` stands for, or a one-line error naming `option` and the allowed values.
+Result<PngCompression> parsePngCompression(const std::string& name, const std::string& option);
+
+// The EXR's codec (tinyexr's lossless ones): none (the quickest, the largest), rle, zips (zlib per
+// scanline), zip (zlib per 16 scanlines: today's and the default), piz (wavelet, for noisy images).
+enum class ExrCompression { None, Rle, Zips, Zip, Piz };
+const std::vector<std::string>& exrCompressionNames();
+const char* exrCompressionName(ExrCompression compression);
+Result<ExrCompression> parseExrCompression(const std::string& name, const std::string& option);
+
+// How a frame's image files are encoded (--png-compression, --exr-compression; a manifest's
+// png_compression and exr_compression): only the files' size and the time to write them change, never
+// their pixels.
+struct ImageEncoding {
+    PngCompression png = PngCompression::Default;
+    ExrCompression exr = ExrCompression::Zip;
+};
+
+// The extensions a colour output may have, each selecting its format: ".png" or ".npy".
+const std::vector<std::string>& colorExtensions();
+// Whether the colour output `path` is written as NPY (it ends in .npy) rather than PNG.
+bool isNpyPath(const std::string& path);
+// An error unless `path` (empty: none) ends in one of colorExtensions(): "LABEL 'PATH' must end in .png
+// or .npy".
+Status checkColorExtension(const std::string& label, const std::string& path);
+
+Status writePng(const std::string& path, const RgbaImage& image, const ImageOrigin& origin = {},
+                PngCompression compression = PngCompression::Default);
 // The bytes writePng writes, in memory (`raster batch` encodes on its I/O threads and times the write
 // apart).
-Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin = {});
+Result<std::vector<unsigned char>> encodePng(const RgbaImage& image, const ImageOrigin& origin = {},
+                                             PngCompression compression = PngCompression::Default);
+// The image as a NumPy .npy file (format 1.0): an (height, width, 4) uint8 array in C order, R G B A per
+// pixel, the header padded to a multiple of 64 bytes as the format asks. It carries no origin (the format
+// has no room for metadata beside the array).
+Result<std::vector<unsigned char>> encodeNpy(const RgbaImage& image);
+Status writeNpy(const std::string& path, const RgbaImage& image);
 Result<RgbaImage> readPng(const std::string& path);  // any PNG, expanded to RGBA8
 // The origin a PNG's tEXt chunks record (empty fields for a PNG without them).
 Result<ImageOrigin> readPngOrigin(const std::string& path);
-Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin = {});
+Status writeAovExr(const std::string& path, const AovImage& aov, const ImageOrigin& origin = {},
+                   ExrCompression compression = ExrCompression::Zip);
 // The bytes writeAovExr writes, in memory; `path` names the file in errors.
 Result<std::vector<unsigned char>> encodeAovExr(const AovImage& aov, const ImageOrigin& origin,
-                                                const std::string& path);
+                                                const std::string& path,
+                                                ExrCompression compression = ExrCompression::Zip);
 // Needs the `id` and `Z` channels; reads each surface and colour group whose channels are all present,
 // and fails on a group with only some of them (a file cut short or renamed by another tool).
 Result<AovImage> readAovExr(const std::string& path);

@@ -57,7 +57,7 @@ def run_cli(*args, check=True):
 
 
 def read_png(path):
-    """An 8-bit RGBA, non-interlaced PNG (what stb_image_write writes) as (H, W, 4) uint8."""
+    """An 8-bit RGBA, non-interlaced PNG (what `raster` writes through libpng) as (H, W, 4) uint8."""
     data = pathlib.Path(path).read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     pos, idat = 8, b""
