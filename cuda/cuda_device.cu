@@ -96,6 +96,34 @@ public:
         return okStatus();
     }
 
+    Result<std::shared_ptr<void>> allocateMemory(bool onDevice, size_t bytes) override
+    {
+        CUDA_TRY(cudaSetDevice(ordinal_));
+        void* p = nullptr;
+        bytes = std::max<size_t>(bytes, 1);
+        if (onDevice) {
+            CUDA_TRY(cudaMalloc(&p, bytes));
+            return std::shared_ptr<void>(p, [](void* q) { cudaFree(q); });
+        }
+        CUDA_TRY(cudaHostAlloc(&p, bytes, cudaHostAllocDefault));
+        return std::shared_ptr<void>(p, [](void* q) { cudaFreeHost(q); });
+    }
+
+    Status downloadToDevice(uint32_t buffer, void* deviceData, size_t bytes, size_t offset) override
+    {
+        if (buffer >= BUF_COUNT || offset > bytes_[buffer] || bytes > bytes_[buffer] - offset)
+            return makeError(ExitCode::Runtime,
+                             "cuda: device copy of {} bytes at {} from buffer {} ({} bytes)", bytes, offset,
+                             buffer, buffer < BUF_COUNT ? bytes_[buffer] : 0);
+        if (bytes == 0) return okStatus();
+        // On the device's stream, then waited for: the images are whole when render returns, on any
+        // stream of any library.
+        CUDA_TRY(cudaMemcpyAsync(deviceData, static_cast<const char*>(ptr_[buffer]) + offset, bytes,
+                                 cudaMemcpyDeviceToDevice, stream_));
+        CUDA_TRY(cudaStreamSynchronize(stream_));
+        return okStatus();
+    }
+
     Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                std::vector<double>& gpuMs) override
     {

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -20,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include <dlpack/dlpack.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -128,9 +130,124 @@ std::shared_ptr<raster::Scene> sceneFromArrays(
 
 // ---- frames ---------------------------------------------------------------------------------------
 
+// Page-locked host memory and GPU memory of one device for frames' images, kept for the next frames
+// once a frame that held them is freed: a CUDA allocation of page-locked memory costs milliseconds, and
+// freshly allocated pages fault on the first copy into them. A few of each size are kept.
+class MemoryPool {
+public:
+    explicit MemoryPool(raster::Device& device) : device_(&device) {}
+
+    raster::Memory acquire(size_t bytes, raster::Memory::Where where)
+    {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (size_t i = 0; i < free_.size(); ++i) {
+                if (free_[i].size() != bytes || free_[i].where() != where) continue;
+                raster::Memory m = std::move(free_[i]);
+                free_.erase(free_.begin() + long(i));
+                return m;
+            }
+        }
+        return take(raster::Memory::allocate(*device_, bytes, where));
+    }
+
+    void give(std::vector<raster::Memory>& memory)
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (raster::Memory& m : memory) free_.push_back(std::move(m));
+        if (free_.size() > kKept) free_.erase(free_.begin(), free_.end() - long(kKept));
+        memory.clear();
+    }
+
+    // Called when the device closes: what is kept goes with it.
+    void drop()
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        free_.clear();
+        device_ = nullptr;
+    }
+
+private:
+    static constexpr size_t kKept = 12;
+    raster::Device* device_;
+    std::mutex mutex_;
+    std::vector<raster::Memory> free_;
+};
+
+// A frame's images: in the Frame's vectors, or written in place into memory from the renderer's pool
+// (host, page-locked on CUDA; or the GPU's own with where="device"), returned to the pool with the
+// holder.
 struct FrameHolder {
     raster::Frame frame;
+    raster::ImageTargets targets;
+    std::vector<raster::Memory> memory;
+    std::weak_ptr<MemoryPool> pool;
+    int cudaDevice = -1;
+
+    ~FrameHolder()
+    {
+        if (auto p = pool.lock()) p->give(memory);
+    }
 };
+
+// An image of a frame in GPU memory, for CUDA libraries: __cuda_array_interface__ (version 3) and
+// DLPack (__dlpack__, __dlpack_device__) describe it in place, and every array made from it keeps the
+// frame alive.
+struct DeviceArray {
+    std::shared_ptr<FrameHolder> owner;
+    void* data = nullptr;
+    std::vector<int64_t> shape;
+    char kind = 'u';  // numpy's typestr kind: 'u' uint, 'f' float
+    int bytes = 4;    // per element
+    int device = 0;   // CUDA device ordinal
+
+    py::dict cudaArrayInterface() const
+    {
+        py::dict d;
+        py::tuple s(shape.size());
+        for (size_t i = 0; i < shape.size(); ++i) s[i] = shape[i];
+        d["shape"] = s;
+        d["typestr"] = std::string("<") + kind + std::to_string(bytes);
+        d["data"] = py::make_tuple(reinterpret_cast<uintptr_t>(data), false);
+        d["version"] = 3;
+        d["strides"] = py::none();
+        // The copies were waited for before render returned: nothing for a consumer's stream to wait on.
+        d["stream"] = py::none();
+        return d;
+    }
+};
+
+// DLPack's managed tensor for a DeviceArray: the tensor's shape lives here, and the frame with it until
+// the consumer calls the deleter.
+struct DlpackExport {
+    DLManagedTensor tensor{};
+    std::vector<int64_t> shape;
+    std::shared_ptr<FrameHolder> owner;
+};
+
+py::capsule dlpackCapsule(const DeviceArray& a)
+{
+    auto* e = new DlpackExport;
+    e->shape = a.shape;
+    e->owner = a.owner;
+    DLTensor& t = e->tensor.dl_tensor;
+    t.data = a.data;
+    t.device = DLDevice{kDLCUDA, int32_t(a.device)};
+    t.ndim = int32_t(e->shape.size());
+    t.dtype = DLDataType{uint8_t(a.kind == 'f' ? kDLFloat : kDLUInt), uint8_t(8 * a.bytes), 1};
+    t.shape = e->shape.data();
+    t.strides = nullptr;  // compact, row-major
+    t.byte_offset = 0;
+    e->tensor.manager_ctx = e;
+    e->tensor.deleter = [](DLManagedTensor* self) { delete static_cast<DlpackExport*>(self->manager_ctx); };
+    // The protocol: a consumer renames the capsule "used_dltensor" and then owns the tensor; a capsule
+    // never consumed frees it when it goes.
+    return py::capsule(&e->tensor, "dltensor", [](PyObject* capsule) {
+        if (!PyCapsule_IsValid(capsule, "dltensor")) return;
+        auto* m = static_cast<DLManagedTensor*>(PyCapsule_GetPointer(capsule, "dltensor"));
+        if (m != nullptr && m->deleter != nullptr) m->deleter(m);
+    });
+}
 
 // A view of `data` as a numpy array of `shape` (C order) whose base is `owner`; None when empty.
 template <typename T>
@@ -144,6 +261,47 @@ py::object view(const py::object& owner, std::vector<T>& data, std::vector<py::s
         stride *= shape[d];
     }
     return py::array(py::dtype::of<T>(), std::move(shape), std::move(strides), data.data(), owner);
+}
+
+// The frame with the images it wrote in place copied into its arrays, as raster::compare reads frames
+// (Python may have changed them: the copy is of what the caller sees).
+raster::Frame comparable(const FrameHolder& h)
+{
+    if (h.targets.onDevice)
+        throw RasterError("compare: frames on the device (on_device=True) are not compared");
+    raster::Frame f = h.frame;
+    const size_t pixels = size_t(f.width) * f.height;
+    auto copy = [&](auto& into, const void* from, size_t count) {
+        if (from == nullptr) return;
+        into.resize(count);
+        std::memcpy(into.data(), from, count * sizeof(into[0]));
+    };
+    copy(f.color, h.targets.color, 4 * pixels);
+    copy(f.id, h.targets.id, pixels);
+    copy(f.depth, h.targets.depth, pixels);
+    return f;
+}
+
+// An image a frame wrote in place (FrameHolder::targets): a numpy view of host memory, or a DeviceArray
+// of GPU memory, either keeping the frame alive.
+py::object image(const py::object& owner, void* data, std::vector<int64_t> shape, char kind, int bytes)
+{
+    FrameHolder& h = owner.cast<FrameHolder&>();
+    if (h.targets.onDevice) {
+        DeviceArray a;
+        a.owner = owner.cast<std::shared_ptr<FrameHolder>>();
+        a.data = data;
+        a.shape = std::move(shape);
+        a.kind = kind;
+        a.bytes = bytes;
+        a.device = h.cudaDevice;
+        return py::cast(std::move(a));
+    }
+    const py::dtype dtype = kind == 'f'  ? py::dtype::of<float>()
+                            : bytes == 1 ? py::dtype::of<uint8_t>()
+                                         : py::dtype::of<uint32_t>();
+    std::vector<py::ssize_t> dims(shape.begin(), shape.end());
+    return py::array(dtype, std::move(dims), data, owner);
 }
 
 py::dict deviceDict(const raster::DeviceInfo& d)
@@ -280,22 +438,54 @@ public:
         const raster::Backend b = take(raster::parseBackend(backend));
         py::gil_scoped_release release;
         device_ = std::make_unique<raster::Device>(take(raster::Device::open(b, index)));
+        pool_ = std::make_shared<MemoryPool>(*device_);
     }
+
+    ~Renderer()
+    {
+        if (pool_) pool_->drop();
+    }
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
 
     py::dict info() const { return deviceDict(device_->info()); }
 
     // Renders `scene`; with keep, the scene's session (its upload and buffers) stays for the next call.
     // outputs: raster::Output bits, the images the frame fills.
+    // onDevice: the images stay in GPU memory (CUDA), as DeviceArrays.
     std::shared_ptr<FrameHolder> render(const std::shared_ptr<raster::Scene>& scene, const py::object& camera,
-                                        const py::dict& kwargs, bool surfaceAovs, bool keep, uint32_t outputs)
+                                        const py::dict& kwargs, bool surfaceAovs, bool keep, uint32_t outputs,
+                                        bool onDevice)
     {
         const raster::Settings settings = makeSettings(camera, kwargs);
         const raster::Camera cam = makeCamera(camera);
+        const size_t pixels =
+            size_t(std::stoul(take(settings.get("width")))) * std::stoul(take(settings.get("height")));
         raster::RenderRequest request;
         request.surfaceAovs = surfaceAovs;
         request.outputs = outputs;
         auto holder = std::make_shared<FrameHolder>();
+        const bool compute = device_->info().backend != raster::Backend::VulkanGraphics;
+        if (onDevice && device_->info().backend != raster::Backend::Cuda)
+            throw RasterError(std::string("render: on_device needs a CUDA device, not ") +
+                              raster::backendName(device_->info().backend));
         py::gil_scoped_release release;
+        if (compute) {
+            // The images go straight into memory of the pool, which the frame returns there when it goes.
+            const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
+            auto slot = [&](uint32_t bit, void*& target) {
+                if ((outputs & bit) == 0u) return;
+                holder->memory.push_back(pool_->acquire(4 * pixels, where));
+                target = holder->memory.back().data();
+            };
+            slot(raster::OutputColor, request.targets.color);
+            slot(raster::OutputId, request.targets.id);
+            slot(raster::OutputDepth, request.targets.depth);
+            request.targets.onDevice = onDevice;
+            holder->targets = request.targets;
+            holder->pool = pool_;
+            holder->cudaDevice = std::max(device_->info().index, 0);
+        }
         std::lock_guard<std::mutex> lock(mutex_);
         std::unique_ptr<raster::Session> once;
         raster::Session* session = cached(scene);
@@ -316,25 +506,41 @@ public:
                    py::array_t<float, py::array::c_style>& out, const py::object& camera,
                    const py::dict& kwargs, bool fresh)
     {
-        const raster::Settings settings = makeSettings(camera, kwargs);
-        const raster::Camera cam = makeCamera(camera);
-        const py::ssize_t batch = pos.shape(0), vertices = pos.shape(1);
         const size_t viewFloats = size_t(out.shape(1)) * size_t(out.shape(2)) * 4;
-        const float* positions = pos.data();
         float* target = out.mutable_data();
-        py::gil_scoped_release release;
-        std::lock_guard<std::mutex> lock(mutex_);
-        raster::Session* session = cached(scene);
-        if (session == nullptr) session = &add(scene);
-        for (py::ssize_t b = 0; b < batch; ++b) {
-            if (b > 0 || !fresh)
-                check(scene->updatePositions(positions + size_t(b) * size_t(vertices) * 4, size_t(vertices),
-                                             4));
-            raster::RenderRequest request;
-            request.outputs = 0;
-            request.rast = target + size_t(b) * viewFloats;
-            take(session->render(cam, settings, request));
+        drawViews(scene, pos, camera, kwargs, fresh, false,
+                  [&](size_t b) { return target + b * viewFloats; });
+    }
+
+    // The same batch left in GPU memory (CUDA): one allocation of B x H x W x 4 floats from the pool,
+    // each view written into its slice on the device, handed out as a DeviceArray.
+    DeviceArray rasterizeOnDevice(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
+                                  const std::array<int64_t, 3>& shape, const py::object& camera,
+                                  const py::dict& kwargs, bool fresh)
+    {
+        if (device_->info().backend != raster::Backend::Cuda)
+            throw RasterError(std::string("rasterize: on_device needs a CUDA device, not ") +
+                              raster::backendName(device_->info().backend));
+        const size_t viewBytes = size_t(shape[1]) * size_t(shape[2]) * 16;
+        auto holder = std::make_shared<FrameHolder>();
+        holder->pool = pool_;
+        holder->cudaDevice = std::max(device_->info().index, 0);
+        holder->targets.onDevice = true;
+        {
+            py::gil_scoped_release release;
+            holder->memory.push_back(
+                pool_->acquire(viewBytes * size_t(shape[0]), raster::Memory::Where::Device));
         }
+        char* base = static_cast<char*>(holder->memory.back().data());
+        drawViews(scene, pos, camera, kwargs, fresh, true, [&](size_t b) { return base + b * viewBytes; });
+        DeviceArray a;
+        a.owner = holder;
+        a.data = base;
+        a.shape = {shape[0], shape[1], shape[2], 4};
+        a.kind = 'f';
+        a.bytes = 4;
+        a.device = holder->cudaDevice;
+        return a;
     }
 
     // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the
@@ -396,7 +602,33 @@ private:
         return *sessions_.back().session;
     }
 
+    // rasterize's views, one frame each: positions replaced in place, the output written to target(b).
+    template <typename Target>
+    void drawViews(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
+                   const py::object& camera, const py::dict& kwargs, bool fresh, bool onDevice, Target target)
+    {
+        const raster::Settings settings = makeSettings(camera, kwargs);
+        const raster::Camera cam = makeCamera(camera);
+        const py::ssize_t batch = pos.shape(0), vertices = pos.shape(1);
+        const float* positions = pos.data();
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(mutex_);
+        raster::Session* session = cached(scene);
+        if (session == nullptr) session = &add(scene);
+        for (py::ssize_t b = 0; b < batch; ++b) {
+            if (b > 0 || !fresh)
+                check(scene->updatePositions(positions + size_t(b) * size_t(vertices) * 4, size_t(vertices),
+                                             4));
+            raster::RenderRequest request;
+            request.outputs = 0;
+            request.targets.rast = target(size_t(b));
+            request.targets.onDevice = onDevice;
+            take(session->render(cam, settings, request));
+        }
+    }
+
     std::unique_ptr<raster::Device> device_;
+    std::shared_ptr<MemoryPool> pool_;
     std::vector<Entry> sessions_;
     std::mutex mutex_;
 };
@@ -508,17 +740,26 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("height", [](const FrameHolder& h) { return h.frame.height; })
         .def_property_readonly("color",
                                [](py::object self) {
-                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   FrameHolder& h = self.cast<FrameHolder&>();
+                                   raster::Frame& f = h.frame;
+                                   if (h.targets.color)
+                                       return image(self, h.targets.color, {f.height, f.width, 4}, 'u', 1);
                                    return view(self, f.color, {f.height, f.width, 4});
                                })
         .def_property_readonly("ids",
                                [](py::object self) {
-                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   FrameHolder& h = self.cast<FrameHolder&>();
+                                   raster::Frame& f = h.frame;
+                                   if (h.targets.id)
+                                       return image(self, h.targets.id, {f.height, f.width}, 'u', 4);
                                    return view(self, f.id, {f.height, f.width});
                                })
         .def_property_readonly("depth",
                                [](py::object self) {
-                                   raster::Frame& f = self.cast<FrameHolder&>().frame;
+                                   FrameHolder& h = self.cast<FrameHolder&>();
+                                   raster::Frame& f = h.frame;
+                                   if (h.targets.depth)
+                                       return image(self, h.targets.depth, {f.height, f.width}, 'f', 4);
                                    return view(self, f.depth, {f.height, f.width});
                                })
         .def_property_readonly("bary",
@@ -557,13 +798,36 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("device", [](const FrameHolder& h) { return deviceDict(h.frame.device); })
         .def_property_readonly("warnings", [](const FrameHolder& h) { return h.frame.warnings; });
 
+    py::class_<DeviceArray>(m, "DeviceArray")
+        .def_property_readonly("shape",
+                               [](const DeviceArray& a) {
+                                   py::tuple s(a.shape.size());
+                                   for (size_t i = 0; i < a.shape.size(); ++i) s[i] = a.shape[i];
+                                   return s;
+                               })
+        .def_property_readonly(
+            "typestr",
+            [](const DeviceArray& a) { return std::string("<") + a.kind + std::to_string(a.bytes); })
+        .def_property_readonly("device", [](const DeviceArray& a) { return a.device; })
+        .def_property_readonly("data_ptr",
+                               [](const DeviceArray& a) { return reinterpret_cast<uintptr_t>(a.data); })
+        .def_property_readonly("__cuda_array_interface__", &DeviceArray::cudaArrayInterface)
+        // Any stream, version or device keywords a consumer passes: the images are whole already, in
+        // the one form this export has (DLPack's unversioned tensor, which consumers accept).
+        .def("__dlpack__",
+             [](const DeviceArray& a, const py::args&, const py::kwargs&) { return dlpackCapsule(a); })
+        .def("__dlpack_device__",
+             [](const DeviceArray& a) { return py::make_tuple(int(kDLCUDA), a.device); });
+
     py::class_<Renderer>(m, "Renderer")
         .def(py::init<const std::string&, int>(), py::arg("backend"), py::arg("device"))
         .def_property_readonly("device", &Renderer::info)
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
-             py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"))
+             py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"), py::arg("on_device"))
         .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("pos"), py::arg("out"),
              py::arg("camera"), py::arg("settings"), py::arg("fresh"))
+        .def("rasterize_on_device", &Renderer::rasterizeOnDevice, py::arg("scene"), py::arg("pos"),
+             py::arg("shape"), py::arg("camera"), py::arg("settings"), py::arg("fresh"))
         .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("camera"),
              py::arg("settings"), py::arg("count"))
         .def("release", &Renderer::release)
@@ -574,7 +838,7 @@ PYBIND11_MODULE(_raster, m)
         [](const FrameHolder& a, const FrameHolder& b, bool aov, int tolerance, uint64_t maxIdMismatches,
            float depthTolerance, std::optional<double> surfaceTolerance) {
             return reportDict(take(raster::compare(
-                a.frame, b.frame, aov,
+                comparable(a), comparable(b), aov,
                 compareOptions(tolerance, maxIdMismatches, depthTolerance, surfaceTolerance))));
         },
         py::arg("a"), py::arg("b"), py::arg("aov"), py::arg("tolerance"), py::arg("max_id_mismatches"),

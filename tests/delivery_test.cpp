@@ -160,7 +160,7 @@ TEST_P(DeliveryTest, RasterizeOutputFollowsItsDefinition)
     auto out = session->render(f.camera, f.settings);
     ASSERT_TRUE(out.ok()) << out.error().message;
     std::vector<float> rast(size_t(4) * 80 * 56, -7.0f);
-    ASSERT_TRUE(session->readRast(rast.data(), rast.size()).ok());
+    ASSERT_TRUE(session->readImage(OUTPUT_RAST, rast.data(), rast.size() * 4, false).ok());
     for (size_t i = 0; i < out->aov.id.size(); ++i) {
         const uint32_t id = out->aov.id[i];
         // nvdiffrast's layout: the weights of vertices 0 and 1, OpenGL's z/w from Vulkan's window depth,
@@ -172,11 +172,11 @@ TEST_P(DeliveryTest, RasterizeOutputFollowsItsDefinition)
         ASSERT_EQ(std::memcmp(expected, &rast[4 * i], sizeof(expected)), 0) << "pixel " << i;
     }
     // A frame without it has none to read, and a wrong size is refused.
-    EXPECT_FALSE(session->readRast(rast.data(), rast.size() - 4).ok());
+    EXPECT_FALSE(session->readImage(OUTPUT_RAST, rast.data(), (rast.size() - 4) * 4, false).ok());
     RenderSettings plain = f.settings;
     plain.outputs = OUTPUT_IMAGES;
     ASSERT_TRUE(session->render(f.camera, plain).ok());
-    EXPECT_FALSE(session->readRast(rast.data(), rast.size()).ok());
+    EXPECT_FALSE(session->readImage(OUTPUT_RAST, rast.data(), rast.size() * 4, false).ok());
     // Not with generated or simplified triangles, whose ids the device does not know as the scene's.
     f.settings.tessellate = TESS_PN;
     EXPECT_FALSE(session->render(f.camera, f.settings).ok());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -308,6 +309,27 @@ Result<Scene> Scene::fromArrays(const MeshArrays& m)
     return Scene(std::move(impl));
 }
 
+Memory::Memory(std::shared_ptr<void> data, size_t size, Where where)
+    : data_(std::move(data)), size_(size), where_(where)
+{
+}
+
+Result<Memory> Memory::allocate(Device& device, size_t bytes, Where where)
+{
+    const bool onDevice = where == Where::Device;
+    if (!device.impl().compute) {
+        if (onDevice) return usage("memory on the device needs a CUDA device, not vulkan-graphics");
+        auto data = std::shared_ptr<void>(::operator new(bytes == 0 ? 1 : bytes, std::nothrow),
+                                          [](void* p) { ::operator delete(p); });
+        if (!data)
+            return Error{ErrorKind::Runtime, fmt::format("cannot allocate {} bytes of host memory", bytes)};
+        return Memory(std::move(data), bytes, where);
+    }
+    auto data = device.impl().compute->allocateMemory(onDevice, bytes);
+    if (!data) return toPublic(data.error());
+    return Memory(std::move(*data), bytes, where);
+}
+
 Status Scene::updatePositions(const float* positions, size_t vertexCount, uint32_t components)
 {
     Impl& self = *impl_;
@@ -589,9 +611,12 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     Impl& self = *impl_;
     const sr::RenderOptions& options = settings.impl().options;
     const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
-    if (request.rast && !self.device->compute)
+    const ImageTargets& t = request.targets;
+    const uint32_t targeted = (t.color ? sr::OUTPUT_COLOR : 0u) | (t.id ? sr::OUTPUT_ID : 0u) |
+                              (t.depth ? sr::OUTPUT_DEPTH : 0u) | (t.rast ? sr::OUTPUT_RAST : 0u);
+    if (targeted != 0u && !self.device->compute)
         return usage(
-            "rasterize's output comes from the compute backends (cuda, vulkan), not vulkan-graphics");
+            "images written in place come from the compute backends (cuda, vulkan), not vulkan-graphics");
     // Positions moved in place (Scene::updatePositions): the session uploads them again; a derived scene
     // (lines, points, the overlay) is derived again.
     const bool moved = self.scene->positionsVersion != self.positionsVersion;
@@ -622,14 +647,38 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     s.surfaceAovs = request.surfaceAovs;
     s.outputs = ((request.outputs & OutputColor) ? sr::OUTPUT_COLOR : 0u) |
                 ((request.outputs & OutputId) ? sr::OUTPUT_ID : 0u) |
-                ((request.outputs & OutputDepth) ? sr::OUTPUT_DEPTH : 0u) |
-                (request.rast ? sr::OUTPUT_RAST : 0u);
+                ((request.outputs & OutputDepth) ? sr::OUTPUT_DEPTH : 0u) | targeted;
+    // Tessellated and level-of-detail frames get their ids mapped on the host: their images reach the
+    // targets from the frame's arrays.
+    const bool direct = s.tessellate == TESS_OFF && s.lod == sr::LOD_OFF;
+    if (targeted != 0u && !direct && t.onDevice)
+        return usage(
+            "images on the device do not combine with tessellate or lod (their ids are mapped on the host)");
+    s.keptOutputs = direct ? targeted : 0u;
     auto out = self.session ? self.session->render(*matrices, s)
                             : sr::renderGraphics(scene, *matrices, s, self.device->info.index);
     if (!out) return toPublic(out.error());
-    if (request.rast) {
-        auto read = self.session->readRast(request.rast, size_t(4) * s.width * s.height);
+    const size_t pixels = size_t(s.width) * s.height;
+    for (const auto& [bit, target] : {std::pair<uint32_t, void*>{sr::OUTPUT_COLOR, t.color},
+                                      {sr::OUTPUT_ID, t.id},
+                                      {sr::OUTPUT_DEPTH, t.depth},
+                                      {sr::OUTPUT_RAST, t.rast}}) {
+        if (target == nullptr) continue;
+        if (!direct) {
+            const void* from = bit == sr::OUTPUT_COLOR ? static_cast<const void*>(out->color.pixels.data())
+                               : bit == sr::OUTPUT_ID  ? static_cast<const void*>(out->aov.id.data())
+                                                       : static_cast<const void*>(out->aov.depth.data());
+            std::memcpy(target, from, pixels * 4);
+            continue;
+        }
+        auto read =
+            self.session->readImage(bit, target, pixels * (bit == sr::OUTPUT_RAST ? 16 : 4), t.onDevice);
         if (!read) return toPublic(read.error());
+    }
+    if (!direct) {
+        if (t.color) out->color.pixels.clear();
+        if (t.id) out->aov.id.clear();
+        if (t.depth) out->aov.depth.clear();
     }
     // The graphics reference fills every image: the ones not asked for are dropped, as the others skip them.
     if (!(request.outputs & OutputColor)) out->color.pixels.clear();

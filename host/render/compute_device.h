@@ -55,6 +55,13 @@ public:
     // Copies `bytes` from `offset` bytes into `buffer` to `data`.
     virtual Status download(uint32_t buffer, void* data, size_t bytes, size_t offset = 0) = 0;
 
+    // Memory for a caller's images (raster::Memory), freed when the last pointer goes: host memory,
+    // page-locked where the device copies into it directly (CUDA: no staging through the driver's own
+    // buffers), or memory of the device itself (CUDA only; an error elsewhere).
+    virtual Result<std::shared_ptr<void>> allocateMemory(bool onDevice, size_t bytes);
+    // As download, into memory of this device (allocateMemory(true, ...)); CUDA only.
+    virtual Status downloadToDevice(uint32_t buffer, void* deviceData, size_t bytes, size_t offset);
+
     // Runs the dispatches in order with a full memory barrier between each, with `params` visible to
     // every stage, waits for completion, and stores each dispatch's GPU time in ms (same order).
     virtual Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,

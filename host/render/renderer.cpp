@@ -667,6 +667,7 @@ Status RenderSession::sizeFrame(const RenderSettings& settings, FrameState& f)
     // The colours, then stage aovs's arrays, only those the host asked for.
     aovPixels_ = f.pixels;
     aovOutputs_ = aovOutputs(settings);
+    framebufferColour_ = settings.download != ImageDownload::All || (settings.outputs & OUTPUT_COLOR) != 0u;
     SR_TRY(ensureSize(BUF_FRAMEBUFFER, uint64_t(aovsLayout(uint32_t(f.pixels), aovOutputs_).words) * 4));
     // The debug counter costs memory only when it is asked for.
     SR_TRY(ensureSize(BUF_HIT_COUNT, countsHits(settings) ? f.samples * sizeof(uint32_t) : 16));
@@ -943,7 +944,8 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
     out.color.width = out.aov.width = settings.width;
     out.color.height = out.aov.height = settings.height;
     if (settings.download == ImageDownload::None) return okStatus();
-    if (settings.download == ImageDownload::Colour || (settings.outputs & OUTPUT_COLOR) != 0u) {
+    const uint32_t copied = settings.outputs & ~settings.keptOutputs;
+    if (settings.download == ImageDownload::Colour || (copied & OUTPUT_COLOR) != 0u) {
         out.color.pixels.resize(f.pixels);
         SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), f.pixels * sizeof(uint32_t)));
     }
@@ -972,8 +974,8 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
         values.resize(f.pixels);
         return device.download(BUF_FRAMEBUFFER, values.data(), f.pixels * 4, uint64_t(word) * 4);
     };
-    if ((settings.outputs & OUTPUT_ID) != 0u) SR_TRY(plane(out.aov.id, l.ids));
-    if ((settings.outputs & OUTPUT_DEPTH) != 0u) SR_TRY(plane(out.aov.depth, l.depths));
+    if ((copied & OUTPUT_ID) != 0u) SR_TRY(plane(out.aov.id, l.ids));
+    if ((copied & OUTPUT_DEPTH) != 0u) SR_TRY(plane(out.aov.depth, l.depths));
     if (settings.surfaceAovs) {
         uint32_t word = l.surface;
         for (std::vector<float>* p : {&out.aov.baryU, &out.aov.baryV, &out.aov.uvU, &out.aov.uvV,
@@ -985,15 +987,26 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
     return okStatus();
 }
 
-Status RenderSession::readRast(float* destination, size_t floats)
+Status RenderSession::readImage(uint32_t output, void* destination, size_t bytes, bool onDevice)
 {
-    if ((aovOutputs_ & AOV_OUT_RAST) == 0u || floats != 4 * aovPixels_ || device_->resident() != id_)
-        return makeError(ExitCode::Usage,
-                         "no rasterize output of {} floats to read: the session's last frame "
-                         "was not drawn with it, or another session drew since",
-                         floats);
     const AovsLayout l = aovsLayout(uint32_t(aovPixels_), aovOutputs_);
-    return device_->download(BUF_FRAMEBUFFER, destination, floats * sizeof(float), uint64_t(l.rast) * 4);
+    bool drawn = false;
+    uint64_t word = 0;
+    switch (output) {
+    case OUTPUT_COLOR: drawn = framebufferColour_; break;
+    case OUTPUT_ID: drawn = aovOutputs_ != 0u, word = l.ids; break;
+    case OUTPUT_DEPTH: drawn = aovOutputs_ != 0u, word = l.depths; break;
+    case OUTPUT_RAST: drawn = (aovOutputs_ & AOV_OUT_RAST) != 0u, word = l.rast; break;
+    default: break;
+    }
+    const uint64_t expected = (output == OUTPUT_RAST ? 16 : 4) * aovPixels_;
+    if (!drawn || bytes != expected || device_->resident() != id_)
+        return makeError(ExitCode::Usage,
+                         "no image {} of {} bytes to read: the session's last frame was not drawn with it, "
+                         "or another session drew since",
+                         output, bytes);
+    return onDevice ? device_->downloadToDevice(BUF_FRAMEBUFFER, destination, bytes, word * 4)
+                    : device_->download(BUF_FRAMEBUFFER, destination, bytes, word * 4);
 }
 
 // With tessellation, the ids of generated triangles mapped back to the scene's triangles.

@@ -157,10 +157,11 @@ public:
     // reference's BVH, tessellation's sources) is built again when a frame needs it. Nothing else is.
     Status positionsChanged();
 
-    // Copies the last frame's rasterize output (a frame drawn with OUTPUT_RAST; 4 floats per output pixel)
-    // from the device into `destination`, which the caller sized (the Python module writes its batch's
-    // array in place, with no copy in between).
-    Status readRast(float* destination, size_t floats);
+    // Copies one image of the last frame (an OUTPUT_* bit it was drawn with) from the device into
+    // `destination`, which holds `bytes` (the image's: 4 per pixel, 16 for OUTPUT_RAST): host memory, or
+    // with onDevice memory of the device (ComputeDevice::allocateMemory). The public API's image targets
+    // and the Python module's batch of rasterize write their arrays so, with no copy in between.
+    Status readImage(uint32_t output, void* destination, size_t bytes, bool onDevice);
 
     ComputeDevice& device() const { return *device_; }
     const Scene& scene() const { return *scene_; }
@@ -233,6 +234,7 @@ private:
     // The last frame's output pixels and what stage aovs wrote after its colours (AOV_OUT_* bits).
     uint64_t aovPixels_ = 0;
     uint32_t aovOutputs_ = 0;
+    bool framebufferColour_ = false;  // and whether shade wrote its colours
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline

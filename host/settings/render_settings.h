@@ -38,7 +38,7 @@ constexpr uint32_t OUTPUT_COLOR = 1;  // RenderOutput::color
 constexpr uint32_t OUTPUT_ID = 2;     // RenderOutput::aov.id
 constexpr uint32_t OUTPUT_DEPTH = 4;  // RenderOutput::aov.depth
 // nvdiffrast's rasterize output, (u, v, z/w, id + 1) per pixel (shared/aovs.h), computed on the device for
-// RenderSession::readRast, for a frame drawn with rasterize's camera (OpenGL's depth range mapped to
+// RenderSession::readImage, for a frame drawn with rasterize's camera (OpenGL's depth range mapped to
 // Vulkan's); not with tessellation or level of detail, whose ids are not the scene's triangles there.
 constexpr uint32_t OUTPUT_RAST = 8;
 constexpr uint32_t OUTPUT_IMAGES = OUTPUT_COLOR | OUTPUT_ID | OUTPUT_DEPTH;
@@ -114,6 +114,9 @@ struct RenderSettings {
     // With ImageDownload::All, which images (OUTPUT_* bits): only those are computed for the host and
     // copied back (the AO, hit counts, every sample and the surface AOVs as their own settings ask).
     uint32_t outputs = OUTPUT_IMAGES;
+    // Of those, the ones left on the device for RenderSession::readImage rather than copied into the
+    // RenderOutput (OUTPUT_RAST always is).
+    uint32_t keptOutputs = 0;
     // Tessellation (--tessellate, common/shared/tessellate.h): TESS_*. flat and pn split every edge into
     // pieces of at most tessEdgePx output pixels on screen, at most tessMaxLevel of them; centroid splits
     // each triangle at its centroid tessMaxLevel times. The id AOV names the scene's triangles.

@@ -285,15 +285,47 @@ enum Output : uint32_t {
     OutputImages = OutputColor | OutputId | OutputDepth,
 };
 
+// Memory for images a render writes in place (ImageTargets), owned by the object and every copy of it,
+// freed with the last: host memory, page-locked on a CUDA device (the GPU copies into it at the bus's
+// speed, with no staging through the driver's buffers), or memory of the GPU itself (CUDA devices only),
+// where the images stay for CUDA libraries (the Python module hands them to torch, CuPy and JAX through
+// DLPack without a copy). The device need not outlive it.
+class Memory {
+public:
+    enum class Where { Host, Device };
+    static Result<Memory> allocate(Device& device, size_t bytes, Where where = Where::Host);
+
+    void* data() const { return data_.get(); }
+    size_t size() const { return size_; }
+    Where where() const { return where_; }
+
+private:
+    Memory(std::shared_ptr<void> data, size_t size, Where where);
+    std::shared_ptr<void> data_;
+    size_t size_ = 0;
+    Where where_ = Where::Host;
+};
+
+// Where a render writes images itself instead of into the Frame's arrays (which then stay empty), each
+// non-null pointer width x height pixels, rows from the top: in host memory, or with onDevice in memory
+// of the rendering CUDA device (Memory::allocate gives both; the caller sizes it). The copies are done
+// when render() returns. Compute backends only.
+struct ImageTargets {
+    void* color = nullptr;  // RGBA8, 4 bytes per pixel, as Frame::color
+    void* id = nullptr;     // uint32 per pixel, as Frame::id
+    void* depth = nullptr;  // float per pixel, as Frame::depth
+    // nvdiffrast's rasterize output, 4 floats per pixel (u, v, z/w, id + 1), computed on the device: u and
+    // v the perspective-correct weights of the triangle's vertices 0 and 1, z/w = 2 depth - 1, all 0 where
+    // empty. For frames drawn with rasterize's camera (identity view, OpenGL's depth mapped to Vulkan's),
+    // without tessellation or level of detail.
+    void* rast = nullptr;
+    bool onDevice = false;
+};
+
 struct RenderRequest {
     bool surfaceAovs = false;         // fill Frame::bary, uv, normal (computed on the device)
     uint32_t outputs = OutputImages;  // Output bits: which of Frame::color, id, depth to fill
-    // nvdiffrast's rasterize output of the frame, written here when not null: width x height x 4 floats
-    // (u, v, z/w, id + 1) in host memory the caller owns, computed on the device and copied straight in
-    // (u, v: the perspective-correct weights of the triangle's vertices 0 and 1; z/w: 2 depth - 1; all
-    // 0 where empty). For frames drawn with rasterize's camera (identity view, OpenGL's depth mapped to
-    // Vulkan's); compute backends only, without tessellation or level of detail.
-    float* rast = nullptr;
+    ImageTargets targets;             // images written in place instead (whatever `outputs` says)
 };
 
 // A scene uploaded to a device once and rendered any number of times with any camera and settings:

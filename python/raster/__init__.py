@@ -38,6 +38,7 @@ __all__ = [
     "EMPTY_ID",
     "OUTPUTS",
     "SETTINGS",
+    "DeviceArray",
     "DeviceInfo",
     "Error",
     "Frame",
@@ -50,6 +51,15 @@ __all__ = [
     "rasterize",
     "version",
 ]
+
+DeviceArray = _raster.DeviceArray
+DeviceArray.__doc__ = (
+    "An image in GPU memory (Renderer.render(on_device=True)): shape, typestr ('<u1', '<u4', '<f4'), "
+    "device (the CUDA ordinal), data_ptr; CUDA libraries take it without a copy through DLPack "
+    "(torch.from_dlpack(a), jax.dlpack.from_dlpack(a)) or __cuda_array_interface__ (cupy.asarray(a), "
+    "numba). It keeps its frame's memory alive, and is whole when render returns."
+)
+DeviceArray.__module__ = "raster"
 
 Error = _raster.Error
 Error.__doc__ = (
@@ -306,7 +316,8 @@ class Frame:
     copy: its ``.base`` is the native frame); row 0 is the image's top row, pixel (x, y) is at
     ``[y, x]``.
 
-    color: (H, W, 4) uint8 sRGB RGBA, every sample resolved in linear space.
+    color: (H, W, 4) uint8 sRGB RGBA, every sample resolved in linear space (None unless asked for in
+        Renderer.render's outputs; a DeviceArray of GPU memory with on_device=True, as ids and depth).
     ids: (H, W) uint32 id of the primitive at the pixel's AOV sample: triangles in scene order, then
         lines, then points; EMPTY_ID (0xFFFFFFFF) where empty.
     depth: (H, W) float32 window depth 0..1 of that sample (Vulkan: 0 at the near plane), 1 where empty.
@@ -401,7 +412,8 @@ class Renderer:
         self.device: DeviceInfo = _device(self._native.device)
 
     def render(self, scene: Scene, width: int, height: int, camera: Camera = "auto", *,
-               surface_aovs: bool = False, outputs: Sequence[str] = OUTPUTS, **settings: Any) -> Frame:
+               surface_aovs: bool = False, outputs: Sequence[str] = OUTPUTS, on_device: bool = False,
+               **settings: Any) -> Frame:
         """Renders `scene` at width x height and returns the Frame.
 
         camera: a spec string as ``raster render --camera`` takes ("auto": framed from the bounds, or
@@ -413,19 +425,23 @@ class Renderer:
         outputs: which of "color", "ids" and "depth" the frame holds (the others are None): only
             those are unpacked on the device and copied back, so a frame of ids alone moves a third of
             the bytes.
+        on_device: leave the images in GPU memory (CUDA devices): Frame.color, ids and depth are then
+            raster.DeviceArray objects that torch.from_dlpack, cupy.asarray and jax.dlpack take without
+            a copy (DLPack, __cuda_array_interface__), whole when render returns.
         settings: any render setting of the schema by its key (raster.SETTINGS; the list below), with
         the schema's checks and one-line errors (raster.Error). Defaults are the schema's, except
         warmup = 0 (a session's earlier frames warm it up).
         """
         if not isinstance(scene, Scene):
             raise Error(f"render: scene must be a raster.Scene, not {_shown(scene)}")
-        if not isinstance(surface_aovs, (bool, np.bool_)):
-            raise Error(f"render: surface_aovs must be True or False, not {_shown(surface_aovs)}")
+        for name, flag in (("surface_aovs", surface_aovs), ("on_device", on_device)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise Error(f"render: {name} must be True or False, not {_shown(flag)}")
         args = dict(_SESSION_DEFAULTS)
         args.update(settings)
         args["width"], args["height"] = width, height
         native = self._native.render(scene._native, camera, _setting_values(args), bool(surface_aovs), True,
-                                     _output_bits(outputs))
+                                     _output_bits(outputs), bool(on_device))
         frame = Frame(native)
         _warn(frame.warnings)
         return frame
@@ -533,7 +549,8 @@ def _triangles(tri: Any, vertices: int, what: str, vertices_text: str) -> np.nda
 
 
 def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
-              msaa: int = 1, *, renderer: Optional["Renderer"] = None) -> np.ndarray:
+              msaa: int = 1, *, renderer: Optional["Renderer"] = None,
+              on_device: bool = False) -> Union[np.ndarray, "DeviceArray"]:
     """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
     (1/256-pixel vertices, top-left rule: Vulkan's coverage rules on every backend).
 
@@ -547,6 +564,8 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
         own one per backend, opened on first use. Either keeps one scene per topology and replaces its
         positions in place from call to call: the batch's B views upload their positions alone, and
         (u, v, z/w, id + 1) are computed on the device and copied straight into the returned array.
+    on_device: return the output in GPU memory (CUDA devices) as a raster.DeviceArray, which
+        torch.from_dlpack, cupy.asarray and jax.dlpack take without a copy.
 
     Returns float32 (B, H, W, 4) = (u, v, z/w, triangle_id + 1), all 0 where no triangle covers the
     pixel centre: u and v are the perspective-correct weights of the triangle's first and second
@@ -572,7 +591,9 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     except MemoryError:
         raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
                     f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
-    if tri.shape[0] == 0 or batch == 0:
+    if not isinstance(on_device, (bool, np.bool_)):
+        raise Error(f"rasterize: on_device must be True or False, not {_shown(on_device)}")
+    if tri.shape[0] == 0 and not on_device:
         out.fill(0)
         return out
     if renderer is None:
@@ -581,8 +602,14 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
         raise Error(f"rasterize: renderer must be a raster.Renderer, not {_shown(renderer)}")
     settings = _setting_values({"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id",
                                 "width": width, "height": height})
+    if tri.shape[0] == 0:
+        # Nothing to draw: zeros, in GPU memory from an empty scene's frame (a point outside the view).
+        pos, tri = np.array([[[2, 2, 0, 1]] * 3] * batch, np.float32), np.zeros((1, 3), np.int32)
     scene, fresh = _topology_scene(renderer, pos[0], tri)
-    renderer._native.rasterize(scene, pos, out, (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings, fresh)
+    camera = (_IDENTITY, _GL_TO_VULKAN_DEPTH)
+    if on_device:
+        return renderer._native.rasterize_on_device(scene, pos, (batch, height, width), camera, settings, fresh)
+    renderer._native.rasterize(scene, pos, out, camera, settings, fresh)
     return out
 
 
