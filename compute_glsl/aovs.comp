@@ -46,7 +46,8 @@ void main()
                 uv = materialTransformUv(m, uv);
             }
         }
-        normal = aovShadingNormal(s);
+        normal = aovNormal(params, s.bary, positions[i0], positions[i1], positions[i2], normals[i0], normals[i1],
+                           normals[i2]);
     }
     if ((params.aovOutputs & AOV_OUT_SURFACE) != 0u) {
         framebuffer[l.surface + i] = floatBitsToUint(bary.x);

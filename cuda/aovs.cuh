@@ -42,7 +42,8 @@ __device__ inline void aovsStage(const RasterParams& params, const Buffers& b)
                 uv = materialTransformUv(m, uv);
             }
         }
-        normal = aovShadingNormal(s);
+        normal = aovNormal(params, s.bary, b.positions[i0], b.positions[i1], b.positions[i2], b.normals[i0],
+                           b.normals[i1], b.normals[i2]);
     }
     if ((params.aovOutputs & AOV_OUT_SURFACE) != 0u) {
         b.framebuffer[l.surface + i] = floatBitsToUint(bary.x);

@@ -499,17 +499,26 @@ public:
     }
 
     // rasterize's batch: view b of `scene` has the positions pos[b] (B x V x 4, the scene's vertices), and
-    // its (u, v, z/w, id + 1) go straight from the device into out[b] (B x H x W x 4, the frame's size).
-    // The scene's positions are replaced in place from view to view (`fresh`: it was made from pos[0]),
-    // in the renderer's one session of it, so the batch uploads positions alone.
-    void rasterize(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
-                   py::array_t<float, py::array::c_style>& out, const py::object& camera,
-                   const py::dict& kwargs, bool fresh)
+    // its (u, v, z/w, id + 1) go straight from the device into slice b of one B x H x W x 4 array of
+    // pool memory (page-locked on CUDA), returned as numpy. The scene's positions are replaced in place
+    // from view to view (`fresh`: it was made from pos[0]), in the renderer's one session of it, so the
+    // batch uploads positions alone.
+    py::array rasterize(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
+                        const std::array<int64_t, 3>& shape, const py::object& camera, const py::dict& kwargs,
+                        bool fresh)
     {
-        const size_t viewFloats = size_t(out.shape(1)) * size_t(out.shape(2)) * 4;
-        float* target = out.mutable_data();
-        drawViews(scene, pos, camera, kwargs, fresh, false,
-                  [&](size_t b) { return target + b * viewFloats; });
+        const size_t viewBytes = size_t(shape[1]) * size_t(shape[2]) * 16;
+        auto holder = std::make_shared<FrameHolder>();
+        holder->pool = pool_;
+        {
+            py::gil_scoped_release release;
+            holder->memory.push_back(
+                pool_->acquire(viewBytes * size_t(shape[0]), raster::Memory::Where::Host));
+        }
+        char* base = static_cast<char*>(holder->memory.back().data());
+        drawViews(scene, pos, camera, kwargs, fresh, false, [&](size_t b) { return base + b * viewBytes; });
+        return py::array(py::dtype::of<float>(), std::vector<py::ssize_t>{shape[0], shape[1], shape[2], 4},
+                         base, py::cast(holder));
     }
 
     // The same batch left in GPU memory (CUDA): one allocation of B x H x W x 4 floats from the pool,
@@ -621,6 +630,7 @@ private:
                                              4));
             raster::RenderRequest request;
             request.outputs = 0;
+            request.stats = false;
             request.targets.rast = target(size_t(b));
             request.targets.onDevice = onDevice;
             take(session->render(cam, settings, request));
@@ -824,7 +834,7 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("device", &Renderer::info)
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
              py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"), py::arg("on_device"))
-        .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("pos"), py::arg("out"),
+        .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("pos"), py::arg("shape"),
              py::arg("camera"), py::arg("settings"), py::arg("fresh"))
         .def("rasterize_on_device", &Renderer::rasterizeOnDevice, py::arg("scene"), py::arg("pos"),
              py::arg("shape"), py::arg("camera"), py::arg("settings"), py::arg("fresh"))

@@ -47,18 +47,16 @@ SR_FN vec2 aovSampleNdc(RasterParams params, uint x, uint y)
     return subpixelNdc(at, params.width, params.height);
 }
 
-// The normal shadePixel lights with: the interpolated vertex normal, or the face normal where that is
-// zero, turned to the viewer's side of the face (the same steps, in the same order, as shading's), in the
-// correctly rounded operations of shared/ao.h (normalizeDet, dotDet): GLSL's normalize and dot are not,
-// and the AOV is to hold the same bits on every backend and on the host.
-SR_FN vec3 aovShadingNormal(SurfacePoint s)
+// The surface AOVs' normal: the one shadePixel lights with (the interpolated vertex normal, or the face
+// normal where that is zero, turned to the viewer's side of the face), at barycentrics `bary`, as ambient
+// occlusion's G-buffer computes it (aoGbufferOf, shared/ao.h): in correctly rounded operations alone, so
+// that every backend and the host give it the same bits (GLSL's normalize, sqrt and division are not,
+// and a GPU's compiler may fuse SurfacePoint's interpolations).
+SR_FN vec3 aovNormal(RasterParams params, vec3 bary, vec4 pos0, vec4 pos1, vec4 pos2, vec4 nrm0, vec4 nrm1,
+                     vec4 nrm2)
 {
-    vec3 v = normalizeDet(vec3(0.0f) - s.viewPos, vec3(0.0f));
-    vec3 fn = normalizeDet(s.faceNormal, vec3(0.0f, 0.0f, 1.0f));
-    if (dotDet(fn, v) < 0.0f) fn = vec3(0.0f) - fn;
-    vec3 n = normalizeDet(s.viewNormal, fn);
-    if (dotDet(n, fn) < 0.0f) n = vec3(0.0f) - n;
-    return n;
+    vec4 g = aoGbufferOf(params, bary, pos0, pos1, pos2, nrm0, nrm1, nrm2);
+    return vec3(g.y, g.z, g.w);
 }
 
 // Where each array of BUF_FRAMEBUFFER starts (in 32-bit words) for n output pixels and the outputs asked

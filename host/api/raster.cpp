@@ -575,7 +575,7 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.sampleId = std::move(out.samples.id);
     f.sampleDepth = std::move(out.samples.depth);
     f.gpuMs = out.total.medianMs;
-    f.statsJson = sr::statsJson(out, options, sceneName).dump(2);
+    if (request.stats) f.statsJson = sr::statsJson(out, options, sceneName).dump(2);
     f.device = device;
     return f;
 }
@@ -622,7 +622,7 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     const bool moved = self.scene->positionsVersion != self.positionsVersion;
     self.positionsVersion = self.scene->positionsVersion;
     if (moved && plain && self.session) {
-        auto status = self.session->positionsChanged();
+        auto status = self.session->positionsChanged(self.scene->flatNormals);
         if (!status) return toPublic(status.error());
     }
     if (options.primitiveMode != self.drawnMode || options.wireframe != self.drawnWireframe ||

@@ -53,7 +53,9 @@ void fillSurfaceAovs(const Scene& scene, const RasterParams& params, AovImage& a
             }
         }
 
-        const vec3 n = aovShadingNormal(s);
+        const vec3 n =
+            aovNormal(params, s.bary, scene.positions[i0], scene.positions[i1], scene.positions[i2],
+                      scene.normals[i0], scene.normals[i1], scene.normals[i2]);
         aov.normalX[i] = n.x;
         aov.normalY[i] = n.y;
         aov.normalZ[i] = n.z;

@@ -475,7 +475,7 @@ Status RenderSession::upload()
     return okStatus();
 }
 
-Status RenderSession::positionsChanged()
+Status RenderSession::positionsChanged(bool normalsChanged)
 {
     clustersBuilt_ = clustersUploaded_ = false;
     clusterSet_ = ClusterSet();
@@ -489,7 +489,7 @@ Status RenderSession::positionsChanged()
     // Same sizes: copied over the old ones, with no reallocation (a CUDA resize is a free and a malloc).
     const size_t bytes = scene_->positions.size() * sizeof(glm::vec4);
     SR_TRY(device_->upload(BUF_POSITIONS, scene_->positions.data(), bytes));
-    return device_->upload(BUF_NORMALS, scene_->normals.data(), bytes);
+    return normalsChanged ? device_->upload(BUF_NORMALS, scene_->normals.data(), bytes) : okStatus();
 }
 
 Result<RenderOutput> renderScene(ComputeDevice& device, const Scene& scene, const CameraMatrices& camera,

@@ -152,10 +152,11 @@ public:
     // Runs the whole pipeline `settings.warmup + settings.repeat` times and returns the last frame.
     Result<RenderOutput> render(const CameraMatrices& camera, const RenderSettings& settings);
 
-    // The scene's vertex positions and normals changed in place (same vertices, same primitives): they are
-    // uploaded again, and what was derived from them (clusters, the level-of-detail hierarchy, the AO
-    // reference's BVH, tessellation's sources) is built again when a frame needs it. Nothing else is.
-    Status positionsChanged();
+    // The scene's vertex positions (and normals, with normalsChanged) changed in place (same vertices, same
+    // primitives): they are uploaded again, and what was derived from them (clusters, the level-of-detail
+    // hierarchy, the AO reference's BVH, tessellation's sources) is built again when a frame needs it.
+    // Nothing else is.
+    Status positionsChanged(bool normalsChanged = true);
 
     // Copies one image of the last frame (an OUTPUT_* bit it was drawn with) from the device into
     // `destination`, which holds `bytes` (the image's: 4 per pixel, 16 for OUTPUT_RAST): host memory, or

@@ -326,6 +326,7 @@ struct RenderRequest {
     bool surfaceAovs = false;         // fill Frame::bary, uv, normal (computed on the device)
     uint32_t outputs = OutputImages;  // Output bits: which of Frame::color, id, depth to fill
     ImageTargets targets;             // images written in place instead (whatever `outputs` says)
+    bool stats = true;                // fill Frame::statsJson (a JSON document of every count and time)
 };
 
 // A scene uploaded to a device once and rendered any number of times with any camera and settings:

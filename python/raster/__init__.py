@@ -586,16 +586,14 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     tri = _triangles(tri, pos.shape[1], "rasterize", f" of {pos.shape[1]}")
     height, width = _resolution(resolution)
     batch = pos.shape[0]
-    try:
-        out = np.empty((batch, height, width, 4), np.float32)
-    except MemoryError:
-        raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
-                    f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
     if not isinstance(on_device, (bool, np.bool_)):
         raise Error(f"rasterize: on_device must be True or False, not {_shown(on_device)}")
     if tri.shape[0] == 0 and not on_device:
-        out.fill(0)
-        return out
+        try:
+            return np.zeros((batch, height, width, 4), np.float32)
+        except MemoryError:
+            raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
+                        f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
     if renderer is None:
         renderer = _shared_renderer(backend)
     elif not isinstance(renderer, Renderer):
@@ -609,8 +607,7 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
     camera = (_IDENTITY, _GL_TO_VULKAN_DEPTH)
     if on_device:
         return renderer._native.rasterize_on_device(scene, pos, (batch, height, width), camera, settings, fresh)
-    renderer._native.rasterize(scene, pos, out, camera, settings, fresh)
-    return out
+    return renderer._native.rasterize(scene, pos, (batch, height, width), camera, settings, fresh)
 
 
 # rasterize's scenes: per Renderer, the last topology drawn (its triangles and vertex count) and the
