@@ -155,3 +155,35 @@ def test_host_frames_go_to_dlpack_consumers_without_a_copy(vulkan):
         return  # the module's own DLPack export is numpy's; torch's view of it is checked where torch is
     tensor = torch.from_dlpack(frame.depth)
     assert tensor.data_ptr() == frame.depth.__array_interface__["data"][0]
+
+
+def test_frames_on_the_device_equal_the_host_frames(backend):
+    r = renderer(backend)
+    scene = raster.Scene.load("builtin")
+    host = r.render(scene, 64, 40)
+    if backend != "cuda":
+        with pytest.raises(raster.Error, match="on_device needs a CUDA device"):
+            r.render(scene, 64, 40, on_device=True)
+        return
+    frame = r.render(scene, 64, 40, on_device=True)
+    for name, typestr, shape in (("color", "<u1", (40, 64, 4)), ("ids", "<u4", (40, 64)), ("depth", "<f4", (40, 64))):
+        array = getattr(frame, name)
+        assert isinstance(array, raster.DeviceArray)
+        interface = array.__cuda_array_interface__
+        assert interface["shape"] == shape and interface["typestr"] == typestr and interface["version"] == 3
+        assert interface["data"][0] == array.data_ptr != 0
+        assert array.__dlpack_device__() == (2, r.device.index)  # kDLCUDA
+        try:
+            import torch
+        except ImportError:
+            continue  # the GPU machine's Python has torch; its check is the one below
+        np.testing.assert_array_equal(torch.from_dlpack(array).cpu().numpy(), getattr(host, name))
+    pos, tri = mesh(2, seed=6)
+    on_gpu = raster.rasterize(pos, tri, (32, 48), renderer=r, on_device=True)
+    assert on_gpu.shape == (2, 32, 48, 4)
+    try:
+        import torch
+    except ImportError:
+        return
+    np.testing.assert_array_equal(torch.from_dlpack(on_gpu).cpu().numpy(),
+                                  raster.rasterize(pos, tri, (32, 48), renderer=r))
