@@ -289,6 +289,44 @@ TEST_P(UpdatePositionsTest, RefusesAnotherShapeOrNonFiniteValuesAndKeepsTheScene
     EXPECT_FALSE(loaded->updatePositions(g.positions.data(), 3, 3).ok()) << "only scenes made from arrays";
 }
 
+// Images written in place equal the frame's own arrays: straight from the device, and through the
+// arrays where the host maps the ids (tessellation, level of detail); the arrays they replace stay empty.
+TEST_P(UpdatePositionsTest, ImagesWrittenInPlaceEqualTheFramesArrays)
+{
+    auto scene = raster::Scene::load("builtin:lowpoly");
+    ASSERT_TRUE(scene.ok());
+    auto session = raster::Session::create(*device_, *scene);
+    ASSERT_TRUE(session.ok());
+    for (const char* mode : {"plain", "tessellate", "lod"}) {
+        SCOPED_TRACE(mode);
+        raster::Settings settings;
+        ASSERT_TRUE(settings.set("width", 48).ok() && settings.set("height", 40).ok());
+        if (std::string(mode) == "tessellate") {
+            ASSERT_TRUE(settings.set("tessellate", "pn").ok());
+        }
+        if (std::string(mode) == "lod") {
+            ASSERT_TRUE(settings.set("lod", "on").ok());
+        }
+        const raster::Camera camera = raster::Camera::fromSpec("auto");
+        auto arrays = session->render(camera, settings);
+        ASSERT_TRUE(arrays.ok()) << arrays.error().message;
+        const size_t pixels = size_t(48) * 40;
+        auto memory = raster::Memory::allocate(*device_, 12 * pixels);
+        ASSERT_TRUE(memory.ok()) << memory.error().message;
+        auto* base = static_cast<uint8_t*>(memory->data());
+        raster::RenderRequest request;
+        request.targets.color = base;
+        request.targets.id = base + 4 * pixels;
+        request.targets.depth = base + 8 * pixels;
+        auto placed = session->render(camera, settings, request);
+        ASSERT_TRUE(placed.ok()) << placed.error().message;
+        EXPECT_TRUE(placed->color.empty() && placed->id.empty() && placed->depth.empty());
+        EXPECT_EQ(std::memcmp(base, arrays->color.data(), 4 * pixels), 0);
+        EXPECT_EQ(std::memcmp(base + 4 * pixels, arrays->id.data(), 4 * pixels), 0);
+        EXPECT_EQ(std::memcmp(base + 8 * pixels, arrays->depth.data(), 4 * pixels), 0);
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, UpdatePositionsTest, ::testing::Values("vulkan", "cuda"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 

@@ -665,6 +665,13 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
                                       {sr::OUTPUT_RAST, t.rast}}) {
         if (target == nullptr) continue;
         if (!direct) {
+            // Colour, ids and depth alone: rasterize's output was refused with tessellation and lod.
+            const size_t words = bit == sr::OUTPUT_COLOR ? out->color.pixels.size()
+                                 : bit == sr::OUTPUT_ID  ? out->aov.id.size()
+                                                         : out->aov.depth.size();
+            if (words != pixels)
+                return Error{ErrorKind::Runtime,
+                             fmt::format("image {} has {} of {} pixels", bit, words, pixels)};
             const void* from = bit == sr::OUTPUT_COLOR ? static_cast<const void*>(out->color.pixels.data())
                                : bit == sr::OUTPUT_ID  ? static_cast<const void*>(out->aov.id.data())
                                                        : static_cast<const void*>(out->aov.depth.data());
