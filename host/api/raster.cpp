@@ -545,7 +545,7 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.height = out.color.height;
     // Each pixel's word holds R in its low byte: the bytes of a little-endian word in memory order.
     f.color.resize(out.color.pixels.size() * 4);
-    if (littleEndian())
+    if (littleEndian() && !f.color.empty())
         std::memcpy(f.color.data(), out.color.pixels.data(), f.color.size());
     else
         for (size_t i = 0; i < out.color.pixels.size(); ++i)
