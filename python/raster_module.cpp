@@ -498,58 +498,112 @@ public:
         return holder;
     }
 
-    // rasterize's batch: view b of `scene` has the positions pos[b] (B x V x 4, the scene's vertices), and
-    // its (u, v, z/w, id + 1) go straight from the device into slice b of one B x H x W x 4 array of
-    // pool memory (page-locked on CUDA), returned as numpy. The scene's positions are replaced in place
-    // from view to view (`fresh`: it was made from pos[0]), in the renderer's one session of it, so the
-    // batch uploads positions alone.
-    py::array rasterize(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
+    // rasterize's batch: view b of `scene` has the positions pos[b] (B x V x 4, the scene's vertices), given
+    // as a host array or as (pointer, stream) of CUDA memory; its (u, v, z/w, id + 1) go straight from the
+    // device into slice b of one B x H x W x 4 array of pool memory: page-locked host memory returned as
+    // numpy, or with onDevice GPU memory returned as a DeviceArray. Every view is drawn by the renderer's
+    // one session of the scene (Session::renderViews: on CUDA one submission and one wait). Returns the
+    // array, per view the triangles dropped for a non-finite corner, and the warnings.
+    py::tuple rasterize(const std::shared_ptr<raster::Scene>& scene, const std::optional<FloatArray>& hostPos,
+                        const std::optional<std::pair<uintptr_t, uintptr_t>>& devicePos,
                         const std::array<int64_t, 3>& shape, const py::object& camera, const py::dict& kwargs,
-                        bool fresh)
+                        bool onDevice)
     {
-        const size_t viewBytes = size_t(shape[1]) * size_t(shape[2]) * 16;
-        auto holder = std::make_shared<FrameHolder>();
-        holder->pool = pool_;
-        {
-            py::gil_scoped_release release;
-            holder->memory.push_back(
-                pool_->acquire(viewBytes * size_t(shape[0]), raster::Memory::Where::Host));
-        }
-        char* base = static_cast<char*>(holder->memory.back().data());
-        drawViews(scene, pos, camera, kwargs, fresh, false, [&](size_t b) { return base + b * viewBytes; });
-        return py::array(py::dtype::of<float>(), std::vector<py::ssize_t>{shape[0], shape[1], shape[2], 4},
-                         base, py::cast(holder));
-    }
-
-    // The same batch left in GPU memory (CUDA): one allocation of B x H x W x 4 floats from the pool,
-    // each view written into its slice on the device, handed out as a DeviceArray.
-    DeviceArray rasterizeOnDevice(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
-                                  const std::array<int64_t, 3>& shape, const py::object& camera,
-                                  const py::dict& kwargs, bool fresh)
-    {
-        if (device_->info().backend != raster::Backend::Cuda)
-            throw RasterError(std::string("rasterize: on_device needs a CUDA device, not ") +
+        if ((onDevice || devicePos) && device_->info().backend != raster::Backend::Cuda)
+            throw RasterError(std::string("rasterize: tensors on the GPU need a CUDA device, not ") +
                               raster::backendName(device_->info().backend));
+        const raster::Settings settings = makeSettings(camera, kwargs);
+        const raster::Camera cam = makeCamera(camera);
         const size_t viewBytes = size_t(shape[1]) * size_t(shape[2]) * 16;
         auto holder = std::make_shared<FrameHolder>();
         holder->pool = pool_;
         holder->cudaDevice = std::max(device_->info().index, 0);
+        holder->targets.onDevice = onDevice;
+        raster::ViewPositions positions;
+        positions.views = size_t(shape[0]);
+        if (hostPos) {
+            positions.data = hostPos->data();
+        } else if (devicePos) {
+            positions.data = reinterpret_cast<const float*>(devicePos->first);
+            positions.onDevice = true;
+            positions.stream = devicePos->second;
+        }
+        raster::ViewsReport report;
+        {
+            py::gil_scoped_release release;
+            const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
+            holder->memory.push_back(pool_->acquire(viewBytes * size_t(shape[0]), where));
+            raster::RenderRequest request;
+            request.targets.rast = holder->memory.back().data();
+            request.targets.onDevice = onDevice;
+            std::lock_guard<std::mutex> lock(mutex_);
+            raster::Session* session = cached(scene);
+            if (session == nullptr) session = &add(scene);
+            report = take(session->renderViews(cam, settings, positions, request));
+        }
+        void* base = holder->memory.back().data();
+        py::list invalid;
+        for (uint32_t n : report.invalidTriangles) invalid.append(n);
+        if (!onDevice)
+            return py::make_tuple(
+                py::array(py::dtype::of<float>(), std::vector<py::ssize_t>{shape[0], shape[1], shape[2], 4},
+                          static_cast<float*>(base), py::cast(holder)),
+                invalid, report.warnings);
+        DeviceArray out;
+        out.owner = holder;
+        out.data = base;
+        out.shape = {shape[0], shape[1], shape[2], 4};
+        out.kind = 'f';
+        out.bytes = 4;
+        out.device = holder->cudaDevice;
+        return py::make_tuple(out, invalid, report.warnings);
+    }
+
+    // nvdiffrast's interpolate on this CUDA device: attr (A, V, C), rast (B, H, W, 4) and tri (T x 3) given
+    // as pointers into its memory with their shapes, `stream` the producers' (as the CUDA array interface
+    // names it); the output, B x H x W x C floats of pool memory, as a DeviceArray, with the first bad
+    // pixel and triangle (raster::InterpolateReport).
+    py::tuple interpolateOnDevice(uintptr_t attr, const std::array<int64_t, 3>& attrShape, uintptr_t rast,
+                                  const std::array<int64_t, 4>& rastShape, uintptr_t tri, int64_t triangles,
+                                  uintptr_t stream)
+    {
+        if (device_->info().backend != raster::Backend::Cuda)
+            throw RasterError(std::string("interpolate: tensors on the GPU need a CUDA device, not ") +
+                              raster::backendName(device_->info().backend));
+        auto holder = std::make_shared<FrameHolder>();
+        holder->pool = pool_;
+        holder->cudaDevice = std::max(device_->info().index, 0);
         holder->targets.onDevice = true;
+        raster::InterpolateArrays a;
+        a.attr = reinterpret_cast<const float*>(attr);
+        a.attrViews = size_t(attrShape[0]);
+        a.vertices = size_t(attrShape[1]);
+        a.channels = size_t(attrShape[2]);
+        a.rast = reinterpret_cast<const float*>(rast);
+        a.views = size_t(rastShape[0]);
+        a.height = size_t(rastShape[1]);
+        a.width = size_t(rastShape[2]);
+        a.triangles = reinterpret_cast<const uint32_t*>(tri);
+        a.triangleCount = size_t(triangles);
+        a.onDevice = true;
+        a.stream = stream;
+        raster::InterpolateReport report;
         {
             py::gil_scoped_release release;
             holder->memory.push_back(
-                pool_->acquire(viewBytes * size_t(shape[0]), raster::Memory::Where::Device));
+                pool_->acquire(std::max<size_t>(a.views * a.height * a.width * a.channels * sizeof(float), 4),
+                               raster::Memory::Where::Device));
+            a.out = static_cast<float*>(holder->memory.back().data());
+            report = take(raster::interpolate(a, device_.get()));
         }
-        char* base = static_cast<char*>(holder->memory.back().data());
-        drawViews(scene, pos, camera, kwargs, fresh, true, [&](size_t b) { return base + b * viewBytes; });
-        DeviceArray a;
-        a.owner = holder;
-        a.data = base;
-        a.shape = {shape[0], shape[1], shape[2], 4};
-        a.kind = 'f';
-        a.bytes = 4;
-        a.device = holder->cudaDevice;
-        return a;
+        DeviceArray out;
+        out.owner = holder;
+        out.data = a.out;
+        out.shape = {rastShape[0], rastShape[1], rastShape[2], attrShape[2]};
+        out.kind = 'f';
+        out.bytes = 4;
+        out.device = holder->cudaDevice;
+        return py::make_tuple(out, report.badPixel, report.badTriangle);
     }
 
     // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the
@@ -611,32 +665,6 @@ private:
         return *sessions_.back().session;
     }
 
-    // rasterize's views, one frame each: positions replaced in place, the output written to target(b).
-    template <typename Target>
-    void drawViews(const std::shared_ptr<raster::Scene>& scene, const FloatArray& pos,
-                   const py::object& camera, const py::dict& kwargs, bool fresh, bool onDevice, Target target)
-    {
-        const raster::Settings settings = makeSettings(camera, kwargs);
-        const raster::Camera cam = makeCamera(camera);
-        const py::ssize_t batch = pos.shape(0), vertices = pos.shape(1);
-        const float* positions = pos.data();
-        py::gil_scoped_release release;
-        std::lock_guard<std::mutex> lock(mutex_);
-        raster::Session* session = cached(scene);
-        if (session == nullptr) session = &add(scene);
-        for (py::ssize_t b = 0; b < batch; ++b) {
-            if (b > 0 || !fresh)
-                check(scene->updatePositions(positions + size_t(b) * size_t(vertices) * 4, size_t(vertices),
-                                             4));
-            raster::RenderRequest request;
-            request.outputs = 0;
-            request.stats = false;
-            request.targets.rast = target(size_t(b));
-            request.targets.onDevice = onDevice;
-            take(session->render(cam, settings, request));
-        }
-    }
-
     std::unique_ptr<raster::Device> device_;
     std::shared_ptr<MemoryPool> pool_;
     std::vector<Entry> sessions_;
@@ -657,41 +685,28 @@ py::list devices()
 
 }  // namespace
 
-// nvdiffrast's interpolate: out[b, y, x] = u a0 + v a1 + (1 - u - v) a2 of the vertices of triangle
-// rast[b, y, x, 3] - 1 of `tri`, 0 where that is 0 (empty); attr is (1 or B, V, C). Returns -1, or the
-// flat pixel index of the first rast[..., 3] that is not a whole number in 0..T (nothing is written
-// after it; the caller raises the error with the value).
-py::ssize_t interpolateInto(const FloatArray& attr, const FloatArray& rast, const IndexArray& tri,
-                            py::array_t<float, py::array::c_style>& out)
+// nvdiffrast's interpolate on the host (raster::interpolate): attr is (1 or B, V, C), rast (B, H, W, 4),
+// out (B, H, W, C). Returns the first bad pixel and the first bad triangle (-1: none; the caller raises
+// the error with the value).
+std::pair<int64_t, int64_t> interpolateInto(const FloatArray& attr, const FloatArray& rast,
+                                            const IndexArray& tri,
+                                            py::array_t<float, py::array::c_style>& out)
 {
-    const auto attrBatch = size_t(attr.shape(0)), vertices = size_t(attr.shape(1)),
-               channels = size_t(attr.shape(2));
-    const auto pixelsPerView = size_t(rast.shape(1)) * size_t(rast.shape(2));
-    const size_t pixels = size_t(rast.shape(0)) * pixelsPerView;
-    const auto triangles = size_t(tri.shape(0));
-    const float* a = attr.data();
-    const float* r = rast.data();
-    const uint32_t* t = tri.data();
-    float* o = out.mutable_data();
+    raster::InterpolateArrays a;
+    a.attr = attr.data();
+    a.attrViews = size_t(attr.shape(0));
+    a.vertices = size_t(attr.shape(1));
+    a.channels = size_t(attr.shape(2));
+    a.rast = rast.data();
+    a.views = size_t(rast.shape(0));
+    a.height = size_t(rast.shape(1));
+    a.width = size_t(rast.shape(2));
+    a.triangles = tri.data();
+    a.triangleCount = size_t(tri.shape(0));
+    a.out = out.mutable_data();
     py::gil_scoped_release release;
-    for (size_t p = 0; p < pixels; ++p) {
-        const float slot = r[4 * p + 3];
-        float* dst = o + p * channels;
-        if (!(slot >= 0.0f && slot <= float(triangles) && slot == std::floor(slot))) return py::ssize_t(p);
-        if (slot == 0.0f) {
-            std::fill(dst, dst + channels, 0.0f);
-            continue;
-        }
-        const size_t id = size_t(slot) - 1;
-        const float u = r[4 * p], v = r[4 * p + 1];
-        const float w = 1.0f - u - v;
-        const float* view = a + (attrBatch == 1 ? 0 : p / pixelsPerView) * vertices * channels;
-        const float* a0 = view + size_t(t[3 * id]) * channels;
-        const float* a1 = view + size_t(t[3 * id + 1]) * channels;
-        const float* a2 = view + size_t(t[3 * id + 2]) * channels;
-        for (size_t c = 0; c < channels; ++c) dst[c] = u * a0[c] + v * a1[c] + w * a2[c];
-    }
-    return -1;
+    const raster::InterpolateReport r = take(raster::interpolate(a));
+    return {r.badPixel, r.badTriangle};
 }
 
 PYBIND11_MODULE(_raster, m)
@@ -834,10 +849,10 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("device", &Renderer::info)
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
              py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"), py::arg("on_device"))
-        .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("pos"), py::arg("shape"),
-             py::arg("camera"), py::arg("settings"), py::arg("fresh"))
-        .def("rasterize_on_device", &Renderer::rasterizeOnDevice, py::arg("scene"), py::arg("pos"),
-             py::arg("shape"), py::arg("camera"), py::arg("settings"), py::arg("fresh"))
+        .def("interpolate_on_device", &Renderer::interpolateOnDevice, py::arg("attr"), py::arg("attr_shape"),
+             py::arg("rast"), py::arg("rast_shape"), py::arg("tri"), py::arg("triangles"), py::arg("stream"))
+        .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("host_pos"), py::arg("device_pos"),
+             py::arg("shape"), py::arg("camera"), py::arg("settings"), py::arg("on_device"))
         .def("session_frame_times", &Renderer::sessionFrameTimes, py::arg("scene"), py::arg("camera"),
              py::arg("settings"), py::arg("count"))
         .def("release", &Renderer::release)

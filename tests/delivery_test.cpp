@@ -5,6 +5,8 @@
 // definition, only the images asked for, and positions replaced in place (Scene::updatePositions) against
 // a scene made from the new positions. A missing backend fails these tests unless SR_ALLOW_MISSING_BACKENDS
 // names it.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -15,6 +17,7 @@
 #include "raster/raster.h"
 
 #include "render/aov.h"
+#include "render/renderer.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "test_util.h"
@@ -182,6 +185,70 @@ TEST_P(DeliveryTest, RasterizeOutputFollowsItsDefinition)
     EXPECT_FALSE(session->render(f.camera, f.settings).ok());
 }
 
+// Views (RenderSession::renderViews): each view's colour, ids and depth equal a frame of the scene with
+// that view's positions, drawn alone, also where the batch overflows its lists (tiny starting lists) and
+// views are drawn again; the session's next render draws the scene's own positions again.
+TEST_P(DeliveryTest, ViewsEqualFramesOfTheirPositionsDrawnAlone)
+{
+    auto loaded = loadScene("builtin:lowpoly");
+    ASSERT_TRUE(loaded.ok());
+    const Scene scene = std::move(*loaded);
+    RenderSettings s = testSettings(56, 40);
+    s.cullMode = CULL_NONE;
+    s.msaa = 4;
+    s.outputs = OUTPUT_COLOR | OUTPUT_ID | OUTPUT_DEPTH;
+    auto camera = resolveCamera(CameraSpec{}, scene, s.width, s.height);
+    ASSERT_TRUE(camera.ok());
+    // A small view first, then views four and eight times its size and one turned about the centre.
+    const glm::vec3 centre = 0.5f * (scene.boundsMin + scene.boundsMax);
+    std::vector<glm::vec4> positions;
+    for (float scale : {0.25f, 1.0f, 2.0f, -1.0f}) {
+        for (const glm::vec4& p : scene.positions) {
+            glm::vec3 q = glm::vec3(p) - centre;
+            if (scale < 0.0f) q = glm::vec3(q.z, q.y, -q.x);
+            positions.push_back(glm::vec4(centre + std::abs(scale) * q, 1.0f));
+        }
+    }
+    const size_t views = 4, pixels = size_t(s.width) * s.height;
+    for (uint32_t capacity : {0u, 16u}) {
+        SCOPED_TRACE("initial list capacity " + std::to_string(capacity));
+        s.initialListCapacity = capacity;
+        auto session = RenderSession::create(*device_, scene);
+        ASSERT_TRUE(session.ok());
+        std::vector<uint32_t> color(views * pixels), ids(views * pixels);
+        std::vector<float> depth(views * pixels);
+        ViewInputs inputs;
+        inputs.positions = positions.data();
+        inputs.bytes = scene.positions.size() * sizeof(glm::vec4);
+        auto invalid = session->renderViews(*camera, s, inputs, views,
+                                            {{OUTPUT_COLOR, color.data(), false},
+                                             {OUTPUT_ID, ids.data(), false},
+                                             {OUTPUT_DEPTH, depth.data(), false}});
+        ASSERT_TRUE(invalid.ok()) << invalid.error().message;
+        EXPECT_EQ(*invalid, std::vector<uint32_t>(views, 0u));
+        for (size_t b = 0; b < views; ++b) {
+            SCOPED_TRACE("view " + std::to_string(b));
+            Scene moved = scene;
+            std::copy_n(positions.begin() + long(b * scene.positions.size()), scene.positions.size(),
+                        moved.positions.begin());
+            RenderSettings alone = s;
+            alone.initialListCapacity = 0;
+            const RenderOutput expected = render(moved, alone, *camera);
+            ASSERT_EQ(expected.aov.id.size(), pixels);
+            EXPECT_TRUE(std::equal(expected.color.pixels.begin(), expected.color.pixels.end(),
+                                   color.begin() + long(b * pixels)));
+            EXPECT_TRUE(
+                std::equal(expected.aov.id.begin(), expected.aov.id.end(), ids.begin() + long(b * pixels)));
+            expectSameBits(expected.aov.depth,
+                           {depth.begin() + long(b * pixels), depth.begin() + long((b + 1) * pixels)},
+                           "depth");
+        }
+        auto own = session->render(*camera, s);
+        ASSERT_TRUE(own.ok());
+        EXPECT_EQ(own->aov.id, render(scene, s, *camera).aov.id) << "the scene's own positions again";
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, DeliveryTest, ::testing::Values("vulkan", "cuda"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
@@ -325,6 +392,95 @@ TEST_P(UpdatePositionsTest, ImagesWrittenInPlaceEqualTheFramesArrays)
         EXPECT_EQ(std::memcmp(base + 4 * pixels, arrays->id.data(), 4 * pixels), 0);
         EXPECT_EQ(std::memcmp(base + 8 * pixels, arrays->depth.data(), 4 * pixels), 0);
     }
+}
+
+// Session::renderViews through the public API: positions of 3 and 4 components, equal to frames of scenes
+// made from each view's positions; a view with a NaN corner reported (and drawn without that triangle);
+// what it does not take refused.
+TEST_P(UpdatePositionsTest, ViewsEqualScenesMadeFromEachViewsPositions)
+{
+    raster::Settings settings;
+    ASSERT_TRUE(settings.set("width", 40).ok() && settings.set("height", 36).ok());
+    ASSERT_TRUE(settings.set("cull", "none").ok());
+    // Fixed matrices (an orbit camera would follow each scene's bounds): the grid scaled into view, its
+    // z into Vulkan's depth range, with a perspective divide by 1 + z / 4.
+    const std::array<float, 16> view = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const std::array<float, 16> projection = {0.8f, 0, 0, 0, 0, 0.8f, 0, 0, 0, 0, 0.2f, 0.25f, 0, 0, 0.5f, 1};
+    const raster::Camera camera = raster::Camera::fromMatrices(view, projection);
+    const size_t pixels = size_t(40) * 36;
+    for (uint32_t components : {3u, 4u}) {
+        SCOPED_TRACE(std::to_string(components) + " components");
+        std::vector<float> all;
+        for (float bend : {0.0f, 0.8f, -0.5f}) {
+            const Grid g = grid(bend);
+            for (size_t v = 0; v < g.positions.size() / 3; ++v) {
+                all.insert(all.end(), g.positions.begin() + long(3 * v),
+                           g.positions.begin() + long(3 * v + 3));
+                if (components == 4) all.push_back(1.0f);
+            }
+        }
+        const Grid flat = grid(0.0f);
+        const size_t vertices = flat.positions.size() / 3;
+        all[components * vertices + 1] = NAN;  // view 1, vertex 0: its triangles are dropped and counted
+        const std::vector<float> normals(3 * vertices, 0.0f);
+        auto sceneFrom = [&](const float* positions) {
+            raster::MeshArrays m;
+            m.positions = positions;
+            m.positionComponents = components;
+            m.normals = normals.data();
+            m.vertexCount = vertices;
+            m.triangles = flat.triangles.data();
+            m.triangleCount = flat.triangles.size() / 3;
+            auto scene = raster::Scene::fromArrays(m);
+            EXPECT_TRUE(scene.ok());
+            return std::move(*scene);
+        };
+        const raster::Scene scene = sceneFrom(all.data());
+        auto session = raster::Session::create(*device_, scene);
+        ASSERT_TRUE(session.ok());
+        std::vector<uint32_t> ids(3 * pixels);
+        std::vector<float> depth(3 * pixels);
+        raster::RenderRequest request;
+        request.targets.id = ids.data();
+        request.targets.depth = depth.data();
+        raster::ViewPositions positions;
+        positions.data = all.data();
+        positions.views = 3;
+        auto report = session->renderViews(camera, settings, positions, request);
+        ASSERT_TRUE(report.ok()) << report.error().message;
+        ASSERT_EQ(report->invalidTriangles.size(), 3u);
+        EXPECT_EQ(report->invalidTriangles[0], 0u);
+        EXPECT_GT(report->invalidTriangles[1], 0u);
+        EXPECT_EQ(report->invalidTriangles[2], 0u);
+        for (size_t b : {0, 2}) {
+            SCOPED_TRACE("view " + std::to_string(b));
+            const raster::Scene fresh = sceneFrom(all.data() + b * components * vertices);
+            auto expected = raster::render(*device_, fresh, camera, settings);
+            ASSERT_TRUE(expected.ok());
+            EXPECT_TRUE(std::equal(expected->id.begin(), expected->id.end(), ids.begin() + long(b * pixels)));
+            EXPECT_EQ(std::memcmp(expected->depth.data(), depth.data() + b * pixels, 4 * pixels), 0);
+        }
+        auto own = session->render(camera, settings);
+        ASSERT_TRUE(own.ok());
+        auto first = raster::render(*device_, sceneFrom(all.data()), camera, settings);
+        ASSERT_TRUE(first.ok());
+        EXPECT_EQ(own->id, first->id) << "render() draws the scene's own positions after the views";
+    }
+    // Refused: a scene with flat normals (they would not follow), positions on the device elsewhere than
+    // on CUDA.
+    raster::Scene flatNormals = sceneOf(grid(0.2f));
+    auto session = raster::Session::create(*device_, flatNormals);
+    ASSERT_TRUE(session.ok());
+    std::vector<uint32_t> ids(pixels);
+    raster::RenderRequest request;
+    request.targets.id = ids.data();
+    const Grid g = grid(0.2f);
+    raster::ViewPositions positions;
+    positions.data = g.positions.data();
+    positions.views = 1;
+    auto refused = session->renderViews(camera, settings, positions, request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("normals"), std::string::npos) << refused.error().message;
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, UpdatePositionsTest, ::testing::Values("vulkan", "cuda"),

@@ -135,7 +135,23 @@ def main():
         row("nvdiffrast rasterize, host array", timed(lambda: dr.rasterize(ctx, tpos, ttri, res)[0].cpu().numpy(), args.runs, args.warmup))
     if on_gpu:
         row("raster rasterize, on the GPU", timed(lambda: raster.rasterize(pos, tri, res, renderer=renderer, on_device=True), args.runs, args.warmup))
+        if torch is not None:
+            # nvdiffrast's own inputs: torch tensors on the GPU in, a torch tensor on the GPU out.
+            row("raster rasterize, torch on the GPU in and out", timed(lambda: raster.rasterize(tpos, ttri, res, renderer=renderer), args.runs, args.warmup))
+            row("raster rasterize, torch on the GPU in, host array out", timed(lambda: raster.rasterize(tpos, ttri, res, renderer=renderer, on_device=False), args.runs, args.warmup))
     row("raster rasterize, host array", timed(lambda: raster.rasterize(pos, tri, res, renderer=renderer), args.runs, args.warmup))
+
+    # ---- interpolate at 1080p, on the GPU -------------------------------------------------------------
+    if on_gpu and dr is not None:
+        tattr = torch.from_numpy(np.ascontiguousarray(positions[:, :3], np.float32)).cuda()
+        nv_rast = dr.rasterize(ctx, tpos, ttri, res)[0]
+        our_rast = raster.rasterize(tpos, ttri, res, renderer=renderer)
+        row("nvdiffrast interpolate (3 channels), on the GPU", timed(lambda: dr.interpolate(tattr, nv_rast, ttri)[0], args.runs, args.warmup, sync))
+        row("raster interpolate (3 channels), torch on the GPU in and out", timed(lambda: raster.interpolate(tattr, our_rast, ttri, renderer=renderer), args.runs, args.warmup))
+        same = np.array_equal(raster.interpolate(tattr, our_rast, ttri, renderer=renderer).cpu().numpy(),
+                              raster.interpolate(tattr.cpu().numpy(), our_rast.cpu().numpy(), tri))
+        rows["interpolate_gpu_equals_host"] = bool(same)
+        print(f"interpolate on the GPU equals the host's byte for byte: {same}")
 
     # ---- 16 views at 512 x 512 ----------------------------------------------------------------------
     if dr is not None:
@@ -144,6 +160,14 @@ def main():
         row("nvdiffrast 16 views 512x512, host arrays", timed(lambda: dr.rasterize(ctx, tviews, ttri, (512, 512))[0].cpu().numpy(), args.runs, args.warmup))
     if on_gpu:
         row("raster 16 views 512x512, on the GPU", timed(lambda: raster.rasterize(views, tri, (512, 512), renderer=renderer, on_device=True), args.runs, args.warmup))
+        if torch is not None:
+            row("raster 16 views 512x512, torch on the GPU in and out", timed(lambda: raster.rasterize(tviews, ttri, (512, 512), renderer=renderer), args.runs, args.warmup))
+            row("raster 16 views 512x512, torch on the GPU in, host arrays out", timed(lambda: raster.rasterize(tviews, ttri, (512, 512), renderer=renderer, on_device=False), args.runs, args.warmup))
+            got = raster.rasterize(tviews, ttri, (512, 512), renderer=renderer)
+            same = isinstance(got, torch.Tensor) and got.is_cuda and np.array_equal(
+                got.cpu().numpy(), raster.rasterize(views, tri, (512, 512), renderer=renderer))
+            rows["torch_views_equal_host"] = bool(same)
+            print(f"16 views, torch in and out, equal the host arrays byte for byte: {same}")
     row("raster 16 views 512x512, host arrays", timed(lambda: raster.rasterize(views, tri, (512, 512), renderer=renderer), args.runs, args.warmup))
 
     # ---- ids beside nvdiffrast's --------------------------------------------------------------------

@@ -3,7 +3,9 @@
 // frames through RenderSession.
 #include "raster/raster.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <new>
@@ -16,11 +18,13 @@
 #include "api/stats_json.h"
 #include "base/warnings.h"
 #include "io/compare.h"
+#include "raster_shared.h"
 #include "render/aov.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
 #include "scene/texture.h"
 #include "settings/schema.h"
+#include "shared/interpolate.h"
 
 namespace raster {
 
@@ -694,6 +698,128 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     auto frame = toFrame(*out, options, self.device->info, "api", scene, request);
     frame.warnings = capture.take();
     return frame;
+}
+
+Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& settings,
+                                         const ViewPositions& positions, const RenderRequest& request)
+{
+    sr::WarningCapture capture;
+    Impl& self = *impl_;
+    const Scene::Impl& scene = *self.scene;
+    const sr::RenderOptions& options = settings.impl().options;
+    if (!self.device->compute)
+        return usage("views are drawn by the compute backends (cuda, vulkan), not vulkan-graphics");
+    if (!scene.fromArrays || scene.flatNormals)
+        return usage(
+            "views need a scene made from arrays with normals (flat normals would not follow the "
+            "positions)");
+    if (options.primitiveMode != sr::PrimitiveMode::Triangles || options.wireframe)
+        return usage("views are drawn as triangles (no lines or points mode, no wireframe)");
+    if (positions.views > 0 && positions.data == nullptr) return usage("views: no positions");
+    if (positions.onDevice && scene.positionComponents != 4)
+        return usage("views: positions on the device need 4 components per vertex");
+    const ImageTargets& t = request.targets;
+    std::vector<sr::RenderSession::ViewTarget> targets;
+    for (const auto& [bit, target] : {std::pair<uint32_t, void*>{sr::OUTPUT_COLOR, t.color},
+                                      {sr::OUTPUT_ID, t.id},
+                                      {sr::OUTPUT_DEPTH, t.depth},
+                                      {sr::OUTPUT_RAST, t.rast}})
+        if (target != nullptr) targets.push_back({bit, target, t.onDevice});
+    // The session draws the scene's positions; a view's replace them on the device alone.
+    if (self.scene->positionsVersion != self.positionsVersion && self.session) {
+        auto status = self.session->positionsChanged(false);
+        if (!status) return toPublic(status.error());
+    }
+    self.positionsVersion = scene.positionsVersion;
+    if (self.drawnMode != sr::PrimitiveMode::Triangles || self.drawnWireframe) {
+        self.session.reset();
+        self.derived = sr::Scene();
+        self.drawnMode = sr::PrimitiveMode::Triangles;
+        self.drawnWireframe = false;
+    }
+    if (!self.session) {
+        auto session = sr::RenderSession::create(*self.device->compute, scene.scene);
+        if (!session) return toPublic(session.error());
+        self.session.emplace(std::move(*session));
+    }
+    auto matrices = cameraMatrices(camera, options, scene.scene);
+    if (!matrices) return matrices.error();
+    // The device holds a vec4 per vertex: three components are widened on the host first.
+    const size_t vertices = scene.sourceVertexCount;
+    std::vector<glm::vec4> widened;
+    sr::ViewInputs inputs;
+    inputs.positions = positions.data;
+    inputs.bytes = vertices * sizeof(glm::vec4);
+    inputs.onDevice = positions.onDevice;
+    inputs.waitStream = positions.stream;
+    if (scene.positionComponents == 3 && positions.views > 0) {
+        widened.resize(vertices * positions.views);
+        for (size_t i = 0; i < widened.size(); ++i) widened[i] = positionAt(positions.data, 3, i);
+        inputs.positions = widened.data();
+    }
+    auto invalid = self.session->renderViews(*matrices, options.resolved(), inputs, positions.views, targets);
+    if (!invalid) return toPublic(invalid.error());
+    ViewsReport report;
+    report.invalidTriangles = std::move(*invalid);
+    report.warnings = capture.take();
+    return report;
+}
+
+Result<InterpolateReport> interpolate(const InterpolateArrays& a, Device* device)
+{
+    if (a.attrViews != 1 && a.attrViews != a.views)
+        return usage(
+            fmt::format("interpolate: attributes of {} views x {} vertices x {} channels for {} views",
+                        a.attrViews, a.vertices, a.channels, a.views));
+    const size_t pixelsPerView = a.height * a.width, pixels = a.views * pixelsPerView;
+    if (pixels > 0 && (a.attr == nullptr || a.rast == nullptr || a.out == nullptr ||
+                       (a.triangleCount > 0 && a.triangles == nullptr)))
+        return usage("interpolate: an array is missing");
+    InterpolateReport report;
+    if (a.onDevice) {
+        if (device == nullptr || !device->impl().compute)
+            return usage("interpolate: arrays on the device need a CUDA device");
+        sr::InterpolateJob job;
+        job.attr = a.attr;
+        job.attrViews = a.attrViews;
+        job.vertices = a.vertices;
+        job.channels = a.channels;
+        job.rast = a.rast;
+        job.views = a.views;
+        job.pixelsPerView = pixelsPerView;
+        job.triangles = a.triangles;
+        job.triangleCount = a.triangleCount;
+        job.out = a.out;
+        job.waitStream = a.stream;
+        auto status = device->impl().compute->interpolate(job, report.badPixel, report.badTriangle);
+        if (!status) return toPublic(status.error());
+        return report;
+    }
+    // The device's loop on the host, pixel by pixel (shared/interpolate.h).
+    const auto triangles = uint32_t(std::min<size_t>(a.triangleCount, UINT32_MAX));
+    for (size_t p = 0; p < pixels; ++p) {
+        float* dst = a.out + p * a.channels;
+        const uint32_t slot = sr::interpolateSlot(a.rast[4 * p + 3], triangles);
+        bool drawn = slot != 0u && slot != INTERPOLATE_BAD_SLOT;
+        if (slot == INTERPOLATE_BAD_SLOT && report.badPixel < 0) report.badPixel = int64_t(p);
+        const uint32_t* corner = drawn ? a.triangles + 3 * size_t(slot - 1u) : nullptr;
+        if (drawn && (corner[0] >= a.vertices || corner[1] >= a.vertices || corner[2] >= a.vertices)) {
+            if (report.badTriangle < 0 || int64_t(slot - 1u) < report.badTriangle)
+                report.badTriangle = int64_t(slot - 1u);
+            drawn = false;
+        }
+        if (!drawn) {
+            std::fill(dst, dst + a.channels, 0.0f);
+            continue;
+        }
+        const float u = a.rast[4 * p], v = a.rast[4 * p + 1];
+        const float* view = a.attr + (a.attrViews == 1 ? 0 : p / pixelsPerView) * a.vertices * a.channels;
+        const float* a0 = view + size_t(corner[0]) * a.channels;
+        const float* a1 = view + size_t(corner[1]) * a.channels;
+        const float* a2 = view + size_t(corner[2]) * a.channels;
+        for (size_t c = 0; c < a.channels; ++c) dst[c] = sr::interpolateValue(u, v, a0[c], a1[c], a2[c]);
+    }
+    return report;
 }
 
 // ---- comparisons ------------------------------------------------------------------------------

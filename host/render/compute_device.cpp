@@ -23,6 +23,39 @@ Status ComputeDevice::downloadToDevice(uint32_t, void*, size_t, size_t)
     return makeError(ExitCode::Usage, "images on the device need a CUDA device, not {}", info().backend);
 }
 
+Status ComputeDevice::uploadView(const ViewInputs& views, size_t b)
+{
+    if (views.onDevice)
+        return makeError(ExitCode::Usage, "positions in device memory need a CUDA device, not {}",
+                         info().backend);
+    return upload(BUF_POSITIONS, static_cast<const char*>(views.positions) + b * views.bytes, views.bytes);
+}
+
+Status ComputeDevice::runViews(const RasterParams& params, const std::vector<Dispatch>& dispatches,
+                               const ViewInputs& views, size_t first, size_t count,
+                               const std::vector<ViewCopy>& copies, uint32_t* counters)
+{
+    std::vector<double> ms;
+    for (size_t b = first; b < first + count; ++b) {
+        SR_TRY(uploadView(views, b));
+        SR_TRY(run(params, dispatches, ms));
+        SR_TRY(
+            download(BUF_COUNTERS, counters + (b - first) * COUNTER_COUNT, COUNTER_COUNT * sizeof(uint32_t)));
+        for (const ViewCopy& c : copies) {
+            char* to = c.destination + b * c.bytes;
+            SR_TRY(c.onDevice ? downloadToDevice(BUF_FRAMEBUFFER, to, c.bytes, c.offset)
+                              : download(BUF_FRAMEBUFFER, to, c.bytes, c.offset));
+        }
+    }
+    return okStatus();
+}
+
+Status ComputeDevice::interpolate(const InterpolateJob&, int64_t&, int64_t&)
+{
+    return makeError(ExitCode::Usage, "interpolate on the device needs a CUDA device, not {}",
+                     info().backend);
+}
+
 const char* stageName(uint32_t stage)
 {
     return stage < STAGE_COUNT ? kStages[stage].name : "unknown";

@@ -30,6 +30,42 @@ struct DeviceInfo {
     bool isCpu = false;   // true for lavapipe and other CPU implementations
 };
 
+// renderViews' views: frames that differ in their vertex positions alone (nvdiffrast's batch). View b's
+// positions are `bytes` at positions + b * bytes, copied over the head of BUF_POSITIONS before its
+// frame; host memory, or with onDevice memory of the device (CUDA). waitStream (onDevice, CUDA): a
+// stream whose work so far the copies wait for, as __cuda_array_interface__ names one (0: none, 1: the
+// legacy default stream, 2: the per-thread default stream, else a cudaStream_t).
+struct ViewInputs {
+    const void* positions = nullptr;
+    size_t bytes = 0;
+    bool onDevice = false;
+    uintptr_t waitStream = 0;
+};
+
+// After each view's frame: `bytes` from `offset` bytes into BUF_FRAMEBUFFER to destination + b * bytes
+// (host memory, or with onDevice memory of the device).
+struct ViewCopy {
+    size_t offset = 0;
+    size_t bytes = 0;
+    char* destination = nullptr;
+    bool onDevice = false;
+};
+
+// nvdiffrast's interpolate over rasterize's output (raster::interpolate, shared/interpolate.h): every
+// array in memory of the device. badPixel: where the first pixel whose fourth channel is no triangle's
+// id + 1 (nor 0) is written, badTriangle the first triangle drawn with a vertex index out of range
+// (both -1 when there is none); such pixels get zeros.
+struct InterpolateJob {
+    const float* attr = nullptr;  // attrViews x vertices x channels
+    size_t attrViews = 1, vertices = 0, channels = 0;
+    const float* rast = nullptr;  // views x pixelsPerView x 4
+    size_t views = 0, pixelsPerView = 0;
+    const uint32_t* triangles = nullptr;  // triangleCount x 3
+    size_t triangleCount = 0;
+    float* out = nullptr;      // views x pixelsPerView x channels
+    uintptr_t waitStream = 0;  // as ViewInputs::waitStream
+};
+
 struct Dispatch {
     uint32_t stage = 0;   // STAGE_*
     uint32_t groups = 0;  // number of groups (1D); group sizes are fixed per stage in the kernels
@@ -66,6 +102,20 @@ public:
     // every stage, waits for completion, and stores each dispatch's GPU time in ms (same order).
     virtual Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                        std::vector<double>& gpuMs) = 0;
+
+    // Views first .. first + count - 1 of `views`, each as: its positions copied in, the dispatches run,
+    // BUF_COUNTERS copied to counters + (b - first) * COUNTER_COUNT and the copies made; returns when all
+    // are done. No GPU times. The base class does it view by view with the calls above (one wait per
+    // view); CUDA queues every view on its stream and waits once.
+    virtual Status runViews(const RasterParams& params, const std::vector<Dispatch>& dispatches,
+                            const ViewInputs& views, size_t first, size_t count,
+                            const std::vector<ViewCopy>& copies, uint32_t* counters);
+    // Copies view b's positions over the head of BUF_POSITIONS (runViews' first step, alone).
+    virtual Status uploadView(const ViewInputs& views, size_t b);
+
+    // Runs `job` on the device and waits for it (CUDA; an error elsewhere): badPixel and badTriangle as
+    // InterpolateJob says.
+    virtual Status interpolate(const InterpolateJob& job, int64_t& badPixel, int64_t& badTriangle);
 
     // Bytes currently allocated on the device by this object, and the peak over its lifetime.
     virtual size_t allocatedBytes() const = 0;

@@ -366,6 +366,11 @@ Status RenderSession::claimDevice()
     if (!uploaded_) {
         SR_TRY(upload());
         uploaded_ = true;
+        viewPositions_ = false;
+    }
+    if (viewPositions_) {  // renderViews left a view's positions: the scene's go back
+        SR_TRY(uploadVector(*device_, BUF_POSITIONS, scene_->positions));
+        viewPositions_ = false;
     }
     return okStatus();
 }
@@ -753,12 +758,7 @@ Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& s
     // Every call starts with every stage on every tile, as a fresh render does, even in a session: the
     // previous call's choice fits its own camera, and carried over to a turntable's next frame on
     // lavapipe it made half of the frames draw twice (too few raster groups for the new view).
-    f.rasterChunk = device_->info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
-    f.work.groups = GroupCounts{uint32_t(f.tiles), groupsFor(capacities_.pieces, GROUP_SIZE), f.rasterChunk};
-    f.work.binBig = f.work.countSplit = !settings.firstFrameSkipsBinning;
-    f.work.rasterMethod = settings.rasterMethod;
-    f.work.alphaTest = alphaTest_;
-    f.work.shade = settings.download != ImageDownload::All || (settings.outputs & OUTPUT_COLOR) != 0u;
+    startWork(settings, f);
     for (uint32_t run = 0; run < settings.warmup + settings.repeat;) {
         f.params = frameParams(*scene_, camera, settings, capacities_, f.work.groups);
         setClusterParams(f.params, f.clusters, settings.rasterMethod);
@@ -781,6 +781,16 @@ Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& s
         ++run;
     }
     return okStatus();
+}
+
+void RenderSession::startWork(const RenderSettings& settings, FrameState& f) const
+{
+    f.rasterChunk = device_->info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
+    f.work.groups = GroupCounts{uint32_t(f.tiles), groupsFor(capacities_.pieces, GROUP_SIZE), f.rasterChunk};
+    f.work.binBig = f.work.countSplit = !settings.firstFrameSkipsBinning;
+    f.work.rasterMethod = settings.rasterMethod;
+    f.work.alphaTest = alphaTest_;
+    f.work.shade = settings.download != ImageDownload::All || (settings.outputs & OUTPUT_COLOR) != 0u;
 }
 
 // Runs one frame with f.params and f.work, tessellation first when it is on, and reads its counters.
@@ -985,6 +995,100 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
         }
     }
     return okStatus();
+}
+
+Result<std::vector<uint32_t>> RenderSession::renderViews(const CameraMatrices& camera,
+                                                         const RenderSettings& requested,
+                                                         const ViewInputs& views, size_t count,
+                                                         const std::vector<ViewTarget>& targets)
+{
+    RenderSettings settings = requested;
+    settings.clusters = CLUSTERS_OFF;
+    settings.download = ImageDownload::All;
+    settings.outputs = 0u;
+    for (const ViewTarget& t : targets) settings.outputs |= t.output;
+    settings.keptOutputs = settings.outputs;
+    SR_TRY(checkRenderInputs(*scene_, settings));
+    if (settings.tessellate != TESS_OFF || settings.lod != LOD_OFF || settings.ao == AO_REFERENCE ||
+        settings.aovSamples || settings.surfaceAovs)
+        return makeError(ExitCode::Usage,
+                         "views: tessellation, level of detail, reference AO and per-sample or surface AOVs "
+                         "are drawn one frame at a time");
+    if (views.bytes != scene_->positions.size() * sizeof(glm::vec4) ||
+        (count > 0 && views.positions == nullptr))
+        return makeError(ExitCode::Usage, "views: {} bytes of positions per view for a scene of {} vertices",
+                         views.bytes, scene_->positions.size());
+    std::vector<uint32_t> invalid(count, 0u);
+    if (count == 0) return invalid;
+    SR_TRY(claimDevice());
+    viewPositions_ = true;
+    FrameState f;
+    SR_TRY(sizeFrame(settings, f));
+    auto copies = viewCopies(targets);
+    if (!copies) return copies.error();
+    // View b alone, as render() draws a frame: again until nothing overflows.
+    auto drawAlone = [&](size_t b) -> Status {
+        SR_TRY(device_->uploadView(views, b));
+        SR_TRY(draw(camera, settings, f));
+        invalid[b] = f.counters[COUNTER_INVALID];
+        for (const ViewCopy& c : *copies) {
+            char* to = c.destination + b * c.bytes;
+            SR_TRY(c.onDevice ? device_->downloadToDevice(BUF_FRAMEBUFFER, to, c.bytes, c.offset)
+                              : device_->download(BUF_FRAMEBUFFER, to, c.bytes, c.offset));
+        }
+        return okStatus();
+    };
+    size_t first = 0;
+    // The session's first frame sizes its lists. A CPU device sizes raster_tiles' work items from the
+    // frame before, per view: every view is drawn alone there.
+    while (first < count && (!drawn_ || device_->info().isCpu)) {
+        SR_TRY(drawAlone(first++));
+        drawn_ = true;
+    }
+    if (first == count) return invalid;
+    // The others in one submission, with every stage on and the list-walking stages sized for the lists'
+    // capacities, so that any view within them is drawn whole; the counters say which were not.
+    startWork(settings, f);
+    f.work.binBig = f.work.countSplit = true;
+    f.work.groups.bin = groupsFor(capacities_.pieces, GROUP_SIZE);
+    f.params = frameParams(*scene_, camera, settings, capacities_, f.work.groups);
+    setClusterParams(f.params, 0u, settings.rasterMethod);
+    const FrameWork batch = f.work;
+    std::vector<uint32_t> counters((count - first) * COUNTER_COUNT);
+    SR_TRY(device_->runViews(f.params, frameDispatches(f.params, f.work), views, first, count - first,
+                             *copies, counters.data()));
+    for (size_t b = first; b < count; ++b) {
+        std::copy_n(&counters[(b - first) * COUNTER_COUNT], COUNTER_COUNT, f.counters);
+        invalid[b] = f.counters[COUNTER_INVALID];
+        f.work = batch;
+        Result<bool> skippedNeeded = nextWork(f);
+        if (!skippedNeeded) return skippedNeeded.error();
+        Result<bool> grown = growLists(f.counters);
+        if (!grown) return grown.error();
+        if (*grown || *skippedNeeded) SR_TRY(drawAlone(b));
+    }
+    return invalid;
+}
+
+Result<std::vector<ViewCopy>> RenderSession::viewCopies(const std::vector<ViewTarget>& targets) const
+{
+    const AovsLayout l = aovsLayout(uint32_t(aovPixels_), aovOutputs_);
+    std::vector<ViewCopy> copies;
+    for (const ViewTarget& t : targets) {
+        uint64_t word = 0;
+        switch (t.output) {
+        case OUTPUT_COLOR: break;
+        case OUTPUT_ID: word = l.ids; break;
+        case OUTPUT_DEPTH: word = l.depths; break;
+        case OUTPUT_RAST: word = l.rast; break;
+        default: return makeError(ExitCode::Usage, "views: no image {} to write", t.output);
+        }
+        if (t.destination == nullptr)
+            return makeError(ExitCode::Usage, "views: image {} has nowhere to go", t.output);
+        copies.push_back({word * 4, (t.output == OUTPUT_RAST ? 16 : 4) * aovPixels_,
+                          static_cast<char*>(t.destination), t.onDevice});
+    }
+    return copies;
 }
 
 Status RenderSession::readImage(uint32_t output, void* destination, size_t bytes, bool onDevice)

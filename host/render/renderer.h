@@ -164,6 +164,23 @@ public:
     // and the Python module's batch of rasterize write their arrays so, with no copy in between.
     Status readImage(uint32_t output, void* destination, size_t bytes, bool onDevice);
 
+    // Frames of the scene that differ in their vertex positions alone, `count` of them (nvdiffrast's batch):
+    // view b has the scene's vertices at views.positions + b * views.bytes (the scene's layout, a vec4 per
+    // vertex) and writes each image of `targets` (an OUTPUT_* bit and where it goes: view b's image at
+    // destination + b x its size) with no host work between views: CUDA queues every view and waits once.
+    // The first frame of a session is drawn alone, as render() draws it, to size the lists; a view that
+    // overflows a list or needs a stage the batch skipped is drawn again alone. Clusters are off (theirs
+    // are built from the scene's own positions); tessellation, level of detail and reference AO are
+    // refused. Returns per view the triangles dropped for a non-finite clip coordinate.
+    struct ViewTarget {
+        uint32_t output = 0;
+        void* destination = nullptr;
+        bool onDevice = false;
+    };
+    Result<std::vector<uint32_t>> renderViews(const CameraMatrices& camera, const RenderSettings& settings,
+                                              const ViewInputs& views, size_t count,
+                                              const std::vector<ViewTarget>& targets);
+
     ComputeDevice& device() const { return *device_; }
     const Scene& scene() const { return *scene_; }
 
@@ -172,6 +189,8 @@ private:
     // Takes the device's buffers over (ComputeDevice::claim), forgetting what this session had there when
     // another one used them since, and uploads the scene where they do not hold it.
     Status claimDevice();
+    // renderViews' copies of its targets' images out of BUF_FRAMEBUFFER, for the last frame's layout.
+    Result<std::vector<ViewCopy>> viewCopies(const std::vector<ViewTarget>& targets) const;
     Status upload();
     // A tessellated frame of a display scene (tessellatedDisplay), drawn by a session of its own on this
     // device, after which this session's buffers are uploaded again before its next frame.
@@ -199,6 +218,8 @@ private:
     // render()'s steps, in order (renderer.cpp), and the state they pass along.
     struct FrameState;
     Status sizeFrame(const RenderSettings& settings, FrameState& f);
+    // The work a frame starts from: every stage on every tile, the list-walking stages sized to the lists.
+    void startWork(const RenderSettings& settings, FrameState& f) const;
     Status draw(const CameraMatrices& camera, const RenderSettings& settings, FrameState& f);
     Status runFrame(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
     Result<Dispatch> tessellate(FrameState& f, std::vector<Dispatch>& dispatches, std::vector<double>& gpuMs);
@@ -236,6 +257,7 @@ private:
     uint64_t aovPixels_ = 0;
     uint32_t aovOutputs_ = 0;
     bool framebufferColour_ = false;  // and whether shade wrote its colours
+    bool viewPositions_ = false;      // BUF_POSITIONS holds a view's positions (renderViews), not the scene's
 };
 
 // One frame of a fresh session: checks the inputs, uploads the scene, runs the whole pipeline

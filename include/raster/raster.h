@@ -333,10 +333,39 @@ struct RenderRequest {
 // buffers are reused and grown, never sized for the worst case. Sessions of other scenes on the same
 // device may draw in between (each frame shows its own session's scene; the first one after another
 // session drew uploads the scene again). The device and the scene must outlive the session.
+// Session::renderViews' positions: `views` sets of the scene's vertex positions one after another, each
+// as Scene::fromArrays took them (vertexCount x positionComponents floats). With onDevice they are in
+// memory of the session's CUDA device and `stream` names the CUDA stream they were written on, as
+// __cuda_array_interface__ does (0: none to wait for, 1: the legacy default stream, 2: the per-thread
+// default stream, else a cudaStream_t): the views wait for its work so far.
+struct ViewPositions {
+    const float* data = nullptr;
+    size_t views = 0;
+    bool onDevice = false;
+    uintptr_t stream = 0;
+};
+
+// What renderViews drew: per view, the triangles dropped because a corner's clip position is not finite
+// (a NaN or infinite position, or one too large to transform).
+struct ViewsReport {
+    std::vector<uint32_t> invalidTriangles;
+    std::vector<std::string> warnings;
+};
+
 class Session {
 public:
     static Result<Session> create(Device& device, const Scene& scene);
     Result<Frame> render(const Camera& camera, const Settings& settings, const RenderRequest& request = {});
+    // Frames that differ in the scene's vertex positions alone (nvdiffrast's batch of views), all with
+    // one camera and settings, written straight into request.targets: each non-null target holds
+    // `views` images one after another (request.outputs is ignored; no Frame is made). On CUDA every
+    // view is queued at once and the call waits once; elsewhere views are drawn one by one. Needs a scene
+    // made by Scene::fromArrays with normals (flat normals would not follow the positions) and, for
+    // positions on the device, 4 components. Clusters are not used; tessellation, level of detail,
+    // reference AO, per-sample and surface AOVs are refused. The scene's own positions are unchanged and
+    // are drawn again by the next render().
+    Result<ViewsReport> renderViews(const Camera& camera, const Settings& settings,
+                                    const ViewPositions& positions, const RenderRequest& request);
 
     Session(Session&&) noexcept;
     Session& operator=(Session&&) noexcept;
@@ -384,6 +413,35 @@ Result<CompareReport> compare(const Frame& a, const Frame& b, bool aov, const Co
 // Two files of one kind (.png colour, .exr AOVs), as `raster compare A B` reads them.
 Result<CompareReport> compareFiles(const std::string& a, const std::string& b,
                                    const CompareOptions& options = {});
+
+// nvdiffrast's interpolate (forward) over rasterize's output: out[b, y, x, c] = u a0 + v a1 + (1 - u - v) a2
+// of attribute c of the vertices of triangle rast[b, y, x, 3] - 1, with (u, v) = rast[b, y, x, 0..1];
+// 0 where rast[b, y, x, 3] is 0. Every product and sum is rounded on its own, the same bits on the host
+// and on a CUDA device.
+struct InterpolateArrays {
+    const float* attr = nullptr;  // attrViews x vertices x channels (attrViews 1: shared by every view)
+    size_t attrViews = 1, vertices = 0, channels = 0;
+    const float* rast = nullptr;  // views x height x width x 4, rasterize's output
+    size_t views = 0, height = 0, width = 0;
+    const uint32_t* triangles = nullptr;  // triangleCount x 3 vertex indices
+    size_t triangleCount = 0;
+    float* out = nullptr;  // views x height x width x channels
+    // Every array in memory of `device` (CUDA), the work done there; `stream` as ViewPositions::stream.
+    bool onDevice = false;
+    uintptr_t stream = 0;
+};
+
+// What interpolate found wrong: the first pixel (flat index over views x height x width) whose
+// rast[..., 3] is neither 0 nor a triangle's id + 1, and the first triangle drawn with a vertex index
+// out of range; -1 where there is none. Those pixels are written as 0.
+struct InterpolateReport {
+    int64_t badPixel = -1;
+    int64_t badTriangle = -1;
+};
+
+// On the host, or with arrays.onDevice on `device` (a CUDA device; the call returns when the output is
+// written).
+Result<InterpolateReport> interpolate(const InterpolateArrays& arrays, Device* device = nullptr);
 
 // One frame of a fresh session.
 Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,

@@ -540,7 +540,7 @@ def _resolution(resolution: Any) -> Tuple[int, int]:
 def _triangles(tri: Any, vertices: int, what: str, vertices_text: str) -> np.ndarray:
     """`tri` as an integer (T, 3) array naming vertices below `vertices`, or raster.Error (`vertices_text`
     says what the vertices are, after the index named)."""
-    tri = np.asarray(tri)
+    tri = np.asarray(_host_copy(tri, f"{what}: tri"))
     if tri.ndim != 2 or tri.shape[1] != 3 or (tri.size and tri.dtype.kind not in "iu"):
         raise Error(f"{what}: tri must be integer (T, 3), not {tri.dtype} {tuple(tri.shape)}")
     if tri.size and (tri.min() < 0 or tri.max() >= vertices):
@@ -548,49 +548,142 @@ def _triangles(tri: Any, vertices: int, what: str, vertices_text: str) -> np.nda
     return tri
 
 
-def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], backend: str = "auto",
+def _detached(value: Any) -> Any:
+    """A tensor that records gradients, without them (torch exports neither numpy, DLPack nor the CUDA
+    array interface of one); anything else as it is."""
+    if getattr(value, "requires_grad", False) and callable(getattr(value, "detach", None)):
+        return value.detach()
+    return value
+
+
+@dataclass
+class _GpuArray:
+    """An array in CUDA memory, from its __cuda_array_interface__ (version 2 or 3)."""
+    pointer: int
+    shape: Tuple[int, ...]
+    typestr: str
+    stream: int  # the interface's stream: 0 none to wait for, 1 legacy default, 2 per-thread, else a handle
+    owner: Any   # the object, alive while the pointer is used
+
+
+def _gpu_array(value: Any, what: str) -> Optional[_GpuArray]:
+    """`value`'s CUDA memory when it is a GPU array (torch, CuPy, JAX, Numba: anything with the CUDA array
+    interface), C-contiguous; None for anything else."""
+    value = _detached(value)
+    try:
+        face = value.__cuda_array_interface__
+    except AttributeError:
+        return None
+    except Exception as error:  # the producer refuses to export (e.g. a tensor of another kind)
+        raise Error(f"{what}: its CUDA array interface is not available ({error})") from None
+    shape = tuple(int(n) for n in face["shape"])
+    typestr = str(face["typestr"])
+    item = int(typestr[2:]) if typestr[2:].isdigit() else 0
+    strides = face.get("strides")
+    if strides is not None:
+        expected, step = [], item
+        for n in reversed(shape):
+            expected.insert(0, step)
+            step *= n
+        if any(n > 1 and int(s) != e for n, s, e in zip(shape, strides, expected)):
+            raise Error(f"{what} must be contiguous on the GPU (call .contiguous()), not strided {tuple(strides)}")
+    if face.get("mask") is not None:
+        raise Error(f"{what}: masked GPU arrays are not taken")
+    stream = face.get("stream")
+    return _GpuArray(int(face["data"][0]), shape, typestr, 0 if stream is None else int(stream), value)
+
+
+def _host_copy(value: Any, what: str) -> Any:
+    """A GPU array's contents in host memory (through the producer's own copy: torch's .cpu(), CuPy's
+    .get()); anything else as it is."""
+    value = _detached(value)
+    if not hasattr(value, "__cuda_array_interface__"):
+        return value
+    for method in ("cpu", "get"):
+        copy = getattr(value, method, None)
+        if callable(copy):
+            return np.asarray(copy())
+    raise Error(f"{what}: a GPU array of {type(value).__name__} has no copy to the host (.cpu() or .get())")
+
+
+def _returned_like(result: Any, given: Any, on_gpu: bool) -> Any:
+    """`result` (numpy, or a DeviceArray) in the kind of array the caller gave: a torch tensor for a torch
+    tensor, a CuPy array for a CuPy array (both without a copy, through DLPack) where the result is where
+    that library keeps its arrays (on_gpu: `given` is on the GPU); numpy and DeviceArray otherwise."""
+    module = type(given).__module__.partition(".")[0]
+    if module in ("numpy", "builtins", "raster"):
+        return result
+    library = __import__("sys").modules.get(module)
+    convert = getattr(library, "from_dlpack", None)
+    if convert is None or on_gpu != isinstance(result, DeviceArray):
+        return result
+    if module == "torch" and isinstance(result, DeviceArray):
+        # The images are whole already: torch gets the DLPack capsule itself, without the protocol's
+        # query of its current stream to synchronise with (a third of the call's host time at 1080p).
+        return convert(result.__dlpack__())
+    return convert(result)
+
+
+def rasterize(pos: Any, tri: Any, resolution: Tuple[int, int], backend: str = "auto",
               msaa: int = 1, *, renderer: Optional["Renderer"] = None,
-              on_device: bool = False) -> Union[np.ndarray, "DeviceArray"]:
+              on_device: Optional[bool] = None) -> Any:
     """The forward pass of nvdiffrast's ``rasterize``, by this project's exact fixed-point rasterizer
     (1/256-pixel vertices, top-left rule: Vulkan's coverage rules on every backend).
 
     pos: clip-space positions, float32 (V, 4) or (B, V, 4) (x, y, z, w) with OpenGL's depth range
-        (-w <= z <= w is inside), as nvdiffrast takes them.
-    tri: int32 (T, 3) vertex indices (shared by every batch element); no face is culled.
+        (-w <= z <= w is inside), as nvdiffrast takes them: a host array (numpy, a CPU tensor) or an
+        array already on the GPU (a torch or CuPy tensor: anything with ``__cuda_array_interface__``),
+        read there without a copy to the host, after the work queued on the stream it names.
+    tri: int32 (T, 3) vertex indices (shared by every batch element); no face is culled. On the GPU it is
+        copied to the host when it changes (a torch tensor's version counter says when; other GPU arrays
+        every call), since each topology is kept as a scene.
     resolution: (height, width).
     backend: "auto", "cuda" or "vulkan"; msaa: 1, 2, 4, 8 or 16 samples per pixel (the output then
         describes each pixel's first sample).
     renderer: draw with this Renderer (its device; backend is then ignored) instead of the module's
-        own one per backend, opened on first use. Either keeps one scene per topology and replaces its
-        positions in place from call to call: the batch's B views upload their positions alone, and
-        (u, v, z/w, id + 1) are computed on the device and copied straight into the returned array.
-    on_device: return the output in GPU memory (CUDA devices) as a raster.DeviceArray, which
-        torch.from_dlpack, cupy.asarray and jax.dlpack take without a copy.
+        own one per backend, opened on first use. Either keeps one scene per topology: the B views are
+        drawn from their positions alone, on CUDA all in one submission, and (u, v, z/w, id + 1) are
+        computed on the device and copied straight into the returned array.
+    on_device: return the output in GPU memory (CUDA devices); None (the default): where pos is.
 
     Returns float32 (B, H, W, 4) = (u, v, z/w, triangle_id + 1), all 0 where no triangle covers the
     pixel centre: u and v are the perspective-correct weights of the triangle's first and second
     vertex (the third's is 1 - u - v), z/w the clip-space depth in OpenGL's -1..1. Row 0 is at NDC
     y = -1, pixel (x, y) centred at NDC ((x + 0.5) / W * 2 - 1, (y + 0.5) / H * 2 - 1): nvdiffrast's
     layout; this project's own frames use the same rows (Vulkan's y = -1 is the top row), so
-    rasterize's output and a Frame line up without a flip. Unlike nvdiffrast it returns the array
-    alone (no derivatives, no gradients).
+    rasterize's output and a Frame line up without a flip. It comes back in the kind of array pos is:
+    numpy for numpy; for a torch tensor a torch tensor (on the GPU when on the device), for CuPy a CuPy
+    array, both sharing the output's memory; a raster.DeviceArray (DLPack and the CUDA array interface)
+    otherwise. Unlike nvdiffrast it returns the array alone (no derivatives, no gradients).
+    A triangle with a corner that is not finite raises raster.Error (checked on the device).
     """
-    pos = _real_array(pos, "rasterize: pos")
-    if pos.ndim == 2:
-        pos = pos[None]
-    if pos.ndim != 3 or pos.shape[2] != 4:
-        raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {tuple(pos.shape)}")
-    finite = np.isfinite(pos).all(axis=(1, 2))
-    if not finite.all():
-        raise Error(f"rasterize: pos[{int(np.argmin(finite))}] has non-finite values")
-    tri = _triangles(tri, pos.shape[1], "rasterize", f" of {pos.shape[1]}")
+    given = pos
+    gpu = _gpu_array(pos, "rasterize: pos")
+    given_on_gpu = gpu is not None
+    if gpu is not None:
+        shape = gpu.shape if len(gpu.shape) != 2 else (1,) + gpu.shape
+        if len(shape) != 3 or shape[2] != 4:
+            raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {gpu.shape}")
+        if gpu.typestr != "<f4":
+            raise Error(f"rasterize: pos on the GPU must be float32, not {gpu.typestr}")
+        host_pos = None
+        batch, vertices = shape[0], shape[1]
+    else:
+        host_pos = _real_array(_detached(pos), "rasterize: pos")
+        if host_pos.ndim == 2:
+            host_pos = host_pos[None]
+        if host_pos.ndim != 3 or host_pos.shape[2] != 4:
+            raise Error(f"rasterize: pos must have shape (V, 4) or (B, V, 4), not {tuple(host_pos.shape)}")
+        batch, vertices = host_pos.shape[0], host_pos.shape[1]
+    indices = _indices(tri, vertices)
     height, width = _resolution(resolution)
-    batch = pos.shape[0]
+    if on_device is None:
+        on_device = gpu is not None
     if not isinstance(on_device, (bool, np.bool_)):
-        raise Error(f"rasterize: on_device must be True or False, not {_shown(on_device)}")
-    if tri.shape[0] == 0 and not on_device:
+        raise Error(f"rasterize: on_device must be True, False or None, not {_shown(on_device)}")
+    if indices.shape[0] == 0 and not on_device:
         try:
-            return np.zeros((batch, height, width, 4), np.float32)
+            return _returned_like(np.zeros((batch, height, width, 4), np.float32), given, given_on_gpu)
         except MemoryError:
             raise Error(f"rasterize: the output, {batch} x {height} x {width} x 4 float32 "
                         f"({batch * height * width * 16 / 2**30:.1f} GiB), does not fit in memory") from None
@@ -600,46 +693,88 @@ def rasterize(pos: np.ndarray, tri: np.ndarray, resolution: Tuple[int, int], bac
         raise Error(f"rasterize: renderer must be a raster.Renderer, not {_shown(renderer)}")
     settings = _setting_values({"cull": "none", "warmup": 0, "msaa": msaa, "shading": "id",
                                 "width": width, "height": height})
-    if tri.shape[0] == 0:
+    if indices.shape[0] == 0:
         # Nothing to draw: zeros, in GPU memory from an empty scene's frame (a point outside the view).
-        pos, tri = np.array([[[2, 2, 0, 1]] * 3] * batch, np.float32), np.zeros((1, 3), np.int32)
-    scene, fresh = _topology_scene(renderer, pos[0], tri)
-    camera = (_IDENTITY, _GL_TO_VULKAN_DEPTH)
-    if on_device:
-        return renderer._native.rasterize_on_device(scene, pos, (batch, height, width), camera, settings, fresh)
-    return renderer._native.rasterize(scene, pos, (batch, height, width), camera, settings, fresh)
+        host_pos, gpu = np.array([[[2, 2, 0, 1]] * 3] * batch, np.float32), None
+        indices, vertices = np.zeros((1, 3), np.uint32), 3
+    scene = _topology_scene(renderer, vertices, indices)
+    device_pos = None if gpu is None else (gpu.pointer, gpu.stream)
+    out, invalid, lines = renderer._native.rasterize(scene, host_pos, device_pos, (batch, height, width),
+                                                     (_IDENTITY, _GL_TO_VULKAN_DEPTH), settings, bool(on_device))
+    _warn(lines)
+    for view, dropped in enumerate(invalid):
+        if dropped:
+            raise Error(f"rasterize: pos[{view}] has non-finite values: {dropped} triangle(s) with a corner "
+                        f"that is NaN, infinite or too large")
+    return _returned_like(out, given, given_on_gpu)
+
+
+# rasterize's GPU triangles, copied to the host: per tensor (by id, with a weak reference that says it is
+# still that tensor) its version counter, the copy and its largest index, so that an unchanged torch
+# tensor is neither copied nor checked again. The last few tensors are kept.
+_gpu_triangles: Dict[int, Tuple[Any, int, np.ndarray, int]] = {}
+
+
+def _indices(tri: Any, vertices: int) -> np.ndarray:
+    """rasterize's `tri` checked against `vertices`, as a C-contiguous uint32 array on the host."""
+    tri = _detached(tri)
+    known = _gpu_triangles.get(id(tri))
+    if known is not None and known[0]() is tri and known[1] == getattr(tri, "_version", None) and known[3] < vertices:
+        return known[2]
+    version = getattr(tri, "_version", None) if hasattr(tri, "__cuda_array_interface__") else None
+    checked = np.ascontiguousarray(_triangles(tri, vertices, "rasterize", f" of {vertices}"), dtype=np.uint32)
+    if version is not None:
+        try:
+            alive = weakref.ref(tri)
+        except TypeError:  # not weakly referenceable: copied every call
+            return checked
+        if len(_gpu_triangles) >= 8:
+            _gpu_triangles.clear()
+        _gpu_triangles[id(tri)] = (alive, version, checked, int(checked.max()) if checked.size else -1)
+    return checked
 
 
 # rasterize's scenes: per Renderer, the last topology drawn (its triangles and vertex count) and the
-# scene made for it, whose positions each call replaces in place (Scene.update_positions), so that a
-# training loop's calls upload positions alone.
+# scene made for it, which every call draws with its own positions (Session.renderViews).
 _topologies: "weakref.WeakKeyDictionary[Renderer, Tuple[np.ndarray, int, Any]]" = weakref.WeakKeyDictionary()
 
 
-def _topology_scene(renderer: Renderer, pos: np.ndarray, tri: np.ndarray) -> Tuple[Any, bool]:
-    """The native scene of `tri` over pos.shape[0] vertices for `renderer`, and whether it was made now
-    (from `pos`, so that the first view needs no update)."""
-    indices = np.ascontiguousarray(tri, dtype=np.uint32)
+def _topology_scene(renderer: Renderer, vertices: int, indices: np.ndarray) -> Any:
+    """The native scene of `indices` over `vertices` vertices for `renderer`."""
     with _shared_lock:
         known = _topologies.get(renderer)
-        if known is not None and known[1] == pos.shape[0] and np.array_equal(known[0], indices):
-            return known[2], False
-        # No normals to shade with (rasterize shades ids): zeros, so that no flat normals are made.
-        scene = _raster.Scene.from_arrays(pos, indices, np.zeros((pos.shape[0], 3), np.float32), None, None,
+        if known is not None and known[1] == vertices and (known[0] is indices or np.array_equal(known[0], indices)):
+            # The caller's array from now on, so that the next call with it is known by identity.
+            _topologies[renderer] = (indices, vertices, known[2])
+            return known[2]
+        # Made at the origin, where no triangle is dropped (every call draws its own positions), with
+        # normals, so that the vertices are the arrays' own (rasterize shades ids: zeros do).
+        zeros = np.zeros((vertices, 4), np.float32)
+        scene = _raster.Scene.from_arrays(zeros, indices, np.zeros((vertices, 3), np.float32), None, None,
                                           None, True, None, None, (1.0, 1.0, 1.0, 1.0), False)
-        _topologies[renderer] = (indices, pos.shape[0], scene)
-        return scene, True
+        _topologies[renderer] = (indices, vertices, scene)
+        return scene
 
 
-def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarray:
+def interpolate(attr: Any, rast: Any, tri: Any, *, renderer: Optional["Renderer"] = None) -> Any:
     """nvdiffrast's ``interpolate`` (forward): per-vertex attributes at every pixel of ``rast``.
 
-    attr: float32 (V, C) or (B, V, C); rast: (B, H, W, 4) from rasterize; tri: int32 (T, 3).
+    attr: float32 (V, C) or (B, V, C); rast: (B, H, W, 4) from rasterize; tri: int32 (T, 3). All three on
+        the host (numpy, CPU tensors), or all three on a CUDA GPU (torch, CuPy: anything with
+        ``__cuda_array_interface__``, contiguous), where a kernel interpolates in place, after the work
+        queued on their stream, on `renderer`'s device (or the module's CUDA Renderer).
     Returns float32 (B, H, W, C) = u * a0 + v * a1 + (1 - u - v) * a2 of the pixel's triangle, 0 where
-    empty. Unlike nvdiffrast it returns the array alone (no derivatives).
+    empty, each product and sum rounded on its own: the same bits on the host and on the GPU. It comes
+    back in attr's kind of array (torch in, torch out; numpy in, numpy out; a DeviceArray otherwise).
+    Unlike nvdiffrast it returns the array alone (no derivatives).
     """
-    attr = _real_array(attr, "interpolate: attr")
-    rast = _real_array(rast, "interpolate: rast")
+    given = attr
+    gpu = [_gpu_array(attr, "interpolate: attr"), _gpu_array(rast, "interpolate: rast"),
+           _gpu_array(tri, "interpolate: tri")]
+    if any(g is not None for g in gpu):
+        return _interpolate_on_gpu(gpu, given, renderer)
+    attr = _real_array(_detached(attr), "interpolate: attr")
+    rast = _real_array(_detached(rast), "interpolate: rast")
     if rast.ndim != 4 or rast.shape[3] != 4:
         raise Error(f"interpolate: rast must have shape (B, H, W, 4), not {tuple(rast.shape)}")
     if attr.ndim not in (2, 3) or (attr.ndim == 3 and attr.shape[0] != rast.shape[0]):
@@ -648,13 +783,43 @@ def interpolate(attr: np.ndarray, rast: np.ndarray, tri: np.ndarray) -> np.ndarr
     vertices = attr.shape[-2]
     tri = _triangles(tri, vertices, "interpolate", f", but attr has {vertices} rows")
     out = np.empty(rast.shape[:3] + (attr.shape[-1],), np.float32)
-    bad = _raster.interpolate(attr if attr.ndim == 3 else attr[None], rast,
-                              np.ascontiguousarray(tri, dtype=np.uint32), out)
+    bad, _ = _raster.interpolate(attr if attr.ndim == 3 else attr[None], rast,
+                                 np.ascontiguousarray(tri, dtype=np.uint32), out)
     if bad >= 0:
         slot = float(rast[..., 3].flat[bad])
         raise Error(f"interpolate: rast[..., 3] holds {_shown(slot)}, not a triangle id + 1 of the "
                     f"{tri.shape[0]} triangles in tri (or 0)")
-    return out
+    return _returned_like(out, given, False)
+
+
+def _interpolate_on_gpu(gpu: List[Optional[_GpuArray]], given: Any, renderer: Optional["Renderer"]) -> Any:
+    """interpolate of three GPU arrays (attr, rast, tri), on the device."""
+    if any(g is None for g in gpu):
+        where = ", ".join(f"{name} {'on the GPU' if g is not None else 'on the host'}"
+                          for name, g in zip(("attr", "rast", "tri"), gpu))
+        raise Error(f"interpolate: attr, rast and tri must be all on the host or all on the GPU, not {where}")
+    attr, rast, tri = gpu
+    if len(rast.shape) != 4 or rast.shape[3] != 4 or rast.typestr != "<f4":
+        raise Error(f"interpolate: rast must be float32 (B, H, W, 4), not {rast.typestr} {rast.shape}")
+    attr_shape = (1,) + attr.shape if len(attr.shape) == 2 else attr.shape
+    if len(attr_shape) != 3 or attr_shape[0] not in (1, rast.shape[0]) or attr.typestr != "<f4":
+        raise Error(f"interpolate: attr must be float32 (V, C) or (B, V, C) with B = {rast.shape[0]}, "
+                    f"not {attr.typestr} {attr.shape}")
+    if len(tri.shape) != 2 or tri.shape[1] != 3 or tri.typestr not in ("<i4", "<u4"):
+        raise Error(f"interpolate: tri must be int32 (T, 3), not {tri.typestr} {tri.shape}")
+    if renderer is None:
+        renderer = _shared_renderer("cuda")
+    elif not isinstance(renderer, Renderer):
+        raise Error(f"interpolate: renderer must be a raster.Renderer, not {_shown(renderer)}")
+    stream = next((g.stream for g in gpu if g.stream), 0)
+    out, bad_pixel, bad_triangle = renderer._native.interpolate_on_device(
+        attr.pointer, attr_shape, rast.pointer, rast.shape, tri.pointer, tri.shape[0], stream)
+    if bad_triangle >= 0:
+        raise Error(f"interpolate: tri[{bad_triangle}] indexes a vertex beyond attr's {attr_shape[1]} rows")
+    if bad_pixel >= 0:
+        raise Error(f"interpolate: rast[..., 3] of pixel {bad_pixel} (flat) is not a triangle id + 1 of the "
+                    f"{tri.shape[0]} triangles in tri (or 0)")
+    return _returned_like(out, given, True)
 
 
 def compare(a: Union[Frame, str, os.PathLike], b: Union[Frame, str, os.PathLike], *, what: str = "both",

@@ -136,15 +136,16 @@ class Renderer:
     def release(self) -> None: ...
 
 def rasterize(
-    pos: npt.ArrayLike,
-    tri: npt.ArrayLike,
+    pos: Any,
+    tri: Any,
     resolution: Tuple[int, int],
     backend: Literal["auto", "cuda", "vulkan"] = "auto",
     msaa: Literal[1, 2, 4, 8, 16] = 1,
     *,
     renderer: Optional[Renderer] = None,
-) -> npt.NDArray[np.float32]: ...
-def interpolate(attr: npt.ArrayLike, rast: npt.ArrayLike, tri: npt.ArrayLike) -> npt.NDArray[np.float32]: ...
+    on_device: Optional[bool] = None,
+) -> Any: ...
+def interpolate(attr: Any, rast: Any, tri: Any, *, renderer: Optional[Renderer] = None) -> Any: ...
 def compare(
     a: Union[Frame, str, os.PathLike[str]],
     b: Union[Frame, str, os.PathLike[str]],

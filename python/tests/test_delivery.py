@@ -187,3 +187,105 @@ def test_frames_on_the_device_equal_the_host_frames(backend):
         return
     np.testing.assert_array_equal(torch.from_dlpack(on_gpu).cpu().numpy(),
                                   raster.rasterize(pos, tri, (32, 48), renderer=r))
+
+
+def test_rasterize_reports_non_finite_positions_and_keeps_the_topology_sound(backend):
+    """A view with a NaN corner raises raster.Error naming it (checked on the device, where the triangle
+    is dropped); the topology's scene, made at the origin, drops nothing: the next call with finite
+    positions equals a fresh renderer's."""
+    r = renderer(backend)
+    pos, tri = mesh(3, seed=8)
+    bad = pos.copy()
+    bad[1, 17, 2] = np.nan
+    with pytest.raises(raster.Error, match=r"pos\[1\] has non-finite values"):
+        raster.rasterize(bad, tri, (24, 24), renderer=r)
+    bad[0, 0, 0] = np.inf
+    with pytest.raises(raster.Error, match=r"pos\[0\] has non-finite values"):
+        raster.rasterize(bad[:1], tri, (24, 24), renderer=r)
+    fresh = raster.Renderer(backend)
+    np.testing.assert_array_equal(raster.rasterize(pos, tri, (24, 24), renderer=r),
+                                  raster.rasterize(pos, tri, (24, 24), renderer=fresh))
+
+
+class _FakeGpuArray:
+    """An object that says it is in CUDA memory (the CUDA array interface), for the checks made before
+    any device reads it."""
+
+    def __init__(self, shape, typestr="<f4", strides=None):
+        self.__cuda_array_interface__ = {"shape": shape, "typestr": typestr, "data": (0x1000, False),
+                                         "strides": strides, "version": 3, "stream": None}
+
+
+def test_rasterize_checks_gpu_arrays_before_reading_them(vulkan):
+    tri = np.array([[0, 1, 2]], np.int32)
+    with pytest.raises(raster.Error, match="tensors on the GPU need a CUDA device"):
+        raster.rasterize(_FakeGpuArray((3, 4)), tri, (8, 8), renderer=vulkan)
+    with pytest.raises(raster.Error, match="must be float32"):
+        raster.rasterize(_FakeGpuArray((3, 4), "<f8"), tri, (8, 8), renderer=vulkan)
+    with pytest.raises(raster.Error, match=r"must have shape \(V, 4\)"):
+        raster.rasterize(_FakeGpuArray((3, 3)), tri, (8, 8), renderer=vulkan)
+    with pytest.raises(raster.Error, match="must be contiguous"):
+        raster.rasterize(_FakeGpuArray((2, 3, 4), strides=(16, 96, 4)), tri, (8, 8), renderer=vulkan)
+    with pytest.raises(raster.Error, match="has no copy to the host"):
+        raster.rasterize(np.zeros((3, 4), np.float32), _FakeGpuArray((1, 3), "<i4"), (8, 8), renderer=vulkan)
+
+
+def test_rasterize_takes_and_returns_gpu_tensors():
+    """torch tensors on the GPU in, torch tensors on the GPU out, equal byte for byte to numpy in and
+    out; the output shares memory with a DeviceArray of the same call's kind; a changed tri (in place) is
+    read again. Needs CUDA and torch (the GPU machine's Python has both)."""
+    r = renderer("cuda")
+    torch = pytest.importorskip("torch")
+    pos, tri = mesh(4, seed=9)
+    tpos, ttri = torch.from_numpy(pos).cuda(), torch.from_numpy(tri).cuda()
+    host = raster.rasterize(pos, tri, (40, 32), renderer=r)
+    got = raster.rasterize(tpos, ttri, (40, 32), renderer=r)
+    assert isinstance(got, torch.Tensor) and got.is_cuda and got.shape == (4, 40, 32, 4)
+    np.testing.assert_array_equal(got.cpu().numpy(), host)
+    empty = raster.rasterize(tpos, ttri[:0], (40, 32), renderer=r)
+    assert isinstance(empty, torch.Tensor) and empty.is_cuda and not empty.any()
+    as_host = raster.rasterize(tpos, ttri, (40, 32), renderer=r, on_device=False)
+    assert isinstance(as_host, np.ndarray)
+    np.testing.assert_array_equal(as_host, host)
+    ttri[:, [1, 2]] = ttri[:, [2, 1]].clone()  # in place: the version counter moves
+    np.testing.assert_array_equal(raster.rasterize(tpos, ttri, (40, 32), renderer=r).cpu().numpy(),
+                                  raster.rasterize(pos, tri[:, [0, 2, 1]], (40, 32), renderer=r))
+    # Written on another stream: the views wait for it.
+    stream = torch.cuda.Stream()
+    with torch.cuda.stream(stream):
+        later = tpos * 1.0
+        np.testing.assert_array_equal(raster.rasterize(later, ttri, (40, 32), renderer=r).cpu().numpy(),
+                                      raster.rasterize(pos, tri[:, [0, 2, 1]], (40, 32), renderer=r))
+
+
+def test_interpolate_refuses_arrays_split_between_host_and_gpu():
+    with pytest.raises(raster.Error, match="all on the host or all on the GPU, not attr on the GPU, rast on "
+                                           "the host, tri on the host"):
+        raster.interpolate(_FakeGpuArray((3, 4)), np.zeros((1, 2, 2, 4), np.float32), [[0, 1, 2]])
+
+
+def test_interpolate_on_the_gpu_equals_the_host():
+    """attr, rast and tri as torch tensors on the GPU: a kernel interpolates, bit for bit the host's
+    values (per-view and shared attributes), into a torch tensor on the GPU; bad ids and out-of-range
+    vertices raise raster.Error. Needs CUDA and torch."""
+    r = renderer("cuda")
+    torch = pytest.importorskip("torch")
+    pos, tri = mesh(3, seed=10)
+    rast = raster.rasterize(pos, tri, (24, 40), renderer=r)
+    rng = np.random.default_rng(10)
+    for attr in (rng.standard_normal((3, pos.shape[1], 5)).astype(np.float32),
+                 rng.standard_normal((pos.shape[1], 2)).astype(np.float32)):
+        host = raster.interpolate(attr, rast, tri)
+        got = raster.interpolate(torch.from_numpy(attr).cuda(), torch.from_numpy(rast).cuda(),
+                                 torch.from_numpy(tri).cuda(), renderer=r)
+        assert isinstance(got, torch.Tensor) and got.is_cuda and tuple(got.shape) == host.shape
+        assert got.cpu().numpy().tobytes() == host.tobytes()
+    trast, tattr = torch.from_numpy(rast).cuda(), torch.from_numpy(attr).cuda()
+    bad_tri = torch.from_numpy(tri).cuda()
+    drawn = int(rast[..., 3][rast[..., 3] > 0][0]) - 1  # a triangle some pixel shows
+    bad_tri[drawn, 1] = pos.shape[1]
+    with pytest.raises(raster.Error, match="indexes a vertex beyond attr's"):
+        raster.interpolate(tattr, trast, bad_tri, renderer=r)
+    trast[0, 3, 4, 3] = 1.5
+    with pytest.raises(raster.Error, match=r"rast\[\.\.\., 3\] of pixel 124 \(flat\) is not a triangle id"):
+        raster.interpolate(tattr, trast, torch.from_numpy(tri).cuda(), renderer=r)
