@@ -170,6 +170,7 @@ public:
 
     Status uploadView(const ViewInputs& views, size_t b) override
     {
+        if (views.positions == nullptr) return okStatus();
         SR_TRY(checkViews(views));
         SR_TRY(copyView(views, b));
         CUDA_TRY(cudaStreamSynchronize(stream_));
@@ -180,7 +181,7 @@ public:
     // own stream and buffers, and streams with buffers of their own for everything a frame writes
     // (kLaneBuffers), so that the small kernels of several views overlap on the GPU. Each lane's views
     // are in order on its stream: positions in, the frame, counters and images out.
-    Status runViews(const RasterParams& params, const std::vector<Dispatch>& dispatches,
+    Status runViews(const std::vector<RasterParams>& params, const std::vector<Dispatch>& dispatches,
                     const ViewInputs& views, size_t first, size_t count, const std::vector<ViewCopy>& copies,
                     uint32_t* counters) override
     {
@@ -199,9 +200,9 @@ public:
             counterStaging_.size = counterBytes;
         }
         const size_t lanes = std::max<size_t>(1, std::min(count, laneCount()));
-        SR_TRY(prepareLanes(lanes));
-        SR_TRY(checkViews(views, lanes));
-        const Buffers own = bufferTable(params);
+        SR_TRY(prepareLanes(lanes, views.positions == nullptr));
+        if (views.positions) SR_TRY(checkViews(views, lanes));
+        const Buffers own = bufferTable(params[0]);
         auto* staged = static_cast<uint32_t*>(counterStaging_.data);
         for (size_t v = first; v < first + count; ++v) {
             const size_t lane = (v - first) % lanes;
@@ -224,12 +225,22 @@ public:
                 b.lodCut = static_cast<uint*>(ptr[BUF_LOD_CUT]);
                 b.ao = static_cast<float*>(ptr[BUF_AO]);
             }
-            CUDA_TRY(cudaMemcpyAsync(
-                ptr[BUF_POSITIONS], static_cast<const char*>(views.positions) + v * views.bytes, views.bytes,
-                views.onDevice ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice, stream));
-            auto graph = frameGraph(lane, stream, params, b, dispatches);
-            if (!graph) return graph.error();
-            CUDA_TRY(cudaGraphLaunch(*graph, stream));
+            if (views.positions)
+                CUDA_TRY(cudaMemcpyAsync(
+                    ptr[BUF_POSITIONS], static_cast<const char*>(views.positions) + v * views.bytes,
+                    views.bytes, views.onDevice ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice, stream));
+            if (params.size() == 1) {
+                // Every view's kernels the same: one graph, made once.
+                auto graph = frameGraph(lane, stream, params[0], b, dispatches);
+                if (!graph) return graph.error();
+                CUDA_TRY(cudaGraphLaunch(*graph, stream));
+            } else {
+                // A camera each: parameters of their own, launched as they are (a graph per view would
+                // cost more to make than it saves).
+                for (const Dispatch& d : dispatches)
+                    CUDA_TRY(launchStage(d.stage, d.groups, d.alphaTest, d.rasterMethod, params[v - first], b,
+                                         stream));
+            }
             CUDA_TRY(cudaMemcpyAsync(staged + (v - first) * COUNTER_COUNT, ptr[BUF_COUNTERS],
                                      COUNTER_COUNT * sizeof(uint32_t), cudaMemcpyDeviceToHost, stream));
             for (const ViewCopy& c : copies)
@@ -332,8 +343,9 @@ private:
         return std::min<size_t>(kMaxLanes, 1 + free / 4 / std::max<size_t>(laneBytes, 1));
     }
 
-    // Lanes 1 .. lanes - 1 made, their buffers sized as the device's own, and waiting for its stream.
-    Status prepareLanes(size_t lanes)
+    // Lanes 1 .. lanes - 1 made, their buffers sized as the device's own, and waiting for its stream;
+    // with scenePositions, the scene's positions copied into theirs (the views draw them).
+    Status prepareLanes(size_t lanes, bool scenePositions)
     {
         while (lanes_.size() + 1 < lanes) {
             Lane l;
@@ -361,6 +373,9 @@ private:
                 peak_ = std::max(peak_, allocated_);
             }
             CUDA_TRY(cudaStreamWaitEvent(l.stream, laneStart_, 0));
+            if (scenePositions)
+                CUDA_TRY(cudaMemcpyAsync(l.ptr[BUF_POSITIONS], ptr_[BUF_POSITIONS], bytes_[BUF_POSITIONS],
+                                         cudaMemcpyDeviceToDevice, l.stream));
         }
         return okStatus();
     }

@@ -559,6 +559,57 @@ public:
         return py::make_tuple(out, invalid, report.warnings);
     }
 
+    // Frames of `scene` from every camera of `cameras` with one settings (Session::renderMany: on CUDA all
+    // queued at once over several streams): the images of `outputs` (raster::Output bits), each as one
+    // N x H x W[ x 4] array of pool memory (page-locked host memory, or GPU memory with onDevice), in the
+    // order color, ids, depth (None where not asked for); then the warnings.
+    py::tuple renderMany(const std::shared_ptr<raster::Scene>& scene, const py::list& cameras,
+                         const py::dict& kwargs, uint32_t outputs, bool onDevice)
+    {
+        if (onDevice && device_->info().backend != raster::Backend::Cuda)
+            throw RasterError(std::string("render_many: on_device needs a CUDA device, not ") +
+                              raster::backendName(device_->info().backend));
+        const raster::Settings settings = makeSettings(py::none(), kwargs);
+        std::vector<raster::Camera> cams;
+        for (const py::handle& c : cameras) cams.push_back(makeCamera(py::reinterpret_borrow<py::object>(c)));
+        const auto width = int64_t(std::stoul(take(settings.get("width"))));
+        const auto height = int64_t(std::stoul(take(settings.get("height"))));
+        const size_t pixels = size_t(width) * size_t(height), n = cams.size();
+        auto holder = std::make_shared<FrameHolder>();
+        holder->pool = pool_;
+        holder->cudaDevice = std::max(device_->info().index, 0);
+        holder->targets.onDevice = onDevice;
+        raster::RenderRequest request;
+        raster::ViewsReport report;
+        {
+            py::gil_scoped_release release;
+            const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
+            auto slot = [&](uint32_t bit, void*& target) {
+                if ((outputs & bit) == 0u) return;
+                holder->memory.push_back(pool_->acquire(std::max<size_t>(4 * pixels * n, 4), where));
+                target = holder->memory.back().data();
+            };
+            slot(raster::OutputColor, request.targets.color);
+            slot(raster::OutputId, request.targets.id);
+            slot(raster::OutputDepth, request.targets.depth);
+            request.targets.onDevice = onDevice;
+            holder->targets = request.targets;
+            std::lock_guard<std::mutex> lock(mutex_);
+            raster::Session* session = cached(scene);
+            if (session == nullptr) session = &add(scene);
+            report = take(session->renderMany(cams, settings, request));
+        }
+        py::object owner = py::cast(holder);
+        const auto count = int64_t(n);
+        auto out = [&](void* data, std::vector<int64_t> shape, char kind, int bytes) -> py::object {
+            if (data == nullptr) return py::none();
+            return image(owner, data, std::move(shape), kind, bytes);
+        };
+        return py::make_tuple(out(request.targets.color, {count, height, width, 4}, 'u', 1),
+                              out(request.targets.id, {count, height, width}, 'u', 4),
+                              out(request.targets.depth, {count, height, width}, 'f', 4), report.warnings);
+    }
+
     // nvdiffrast's interpolate on this CUDA device: attr (A, V, C), rast (B, H, W, 4) and tri (T x 3) given
     // as pointers into its memory with their shapes, `stream` the producers' (as the CUDA array interface
     // names it); the output, B x H x W x C floats of pool memory, as a DeviceArray, with the first bad
@@ -849,6 +900,8 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("device", &Renderer::info)
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"),
              py::arg("surface_aovs"), py::arg("keep"), py::arg("outputs"), py::arg("on_device"))
+        .def("render_many", &Renderer::renderMany, py::arg("scene"), py::arg("cameras"), py::arg("settings"),
+             py::arg("outputs"), py::arg("on_device"))
         .def("interpolate_on_device", &Renderer::interpolateOnDevice, py::arg("attr"), py::arg("attr_shape"),
              py::arg("rast"), py::arg("rast_shape"), py::arg("tri"), py::arg("triangles"), py::arg("stream"))
         .def("rasterize", &Renderer::rasterize, py::arg("scene"), py::arg("host_pos"), py::arg("device_pos"),

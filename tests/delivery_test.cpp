@@ -220,7 +220,7 @@ TEST_P(DeliveryTest, ViewsEqualFramesOfTheirPositionsDrawnAlone)
         ViewInputs inputs;
         inputs.positions = positions.data();
         inputs.bytes = scene.positions.size() * sizeof(glm::vec4);
-        auto invalid = session->renderViews(*camera, s, inputs, views,
+        auto invalid = session->renderViews({*camera}, s, inputs, views,
                                             {{OUTPUT_COLOR, color.data(), false},
                                              {OUTPUT_ID, ids.data(), false},
                                              {OUTPUT_DEPTH, depth.data(), false}});
@@ -246,6 +246,54 @@ TEST_P(DeliveryTest, ViewsEqualFramesOfTheirPositionsDrawnAlone)
         auto own = session->render(*camera, s);
         ASSERT_TRUE(own.ok());
         EXPECT_EQ(own->aov.id, render(scene, s, *camera).aov.id) << "the scene's own positions again";
+    }
+}
+
+// Frames of many cameras (views without positions, a camera each): each equal to a frame of its camera
+// drawn alone, also where the batch overflows its lists and views are drawn again.
+TEST_P(DeliveryTest, FramesOfManyCamerasEqualFramesDrawnAlone)
+{
+    auto loaded = loadScene("builtin:lowpoly");
+    ASSERT_TRUE(loaded.ok());
+    const Scene scene = std::move(*loaded);
+    RenderSettings s = testSettings(48, 40);
+    s.msaa = 4;
+    s.outputs = OUTPUT_COLOR | OUTPUT_ID | OUTPUT_DEPTH;
+    std::vector<CameraMatrices> cameras;
+    for (const char* spec : {"orbit:0,10,6r", "orbit:70,20,2.5r", "orbit:150,-30,1.6r", "orbit:250,45,3r"}) {
+        auto parsed = parseCameraSpec(spec);
+        ASSERT_TRUE(parsed.ok());
+        auto camera = resolveCamera(*parsed, scene, s.width, s.height);
+        ASSERT_TRUE(camera.ok());
+        cameras.push_back(*camera);
+    }
+    const size_t views = cameras.size(), pixels = size_t(s.width) * s.height;
+    for (uint32_t capacity : {0u, 16u}) {
+        SCOPED_TRACE("initial list capacity " + std::to_string(capacity));
+        s.initialListCapacity = capacity;
+        auto session = RenderSession::create(*device_, scene);
+        ASSERT_TRUE(session.ok());
+        std::vector<uint32_t> color(views * pixels), ids(views * pixels);
+        std::vector<float> depth(views * pixels);
+        auto invalid = session->renderViews(cameras, s, ViewInputs{}, views,
+                                            {{OUTPUT_COLOR, color.data(), false},
+                                             {OUTPUT_ID, ids.data(), false},
+                                             {OUTPUT_DEPTH, depth.data(), false}});
+        ASSERT_TRUE(invalid.ok()) << invalid.error().message;
+        for (size_t b = 0; b < views; ++b) {
+            SCOPED_TRACE("camera " + std::to_string(b));
+            RenderSettings alone = s;
+            alone.initialListCapacity = 0;
+            const RenderOutput expected = render(scene, alone, cameras[b]);
+            ASSERT_EQ(expected.aov.id.size(), pixels);
+            EXPECT_TRUE(std::equal(expected.color.pixels.begin(), expected.color.pixels.end(),
+                                   color.begin() + long(b * pixels)));
+            EXPECT_TRUE(
+                std::equal(expected.aov.id.begin(), expected.aov.id.end(), ids.begin() + long(b * pixels)));
+            expectSameBits(expected.aov.depth,
+                           {depth.begin() + long(b * pixels), depth.begin() + long((b + 1) * pixels)},
+                           "depth");
+        }
     }
 }
 
@@ -392,6 +440,38 @@ TEST_P(UpdatePositionsTest, ImagesWrittenInPlaceEqualTheFramesArrays)
         EXPECT_EQ(std::memcmp(base + 4 * pixels, arrays->id.data(), 4 * pixels), 0);
         EXPECT_EQ(std::memcmp(base + 8 * pixels, arrays->depth.data(), 4 * pixels), 0);
     }
+}
+
+// Session::renderMany through the public API: each camera's images equal its Frame's.
+TEST_P(UpdatePositionsTest, ManyCamerasEqualTheirFrames)
+{
+    auto scene = raster::Scene::load("builtin");
+    ASSERT_TRUE(scene.ok());
+    auto session = raster::Session::create(*device_, *scene);
+    ASSERT_TRUE(session.ok());
+    raster::Settings settings;
+    ASSERT_TRUE(settings.set("width", 40).ok() && settings.set("height", 32).ok() &&
+                settings.set("msaa", 2).ok());
+    std::vector<raster::Camera> cameras;
+    for (const char* spec : {"orbit:10,20,3r", "orbit:100,5,2r", "auto"})
+        cameras.push_back(raster::Camera::fromSpec(spec));
+    const size_t pixels = size_t(40) * 32;
+    std::vector<uint8_t> color(4 * pixels * cameras.size());
+    std::vector<uint32_t> ids(pixels * cameras.size());
+    raster::RenderRequest request;
+    request.targets.color = color.data();
+    request.targets.id = ids.data();
+    auto report = session->renderMany(cameras, settings, request);
+    ASSERT_TRUE(report.ok()) << report.error().message;
+    for (size_t b = 0; b < cameras.size(); ++b) {
+        SCOPED_TRACE("camera " + std::to_string(b));
+        auto frame = session->render(cameras[b], settings);
+        ASSERT_TRUE(frame.ok());
+        EXPECT_EQ(std::memcmp(frame->color.data(), color.data() + 4 * pixels * b, 4 * pixels), 0);
+        EXPECT_EQ(std::memcmp(frame->id.data(), ids.data() + pixels * b, 4 * pixels), 0);
+    }
+    ASSERT_TRUE(settings.set("primitive_mode", "lines").ok());
+    EXPECT_FALSE(session->renderMany(cameras, settings, request).ok()) << "lines mode is refused";
 }
 
 // Session::renderViews through the public API: positions of 3 and 4 components, equal to frames of scenes

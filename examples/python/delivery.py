@@ -188,6 +188,18 @@ def main():
     rows["frame_gpu_ms"] = frame.gpu_ms
     print(f"{'Renderer.render, the GPU frame':58s} {frame.gpu_ms:9.3f} ms")
     row("Renderer.render colour + ids + depth, host arrays", timed(lambda: renderer.render(scene, args.width, args.height, camera), args.runs, args.warmup))
+    # Many cameras in one call against a call per camera: 16 frames of an orbit.
+    orbit = [f"orbit:{22.5 * k},17,2.5r" for k in range(16)]
+    row("16 frames, Renderer.render per camera, host arrays", timed(lambda: [renderer.render(scene, args.width, args.height, c) for c in orbit], args.runs // 3, 2))
+    row("16 frames, Renderer.render_many, host arrays", timed(lambda: renderer.render_many(scene, args.width, args.height, orbit), args.runs // 3, 2))
+    many = renderer.render_many(scene, args.width, args.height, orbit)
+    same = all(np.array_equal(many[n][k], getattr(renderer.render(scene, args.width, args.height, c), n))
+               for k, c in enumerate(orbit) for n in ("color", "ids", "depth"))
+    rows["render_many_equals_render"] = bool(same)
+    print(f"render_many equals a render per camera byte for byte: {same}")
+    if on_gpu:
+        row("16 frames, Renderer.render per camera, on the GPU", timed(lambda: [renderer.render(scene, args.width, args.height, c, on_device=True) for c in orbit], args.runs // 3, 2))
+        row("16 frames, Renderer.render_many, on the GPU", timed(lambda: renderer.render_many(scene, args.width, args.height, orbit, on_device=True), args.runs // 3, 2))
     if on_gpu:
         row("Renderer.render colour + ids + depth, on the GPU", timed(lambda: renderer.render(scene, args.width, args.height, camera, on_device=True), args.runs, args.warmup))
         if torch is not None:

@@ -700,24 +700,20 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     return frame;
 }
 
-Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& settings,
-                                         const ViewPositions& positions, const RenderRequest& request)
+namespace {
+
+// renderViews' and renderMany's common part: the device and the drawing mode checked, the request's
+// targets as the session takes them, and the session of the scene itself made (or kept).
+Result<std::vector<sr::RenderSession::ViewTarget>> batchSession(Session::Impl& self,
+                                                                const sr::RenderOptions& options,
+                                                                const RenderRequest& request,
+                                                                const char* what)
 {
-    sr::WarningCapture capture;
-    Impl& self = *impl_;
-    const Scene::Impl& scene = *self.scene;
-    const sr::RenderOptions& options = settings.impl().options;
     if (!self.device->compute)
-        return usage("views are drawn by the compute backends (cuda, vulkan), not vulkan-graphics");
-    if (!scene.fromArrays || scene.flatNormals)
         return usage(
-            "views need a scene made from arrays with normals (flat normals would not follow the "
-            "positions)");
+            fmt::format("{} are drawn by the compute backends (cuda, vulkan), not vulkan-graphics", what));
     if (options.primitiveMode != sr::PrimitiveMode::Triangles || options.wireframe)
-        return usage("views are drawn as triangles (no lines or points mode, no wireframe)");
-    if (positions.views > 0 && positions.data == nullptr) return usage("views: no positions");
-    if (positions.onDevice && scene.positionComponents != 4)
-        return usage("views: positions on the device need 4 components per vertex");
+        return usage(fmt::format("{} are drawn as triangles (no lines or points mode, no wireframe)", what));
     const ImageTargets& t = request.targets;
     std::vector<sr::RenderSession::ViewTarget> targets;
     for (const auto& [bit, target] : {std::pair<uint32_t, void*>{sr::OUTPUT_COLOR, t.color},
@@ -725,12 +721,12 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
                                       {sr::OUTPUT_DEPTH, t.depth},
                                       {sr::OUTPUT_RAST, t.rast}})
         if (target != nullptr) targets.push_back({bit, target, t.onDevice});
-    // The session draws the scene's positions; a view's replace them on the device alone.
+    // Positions moved in place since the session drew (Scene::updatePositions) are uploaded again.
     if (self.scene->positionsVersion != self.positionsVersion && self.session) {
-        auto status = self.session->positionsChanged(false);
+        auto status = self.session->positionsChanged(self.scene->flatNormals);
         if (!status) return toPublic(status.error());
     }
-    self.positionsVersion = scene.positionsVersion;
+    self.positionsVersion = self.scene->positionsVersion;
     if (self.drawnMode != sr::PrimitiveMode::Triangles || self.drawnWireframe) {
         self.session.reset();
         self.derived = sr::Scene();
@@ -738,10 +734,31 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
         self.drawnWireframe = false;
     }
     if (!self.session) {
-        auto session = sr::RenderSession::create(*self.device->compute, scene.scene);
+        auto session = sr::RenderSession::create(*self.device->compute, self.scene->scene);
         if (!session) return toPublic(session.error());
         self.session.emplace(std::move(*session));
     }
+    return targets;
+}
+
+}  // namespace
+
+Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& settings,
+                                         const ViewPositions& positions, const RenderRequest& request)
+{
+    sr::WarningCapture capture;
+    Impl& self = *impl_;
+    const Scene::Impl& scene = *self.scene;
+    const sr::RenderOptions& options = settings.impl().options;
+    if (!scene.fromArrays || scene.flatNormals)
+        return usage(
+            "views need a scene made from arrays with normals (flat normals would not follow the "
+            "positions)");
+    if (positions.views > 0 && positions.data == nullptr) return usage("views: no positions");
+    if (positions.onDevice && scene.positionComponents != 4)
+        return usage("views: positions on the device need 4 components per vertex");
+    auto targets = batchSession(self, options, request, "views");
+    if (!targets) return targets.error();
     auto matrices = cameraMatrices(camera, options, scene.scene);
     if (!matrices) return matrices.error();
     // The device holds a vec4 per vertex: three components are widened on the host first.
@@ -757,7 +774,32 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
         for (size_t i = 0; i < widened.size(); ++i) widened[i] = positionAt(positions.data, 3, i);
         inputs.positions = widened.data();
     }
-    auto invalid = self.session->renderViews(*matrices, options.resolved(), inputs, positions.views, targets);
+    auto invalid =
+        self.session->renderViews({*matrices}, options.resolved(), inputs, positions.views, *targets);
+    if (!invalid) return toPublic(invalid.error());
+    ViewsReport report;
+    report.invalidTriangles = std::move(*invalid);
+    report.warnings = capture.take();
+    return report;
+}
+
+Result<ViewsReport> Session::renderMany(const std::vector<Camera>& cameras, const Settings& settings,
+                                        const RenderRequest& request)
+{
+    sr::WarningCapture capture;
+    Impl& self = *impl_;
+    const sr::RenderOptions& options = settings.impl().options;
+    auto targets = batchSession(self, options, request, "frames of many cameras");
+    if (!targets) return targets.error();
+    std::vector<sr::CameraMatrices> matrices;
+    for (const Camera& camera : cameras) {
+        auto m = cameraMatrices(camera, options, self.scene->scene);
+        if (!m) return m.error();
+        matrices.push_back(*m);
+    }
+    if (matrices.empty()) return ViewsReport{};
+    auto invalid =
+        self.session->renderViews(matrices, options.resolved(), sr::ViewInputs{}, matrices.size(), *targets);
     if (!invalid) return toPublic(invalid.error());
     ViewsReport report;
     report.invalidTriangles = std::move(*invalid);

@@ -25,20 +25,21 @@ Status ComputeDevice::downloadToDevice(uint32_t, void*, size_t, size_t)
 
 Status ComputeDevice::uploadView(const ViewInputs& views, size_t b)
 {
+    if (views.positions == nullptr) return okStatus();
     if (views.onDevice)
         return makeError(ExitCode::Usage, "positions in device memory need a CUDA device, not {}",
                          info().backend);
     return upload(BUF_POSITIONS, static_cast<const char*>(views.positions) + b * views.bytes, views.bytes);
 }
 
-Status ComputeDevice::runViews(const RasterParams& params, const std::vector<Dispatch>& dispatches,
-                               const ViewInputs& views, size_t first, size_t count,
-                               const std::vector<ViewCopy>& copies, uint32_t* counters)
+Status ComputeDevice::runViews(const std::vector<RasterParams>& params,
+                               const std::vector<Dispatch>& dispatches, const ViewInputs& views, size_t first,
+                               size_t count, const std::vector<ViewCopy>& copies, uint32_t* counters)
 {
     std::vector<double> ms;
     for (size_t b = first; b < first + count; ++b) {
         SR_TRY(uploadView(views, b));
-        SR_TRY(run(params, dispatches, ms));
+        SR_TRY(run(params[params.size() == 1 ? 0 : b - first], dispatches, ms));
         SR_TRY(
             download(BUF_COUNTERS, counters + (b - first) * COUNTER_COUNT, COUNTER_COUNT * sizeof(uint32_t)));
         for (const ViewCopy& c : copies) {

@@ -30,9 +30,10 @@ struct DeviceInfo {
     bool isCpu = false;   // true for lavapipe and other CPU implementations
 };
 
-// renderViews' views: frames that differ in their vertex positions alone (nvdiffrast's batch). View b's
-// positions are `bytes` at positions + b * bytes, copied over the head of BUF_POSITIONS before its
-// frame; host memory, or with onDevice memory of the device (CUDA). waitStream (onDevice, CUDA): a
+// renderViews' views: frames that differ in their vertex positions (nvdiffrast's batch) or in their
+// camera (renderMany, positions null). View b's positions are `bytes` at positions + b * bytes, copied
+// over the head of BUF_POSITIONS before its frame; host memory, or with onDevice memory of the device
+// (CUDA). waitStream (onDevice, CUDA): a
 // stream whose work so far the copies wait for, as __cuda_array_interface__ names one (0: none, 1: the
 // legacy default stream, 2: the per-thread default stream, else a cudaStream_t).
 struct ViewInputs {
@@ -103,14 +104,16 @@ public:
     virtual Status run(const RasterParams& params, const std::vector<Dispatch>& dispatches,
                        std::vector<double>& gpuMs) = 0;
 
-    // Views first .. first + count - 1 of `views`, each as: its positions copied in, the dispatches run,
-    // BUF_COUNTERS copied to counters + (b - first) * COUNTER_COUNT and the copies made; returns when all
-    // are done. No GPU times. The base class does it view by view with the calls above (one wait per
-    // view); CUDA queues every view on its stream and waits once.
-    virtual Status runViews(const RasterParams& params, const std::vector<Dispatch>& dispatches,
+    // Views first .. first + count - 1, each as: its positions copied in (none where views.positions is
+    // null: the scene's stay), the dispatches run with its parameters (params[b - first], or params[0]
+    // for every view), BUF_COUNTERS copied to counters + (b - first) * COUNTER_COUNT and the copies
+    // made; returns when all are done. No GPU times. The base class does it view by view with the calls
+    // above (one wait per view); CUDA queues every view at once and waits once.
+    virtual Status runViews(const std::vector<RasterParams>& params, const std::vector<Dispatch>& dispatches,
                             const ViewInputs& views, size_t first, size_t count,
                             const std::vector<ViewCopy>& copies, uint32_t* counters);
-    // Copies view b's positions over the head of BUF_POSITIONS (runViews' first step, alone).
+    // Copies view b's positions over the head of BUF_POSITIONS (runViews' first step, alone; nothing
+    // without positions).
     virtual Status uploadView(const ViewInputs& views, size_t b);
 
     // Runs `job` on the device and waits for it (CUDA; an error elsewhere): badPixel and badTriangle as

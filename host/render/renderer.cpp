@@ -997,7 +997,7 @@ Status RenderSession::download(const RenderSettings& settings, FrameState& f)
     return okStatus();
 }
 
-Result<std::vector<uint32_t>> RenderSession::renderViews(const CameraMatrices& camera,
+Result<std::vector<uint32_t>> RenderSession::renderViews(const std::vector<CameraMatrices>& cameras,
                                                          const RenderSettings& requested,
                                                          const ViewInputs& views, size_t count,
                                                          const std::vector<ViewTarget>& targets)
@@ -1014,14 +1014,16 @@ Result<std::vector<uint32_t>> RenderSession::renderViews(const CameraMatrices& c
         return makeError(ExitCode::Usage,
                          "views: tessellation, level of detail, reference AO and per-sample or surface AOVs "
                          "are drawn one frame at a time");
-    if (views.bytes != scene_->positions.size() * sizeof(glm::vec4) ||
-        (count > 0 && views.positions == nullptr))
+    if (views.positions != nullptr && views.bytes != scene_->positions.size() * sizeof(glm::vec4))
         return makeError(ExitCode::Usage, "views: {} bytes of positions per view for a scene of {} vertices",
                          views.bytes, scene_->positions.size());
+    if (cameras.size() != 1 && cameras.size() != count)
+        return makeError(ExitCode::Usage, "views: {} cameras for {} views", cameras.size(), count);
     std::vector<uint32_t> invalid(count, 0u);
     if (count == 0) return invalid;
     SR_TRY(claimDevice());
-    viewPositions_ = true;
+    if (views.positions != nullptr) viewPositions_ = true;
+    auto cameraOf = [&](size_t b) -> const CameraMatrices& { return cameras[cameras.size() == 1 ? 0 : b]; };
     FrameState f;
     SR_TRY(sizeFrame(settings, f));
     auto copies = viewCopies(targets);
@@ -1029,7 +1031,7 @@ Result<std::vector<uint32_t>> RenderSession::renderViews(const CameraMatrices& c
     // View b alone, as render() draws a frame: again until nothing overflows.
     auto drawAlone = [&](size_t b) -> Status {
         SR_TRY(device_->uploadView(views, b));
-        SR_TRY(draw(camera, settings, f));
+        SR_TRY(draw(cameraOf(b), settings, f));
         invalid[b] = f.counters[COUNTER_INVALID];
         for (const ViewCopy& c : *copies) {
             char* to = c.destination + b * c.bytes;
@@ -1051,12 +1053,17 @@ Result<std::vector<uint32_t>> RenderSession::renderViews(const CameraMatrices& c
     startWork(settings, f);
     f.work.binBig = f.work.countSplit = true;
     f.work.groups.bin = groupsFor(capacities_.pieces, GROUP_SIZE);
-    f.params = frameParams(*scene_, camera, settings, capacities_, f.work.groups);
-    setClusterParams(f.params, 0u, settings.rasterMethod);
+    // One set of parameters for views of one camera, one per view otherwise (the dispatches are the same:
+    // they follow the lists and the tiles, not the camera).
+    std::vector<RasterParams> params;
+    for (size_t b = first; b < (cameras.size() == 1 ? first + 1 : count); ++b) {
+        params.push_back(frameParams(*scene_, cameraOf(b), settings, capacities_, f.work.groups));
+        setClusterParams(params.back(), 0u, settings.rasterMethod);
+    }
     const FrameWork batch = f.work;
     std::vector<uint32_t> counters((count - first) * COUNTER_COUNT);
-    SR_TRY(device_->runViews(f.params, frameDispatches(f.params, f.work), views, first, count - first,
-                             *copies, counters.data()));
+    SR_TRY(device_->runViews(params, frameDispatches(params[0], f.work), views, first, count - first, *copies,
+                             counters.data()));
     for (size_t b = first; b < count; ++b) {
         std::copy_n(&counters[(b - first) * COUNTER_COUNT], COUNTER_COUNT, f.counters);
         invalid[b] = f.counters[COUNTER_INVALID];

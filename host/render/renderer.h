@@ -164,22 +164,24 @@ public:
     // and the Python module's batch of rasterize write their arrays so, with no copy in between.
     Status readImage(uint32_t output, void* destination, size_t bytes, bool onDevice);
 
-    // Frames of the scene that differ in their vertex positions alone, `count` of them (nvdiffrast's batch):
-    // view b has the scene's vertices at views.positions + b * views.bytes (the scene's layout, a vec4 per
-    // vertex) and writes each image of `targets` (an OUTPUT_* bit and where it goes: view b's image at
-    // destination + b x its size) with no host work between views: CUDA queues every view and waits once.
-    // The first frame of a session is drawn alone, as render() draws it, to size the lists; a view that
-    // overflows a list or needs a stage the batch skipped is drawn again alone. Clusters are off (theirs
-    // are built from the scene's own positions); tessellation, level of detail and reference AO are
-    // refused. Returns per view the triangles dropped for a non-finite clip coordinate.
+    // Frames of the scene that differ in their vertex positions (nvdiffrast's batch) or in their camera,
+    // `count` of them: view b has cameras[b] (or cameras[0] for every view) and, where views.positions is
+    // not null, the scene's vertices at views.positions + b * views.bytes (the scene's layout, a vec4 per
+    // vertex). Each image of `targets` (an OUTPUT_* bit and where it goes) is written straight there,
+    // view b's at destination + b x its size, with no host work between views: CUDA queues every view
+    // and waits once. The first frame of a session is drawn alone, as render() draws it, to size the
+    // lists; a view that overflows a list or needs a stage the batch skipped is drawn again alone.
+    // Clusters are off (theirs are built from the scene's own positions); tessellation, level of
+    // detail, reference AO and per-sample or surface AOVs are refused. Returns per view the triangles
+    // dropped for a non-finite clip coordinate.
     struct ViewTarget {
         uint32_t output = 0;
         void* destination = nullptr;
         bool onDevice = false;
     };
-    Result<std::vector<uint32_t>> renderViews(const CameraMatrices& camera, const RenderSettings& settings,
-                                              const ViewInputs& views, size_t count,
-                                              const std::vector<ViewTarget>& targets);
+    Result<std::vector<uint32_t>> renderViews(const std::vector<CameraMatrices>& cameras,
+                                              const RenderSettings& settings, const ViewInputs& views,
+                                              size_t count, const std::vector<ViewTarget>& targets);
 
     ComputeDevice& device() const { return *device_; }
     const Scene& scene() const { return *scene_; }

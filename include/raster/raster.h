@@ -366,6 +366,13 @@ public:
     // are drawn again by the next render().
     Result<ViewsReport> renderViews(const Camera& camera, const Settings& settings,
                                     const ViewPositions& positions, const RenderRequest& request);
+    // Frames of the scene from many cameras with one settings, written straight into request.targets as
+    // renderViews writes them (each target holds one image per camera, in order). On CUDA every frame is
+    // queued at once over several streams, so that one frame's images are copied out while the next is
+    // drawn, and the call waits once; elsewhere frames are drawn one by one. The same refusals as
+    // renderViews, except that any scene is taken.
+    Result<ViewsReport> renderMany(const std::vector<Camera>& cameras, const Settings& settings,
+                                   const RenderRequest& request);
 
     Session(Session&&) noexcept;
     Session& operator=(Session&&) noexcept;

@@ -446,6 +446,33 @@ class Renderer:
         _warn(frame.warnings)
         return frame
 
+    def render_many(self, scene: Scene, width: int, height: int, cameras: Sequence[Camera], *,
+                    outputs: Sequence[str] = OUTPUTS, on_device: bool = False,
+                    **settings: Any) -> Dict[str, Any]:
+        """Renders `scene` from every camera of `cameras` (spec strings or (view, projection) pairs, as
+        render takes them) with one set of settings, and returns {"color": (N, H, W, 4) uint8,
+        "ids": (N, H, W) uint32, "depth": (N, H, W) float32}, the images of `outputs` alone: frame k of
+        them equals render(scene, width, height, cameras[k], ...)'s images byte for byte. On CUDA the
+        frames are queued at once over several streams (one frame's images are copied out while the next
+        is drawn) and the call waits once; with on_device=True the arrays stay in GPU memory
+        (DeviceArrays). Triangles alone: lines and points modes, the wireframe, tessellation, level of
+        detail, reference AO and the surface AOVs take render, one frame at a time.
+        """
+        if not isinstance(scene, Scene):
+            raise Error(f"render_many: scene must be a raster.Scene, not {_shown(scene)}")
+        if not isinstance(on_device, (bool, np.bool_)):
+            raise Error(f"render_many: on_device must be True or False, not {_shown(on_device)}")
+        if isinstance(cameras, (str, bytes)) or not isinstance(cameras, Sequence):
+            raise Error(f"render_many: cameras must be a sequence of cameras, not {_shown(cameras)}")
+        args = dict(_SESSION_DEFAULTS)
+        args.update(settings)
+        args["width"], args["height"] = width, height
+        color, ids, depth, lines = self._native.render_many(scene._native, list(cameras), _setting_values(args),
+                                                            _output_bits(outputs), bool(on_device))
+        _warn(lines)
+        return {name: array for name, array in (("color", color), ("ids", ids), ("depth", depth))
+                if array is not None}
+
     def release(self) -> None:
         """Frees every scene upload and buffer this renderer keeps (the device stays open)."""
         self._native.release()

@@ -133,6 +133,17 @@ class Renderer:
         warmup: int = 0,  # untimed runs first
         # settings: end
     ) -> Frame: ...
+    def render_many(
+        self,
+        scene: Scene,
+        width: int,
+        height: int,
+        cameras: Sequence[Camera],
+        *,
+        outputs: Sequence[Literal["color", "ids", "depth"]] = ...,
+        on_device: bool = False,
+        **settings: Any,
+    ) -> Dict[str, Any]: ...
     def release(self) -> None: ...
 
 def rasterize(

@@ -289,3 +289,33 @@ def test_interpolate_on_the_gpu_equals_the_host():
     trast[0, 3, 4, 3] = 1.5
     with pytest.raises(raster.Error, match=r"rast\[\.\.\., 3\] of pixel 124 \(flat\) is not a triangle id"):
         raster.interpolate(tattr, trast, torch.from_numpy(tri).cuda(), renderer=r)
+
+
+def test_render_many_equals_a_render_per_camera(backend):
+    """Renderer.render_many: frame k of its arrays equals render(cameras[k])'s images byte for byte
+    (spec strings and a matrix pair), only the outputs asked for come back, and what it does not draw is
+    refused."""
+    r = renderer(backend)
+    scene = raster.Scene.load("builtin:lowpoly")
+    view = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -4], [0, 0, 0, 1]], np.float32)
+    projection = np.array([[1.2, 0, 0, 0], [0, 1.6, 0, 0], [0, 0, -1.02, -0.2], [0, 0, -1, 0]], np.float32)
+    cameras = ["orbit:0,20,3r", "orbit:120,-10,2r", (view, projection), "auto"]
+    got = r.render_many(scene, 48, 36, cameras, msaa=2)
+    assert got["color"].shape == (4, 36, 48, 4) and got["ids"].shape == got["depth"].shape == (4, 36, 48)
+    for k, camera in enumerate(cameras):
+        frame = r.render(scene, 48, 36, camera, msaa=2)
+        for name in ("color", "ids", "depth"):
+            np.testing.assert_array_equal(got[name][k], getattr(frame, name), err_msg=f"{name} of camera {k}")
+    only = r.render_many(scene, 48, 36, cameras[:2], outputs=("ids",), msaa=2)
+    assert set(only) == {"ids"}
+    np.testing.assert_array_equal(only["ids"], got["ids"][:2])
+    with pytest.raises(raster.Error, match="triangles"):
+        r.render_many(scene, 8, 8, cameras, primitive_mode="lines")
+    with pytest.raises(raster.Error, match="cameras must be a sequence"):
+        r.render_many(scene, 8, 8, "auto")
+    if backend == "cuda":
+        on_gpu = r.render_many(scene, 48, 36, cameras, on_device=True, msaa=2)
+        assert isinstance(on_gpu["ids"], raster.DeviceArray) and on_gpu["ids"].shape == (4, 36, 48)
+        torch = pytest.importorskip("torch")
+        for name in ("color", "ids", "depth"):
+            np.testing.assert_array_equal(torch.from_dlpack(on_gpu[name]).cpu().numpy(), got[name])
