@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """rasterize against a render of the same cached scene: a 20,000-triangle clip-space grid at 256x256
 through raster.rasterize and through Renderer.render of the scene kept on the Renderer (colour, ids and
-depth, then ids alone); median and min ms of 30 calls after 5. Issue 43's lavapipe row
+depth, then ids alone), the three interleaved; median and min ms of 60 rounds after 5. Issue 43's lavapipe row
 (docs/delivery.md):
 
     python3 examples/python/rasterize_vs_render.py          # the first Vulkan device: lavapipe in CI
@@ -26,13 +26,20 @@ for j in range(n):
 tri = np.array(tri, np.int32)
 gl_to_vk = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0.5, 0.5], [0, 0, 0, 1]], np.float32)
 scene = raster.Scene.from_arrays(pos, tri, normals=np.zeros((len(pos), 3)))
-def t(f, runs=30, warm=5):
-    for _ in range(warm): f()
-    ms = []
-    for _ in range(runs):
-        s = time.perf_counter(); f(); ms.append((time.perf_counter() - s) * 1000)
-    return statistics.median(ms), min(ms)
+calls = {
+    "rasterize": lambda: raster.rasterize(pos, tri, (256, 256), renderer=r),
+    "Renderer.render": lambda: r.render(scene, 256, 256, (np.eye(4), gl_to_vk), cull="none"),
+    "render, ids only": lambda: r.render(scene, 256, 256, (np.eye(4), gl_to_vk), cull="none", outputs=("ids",)),
+}
+# Interleaved, one call of each per round, so that the machine's drift (2 shared cores) falls on all
+# three alike: median and min of 60 rounds after 5.
+ms = {name: [] for name in calls}
+for round_ in range(65):
+    for name, call in calls.items():
+        start = time.perf_counter()
+        call()
+        if round_ >= 5:
+            ms[name].append((time.perf_counter() - start) * 1000)
 print(len(tri), "triangles, 256x256, lavapipe", r.device.driver)
-print("rasterize           median %.2f ms (min %.2f)" % t(lambda: raster.rasterize(pos, tri, (256, 256), renderer=r)))
-print("Renderer.render     median %.2f ms (min %.2f)" % t(lambda: r.render(scene, 256, 256, (np.eye(4), gl_to_vk), cull="none")))
-print("render, ids only    median %.2f ms (min %.2f)" % t(lambda: r.render(scene, 256, 256, (np.eye(4), gl_to_vk), cull="none", outputs=("ids",))))
+for name, values in ms.items():
+    print(f"{name:19s} median {statistics.median(values):.2f} ms (min {min(values):.2f})")
