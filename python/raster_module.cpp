@@ -472,17 +472,7 @@ public:
         py::gil_scoped_release release;
         if (compute) {
             // The images go straight into memory of the pool, which the frame returns there when it goes.
-            const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
-            auto slot = [&](uint32_t bit, void*& target) {
-                if ((outputs & bit) == 0u) return;
-                holder->memory.push_back(pool_->acquire(4 * pixels, where));
-                target = holder->memory.back().data();
-            };
-            slot(raster::OutputColor, request.targets.color);
-            slot(raster::OutputId, request.targets.id);
-            slot(raster::OutputDepth, request.targets.depth);
-            request.targets.onDevice = onDevice;
-            holder->targets = request.targets;
+            request.targets = poolTargets(*holder, outputs, 4 * pixels, onDevice);
             holder->pool = pool_;
             holder->cudaDevice = std::max(device_->info().index, 0);
         }
@@ -583,17 +573,7 @@ public:
         raster::ViewsReport report;
         {
             py::gil_scoped_release release;
-            const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
-            auto slot = [&](uint32_t bit, void*& target) {
-                if ((outputs & bit) == 0u) return;
-                holder->memory.push_back(pool_->acquire(std::max<size_t>(4 * pixels * n, 4), where));
-                target = holder->memory.back().data();
-            };
-            slot(raster::OutputColor, request.targets.color);
-            slot(raster::OutputId, request.targets.id);
-            slot(raster::OutputDepth, request.targets.depth);
-            request.targets.onDevice = onDevice;
-            holder->targets = request.targets;
+            request.targets = poolTargets(*holder, outputs, std::max<size_t>(4 * pixels * n, 4), onDevice);
             std::lock_guard<std::mutex> lock(mutex_);
             raster::Session* session = cached(scene);
             if (session == nullptr) session = &add(scene);
@@ -695,6 +675,25 @@ private:
     };
     // Sessions kept per renderer: the scenes last drawn, the oldest dropped first.
     static constexpr size_t kMaxSessions = 4;
+
+    // Targets in pool memory for the colour, ids and depth of `outputs` (raster::Output bits), `bytes` each,
+    // held by `holder` (which returns them to the pool when it goes) and recorded as its targets.
+    raster::ImageTargets poolTargets(FrameHolder& holder, uint32_t outputs, size_t bytes, bool onDevice)
+    {
+        const auto where = onDevice ? raster::Memory::Where::Device : raster::Memory::Where::Host;
+        raster::ImageTargets targets;
+        auto slot = [&](uint32_t bit, void*& target) {
+            if ((outputs & bit) == 0u) return;
+            holder.memory.push_back(pool_->acquire(bytes, where));
+            target = holder.memory.back().data();
+        };
+        slot(raster::OutputColor, targets.color);
+        slot(raster::OutputId, targets.id);
+        slot(raster::OutputDepth, targets.depth);
+        targets.onDevice = onDevice;
+        holder.targets = targets;
+        return targets;
+    }
 
     // The session kept for `scene`, made the most recently used; nullptr when there is none.
     raster::Session* cached(const std::shared_ptr<raster::Scene>& scene)
