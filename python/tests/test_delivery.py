@@ -2,7 +2,7 @@
 own ids, depth and barycentrics (the form it was assembled from on the host before), a batch against
 its views drawn one by one, positions replaced in place against a scene made from them, only the images
 asked for, interpolate against its definition in numpy, and host frames handed to other libraries
-through DLPack without a copy."""
+through DLPack without a copy (numpy and Debian's torch)."""
 
 import numpy as np
 import pytest
@@ -149,12 +149,31 @@ def test_host_frames_go_to_dlpack_consumers_without_a_copy(vulkan):
         shared = np.from_dlpack(array)
         assert shared.__array_interface__["data"][0] == array.__array_interface__["data"][0], name
         np.testing.assert_array_equal(shared, array)
-    try:
-        import torch
-    except ImportError:
-        return  # the module's own DLPack export is numpy's; torch's view of it is checked where torch is
-    tensor = torch.from_dlpack(frame.depth)
-    assert tensor.data_ptr() == frame.depth.__array_interface__["data"][0]
+    import torch  # Debian's python3-torch (ci/setup)
+    # Torch before 2.3 (Debian 12 has 1.13) has no uint32: the ids go as the int32 view of their memory.
+    for name in ("color", "ids", "depth"):
+        array = getattr(frame, name)
+        if name == "ids" and not hasattr(torch, "uint32"):
+            array = array.view(np.int32)
+        tensor = torch.from_dlpack(array)
+        assert tensor.data_ptr() == array.__array_interface__["data"][0], name
+        np.testing.assert_array_equal(tensor.numpy(), array)
+
+
+def test_torch_tensors_on_the_host_in_and_out(vulkan):
+    """rasterize and interpolate of torch CPU tensors (one recording gradients among them) return torch
+    tensors over the module's own output memory, equal to the numpy path."""
+    import torch  # Debian's python3-torch (ci/setup)
+    pos, tri = mesh(2, seed=12)
+    tpos = torch.from_numpy(pos).requires_grad_(True)
+    rast = raster.rasterize(tpos, torch.from_numpy(tri), (24, 32), renderer=vulkan)
+    expected = raster.rasterize(pos, tri, (24, 32), renderer=vulkan)
+    assert isinstance(rast, torch.Tensor) and rast.device.type == "cpu" and rast.dtype == torch.float32
+    np.testing.assert_array_equal(rast.numpy(), expected)
+    attr = np.random.default_rng(12).standard_normal((pos.shape[1], 3)).astype(np.float32)
+    got = raster.interpolate(torch.from_numpy(attr), rast, torch.from_numpy(tri))
+    assert isinstance(got, torch.Tensor)
+    np.testing.assert_array_equal(got.numpy(), raster.interpolate(attr, expected, tri))
 
 
 def test_frames_on_the_device_equal_the_host_frames(backend):
