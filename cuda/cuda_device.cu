@@ -144,7 +144,7 @@ public:
         // A binding the scene does not use (e.g. colours) still needs a valid pointer.
         for (uint32_t buffer = 1; buffer < BUF_COUNT; ++buffer)
             if (!ptr_[buffer]) SR_TRY(resize(buffer, 16));
-        Buffers b = bufferTable(params);
+        Buffers b = bufferTable(params, ptr_);
         while (events_.size() < 2 * dispatches.size()) {
             cudaEvent_t e;
             CUDA_TRY(cudaEventCreate(&e));
@@ -172,7 +172,7 @@ public:
     {
         if (views.positions == nullptr) return okStatus();
         SR_TRY(checkViews(views));
-        SR_TRY(copyView(views, b));
+        SR_TRY(copyView(views, b, ptr_[BUF_POSITIONS], stream_));
         CUDA_TRY(cudaStreamSynchronize(stream_));
         return okStatus();
     }
@@ -202,33 +202,19 @@ public:
         const size_t lanes = std::max<size_t>(1, std::min(count, laneCount()));
         SR_TRY(prepareLanes(lanes, views.positions == nullptr));
         if (views.positions) SR_TRY(checkViews(views, lanes));
-        const Buffers own = bufferTable(params[0]);
+        std::vector<PointerTable> pointers;
+        std::vector<Buffers> tables;
+        for (size_t lane = 0; lane < lanes; ++lane) {
+            pointers.push_back(lanePointers(lane));
+            tables.push_back(bufferTable(params[0], pointers.back()));
+        }
         auto* staged = static_cast<uint32_t*>(counterStaging_.data);
         for (size_t v = first; v < first + count; ++v) {
             const size_t lane = (v - first) % lanes;
             cudaStream_t stream = lane == 0 ? stream_ : lanes_[lane - 1].stream;
-            const auto& ptr = lane == 0 ? ptr_ : lanes_[lane - 1].ptr;
-            Buffers b = own;
-            if (lane > 0) {
-                b.positions = static_cast<vec4*>(ptr[BUF_POSITIONS]);
-                b.clipPos = static_cast<vec4*>(ptr[BUF_CLIP_POS]);
-                b.setupTris = static_cast<TriSetup*>(ptr[BUF_SETUP_TRIS]);
-                b.pieces = static_cast<uvec2*>(ptr[BUF_PIECES]);
-                b.tileBins = static_cast<uint*>(ptr[BUF_TILE_BINS]);
-                b.scanSums = static_cast<uint*>(ptr[BUF_SCAN_SUMS]);
-                b.binEntries = static_cast<uint*>(ptr[BUF_BIN_ENTRIES]);
-                b.activeTiles = static_cast<uint*>(ptr[BUF_ACTIVE_TILES]);
-                b.counters = static_cast<uint*>(ptr[BUF_COUNTERS]);
-                b.visibility = static_cast<unsigned long long*>(ptr[BUF_VISIBILITY]);
-                b.framebuffer = static_cast<uint*>(ptr[BUF_FRAMEBUFFER]);
-                b.hitCount = static_cast<uint*>(ptr[BUF_HIT_COUNT]);
-                b.lodCut = static_cast<uint*>(ptr[BUF_LOD_CUT]);
-                b.ao = static_cast<float*>(ptr[BUF_AO]);
-            }
-            if (views.positions)
-                CUDA_TRY(cudaMemcpyAsync(
-                    ptr[BUF_POSITIONS], static_cast<const char*>(views.positions) + v * views.bytes,
-                    views.bytes, views.onDevice ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice, stream));
+            const PointerTable& ptr = pointers[lane];
+            const Buffers& b = tables[lane];
+            if (views.positions) SR_TRY(copyView(views, v, ptr[BUF_POSITIONS], stream));
             if (params.size() == 1) {
                 // Every view's kernels the same: one graph, made once.
                 auto graph = frameGraph(lane, stream, params[0], b, dispatches);
@@ -290,6 +276,8 @@ public:
     }
 
 private:
+    using PointerTable = std::array<void*, BUF_COUNT>;  // a pointer per BUF_*
+
     // Positions in device memory must be this device's (a pointer of another device or of the host
     // would fault in the copy); the stream they were written on is waited for by the first `lanes` lanes.
     Status checkViews(const ViewInputs& views, size_t lanes = 1)
@@ -424,65 +412,76 @@ private:
         return exec;
     }
 
-    Status copyView(const ViewInputs& views, size_t v)
+    // View v's positions into `to` (a BUF_POSITIONS), queued on `stream`.
+    static Status copyView(const ViewInputs& views, size_t v, void* to, cudaStream_t stream)
     {
-        CUDA_TRY(cudaMemcpyAsync(
-            ptr_[BUF_POSITIONS], static_cast<const char*>(views.positions) + v * views.bytes, views.bytes,
-            views.onDevice ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice, stream_));
+        CUDA_TRY(cudaMemcpyAsync(to, static_cast<const char*>(views.positions) + v * views.bytes, views.bytes,
+                                 views.onDevice ? cudaMemcpyDeviceToDevice : cudaMemcpyHostToDevice, stream));
         return okStatus();
     }
 
-    template <typename T>
-    T* as(uint32_t buffer) const
+    // Lane `lane`'s pointer table: the device's own buffers, with the lane's in place of every buffer a
+    // frame writes (kLaneBuffers); lane 0 is the device's own.
+    PointerTable lanePointers(size_t lane) const
     {
-        return static_cast<T*>(ptr_[buffer]);
+        PointerTable ptr = ptr_;
+        if (lane > 0)
+            for (uint32_t buffer : kLaneBuffers) ptr[buffer] = lanes_[lane - 1].ptr[buffer];
+        return ptr;
     }
 
-    Buffers bufferTable(const RasterParams& params) const
+    template <typename T>
+    static T* as(const PointerTable& ptr, uint32_t buffer)
+    {
+        return static_cast<T*>(ptr[buffer]);
+    }
+
+    // The kernels' buffer table over `ptr`: the device's own buffers, or a runViews lane's (lanePointers).
+    static Buffers bufferTable(const RasterParams& params, const PointerTable& ptr)
     {
         Buffers b{};
-        b.positions = as<vec4>(BUF_POSITIONS);
-        b.normals = as<vec4>(BUF_NORMALS);
-        b.colors = as<vec4>(BUF_COLORS);
-        b.indices = as<uint>(BUF_INDICES);
-        b.triFlags = as<uint>(BUF_TRI_FLAGS);
-        b.clipPos = as<vec4>(BUF_CLIP_POS);
-        b.setupTris = as<TriSetup>(BUF_SETUP_TRIS);
-        b.pieces = as<uvec2>(BUF_PIECES);
-        b.tileBins = as<uint>(BUF_TILE_BINS);
-        b.scanSums = as<uint>(BUF_SCAN_SUMS);
-        b.binEntries = as<uint>(BUF_BIN_ENTRIES);
-        b.activeTiles = as<uint>(BUF_ACTIVE_TILES);
-        b.counters = as<uint>(BUF_COUNTERS);
-        b.visibility = as<unsigned long long>(BUF_VISIBILITY);
-        b.framebuffer = as<uint>(BUF_FRAMEBUFFER);
-        b.hitCount = as<uint>(BUF_HIT_COUNT);
-        b.materials = as<GpuMaterial>(BUF_MATERIALS);
-        b.triMaterials = as<uint>(BUF_TRI_MATERIALS);
-        b.texcoords = as<vec4>(BUF_TEXCOORDS);
-        b.textures = as<GpuTexture>(BUF_TEXTURES);
-        b.texels = as<uint>(BUF_TEXELS);
-        b.srgbTable = as<float>(BUF_SRGB_TABLE);
-        b.points = as<uint>(BUF_POINTS);
-        b.lines = as<uint>(BUF_LINES);
-        b.tessSource = as<TessSource>(BUF_TESS_SOURCE);
-        b.tessCounts = as<uvec4>(BUF_TESS_COUNTS);
-        b.tessSums = as<uvec4>(BUF_TESS_SUMS);
-        b.clusters = as<GpuCluster>(BUF_CLUSTERS);
-        b.clusterData = as<uint>(BUF_CLUSTER_DATA);
-        b.lodCut = as<uint>(BUF_LOD_CUT);
-        b.ao = as<float>(BUF_AO);
+        b.positions = as<vec4>(ptr, BUF_POSITIONS);
+        b.normals = as<vec4>(ptr, BUF_NORMALS);
+        b.colors = as<vec4>(ptr, BUF_COLORS);
+        b.indices = as<uint>(ptr, BUF_INDICES);
+        b.triFlags = as<uint>(ptr, BUF_TRI_FLAGS);
+        b.clipPos = as<vec4>(ptr, BUF_CLIP_POS);
+        b.setupTris = as<TriSetup>(ptr, BUF_SETUP_TRIS);
+        b.pieces = as<uvec2>(ptr, BUF_PIECES);
+        b.tileBins = as<uint>(ptr, BUF_TILE_BINS);
+        b.scanSums = as<uint>(ptr, BUF_SCAN_SUMS);
+        b.binEntries = as<uint>(ptr, BUF_BIN_ENTRIES);
+        b.activeTiles = as<uint>(ptr, BUF_ACTIVE_TILES);
+        b.counters = as<uint>(ptr, BUF_COUNTERS);
+        b.visibility = as<unsigned long long>(ptr, BUF_VISIBILITY);
+        b.framebuffer = as<uint>(ptr, BUF_FRAMEBUFFER);
+        b.hitCount = as<uint>(ptr, BUF_HIT_COUNT);
+        b.materials = as<GpuMaterial>(ptr, BUF_MATERIALS);
+        b.triMaterials = as<uint>(ptr, BUF_TRI_MATERIALS);
+        b.texcoords = as<vec4>(ptr, BUF_TEXCOORDS);
+        b.textures = as<GpuTexture>(ptr, BUF_TEXTURES);
+        b.texels = as<uint>(ptr, BUF_TEXELS);
+        b.srgbTable = as<float>(ptr, BUF_SRGB_TABLE);
+        b.points = as<uint>(ptr, BUF_POINTS);
+        b.lines = as<uint>(ptr, BUF_LINES);
+        b.tessSource = as<TessSource>(ptr, BUF_TESS_SOURCE);
+        b.tessCounts = as<uvec4>(ptr, BUF_TESS_COUNTS);
+        b.tessSums = as<uvec4>(ptr, BUF_TESS_SUMS);
+        b.clusters = as<GpuCluster>(ptr, BUF_CLUSTERS);
+        b.clusterData = as<uint>(ptr, BUF_CLUSTER_DATA);
+        b.lodCut = as<uint>(ptr, BUF_LOD_CUT);
+        b.ao = as<float>(ptr, BUF_AO);
         TessWriter& w = b.tess;
-        w.positions = as<vec4>(BUF_POSITIONS);
-        w.normals = as<vec4>(BUF_NORMALS);
-        w.texcoords = as<vec4>(BUF_TEXCOORDS);
-        w.colors = as<vec4>(BUF_COLORS);
-        w.indices = as<uint>(BUF_INDICES);
-        w.triFlags = as<uint>(BUF_TRI_FLAGS);
-        w.triMaterials = as<uint>(BUF_TRI_MATERIALS);
-        w.ids = as<uint>(BUF_TESS_IDS);
-        w.materials = params.materialCount > 0u ? as<uint>(BUF_TESS_MATERIALS) : nullptr;
-        w.sources = as<TessSource>(BUF_TESS_SOURCE);
+        w.positions = as<vec4>(ptr, BUF_POSITIONS);
+        w.normals = as<vec4>(ptr, BUF_NORMALS);
+        w.texcoords = as<vec4>(ptr, BUF_TEXCOORDS);
+        w.colors = as<vec4>(ptr, BUF_COLORS);
+        w.indices = as<uint>(ptr, BUF_INDICES);
+        w.triFlags = as<uint>(ptr, BUF_TRI_FLAGS);
+        w.triMaterials = as<uint>(ptr, BUF_TRI_MATERIALS);
+        w.ids = as<uint>(ptr, BUF_TESS_IDS);
+        w.materials = params.materialCount > 0u ? as<uint>(ptr, BUF_TESS_MATERIALS) : nullptr;
+        w.sources = as<TessSource>(ptr, BUF_TESS_SOURCE);
         w.sourceVertices = params.tessSourceVertices;
         w.hasTexcoords = params.textureCount > 0u;
         w.hasColors = params.hasColors != 0u;

@@ -534,19 +534,8 @@ public:
         void* base = holder->memory.back().data();
         py::list invalid;
         for (uint32_t n : report.invalidTriangles) invalid.append(n);
-        if (!onDevice)
-            return py::make_tuple(
-                py::array(py::dtype::of<float>(), std::vector<py::ssize_t>{shape[0], shape[1], shape[2], 4},
-                          static_cast<float*>(base), py::cast(holder)),
-                invalid, report.warnings);
-        DeviceArray out;
-        out.owner = holder;
-        out.data = base;
-        out.shape = {shape[0], shape[1], shape[2], 4};
-        out.kind = 'f';
-        out.bytes = 4;
-        out.device = holder->cudaDevice;
-        return py::make_tuple(out, invalid, report.warnings);
+        return py::make_tuple(image(py::cast(holder), base, {shape[0], shape[1], shape[2], 4}, 'f', 4),
+                              invalid, report.warnings);
     }
 
     // Frames of `scene` from every camera of `cameras` with one settings (Session::renderMany: on CUDA all
@@ -568,7 +557,6 @@ public:
         auto holder = std::make_shared<FrameHolder>();
         holder->pool = pool_;
         holder->cudaDevice = std::max(device_->info().index, 0);
-        holder->targets.onDevice = onDevice;
         raster::RenderRequest request;
         raster::ViewsReport report;
         {
@@ -627,14 +615,9 @@ public:
             a.out = static_cast<float*>(holder->memory.back().data());
             report = take(raster::interpolate(a, device_.get()));
         }
-        DeviceArray out;
-        out.owner = holder;
-        out.data = a.out;
-        out.shape = {rastShape[0], rastShape[1], rastShape[2], attrShape[2]};
-        out.kind = 'f';
-        out.bytes = 4;
-        out.device = holder->cudaDevice;
-        return py::make_tuple(out, report.badPixel, report.badTriangle);
+        return py::make_tuple(
+            image(py::cast(holder), a.out, {rastShape[0], rastShape[1], rastShape[2], attrShape[2]}, 'f', 4),
+            report.badPixel, report.badTriangle);
     }
 
     // The C++ session's own wall time per frame in ms (Session::render alone, `count` times), for the

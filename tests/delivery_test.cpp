@@ -185,6 +185,34 @@ TEST_P(DeliveryTest, RasterizeOutputFollowsItsDefinition)
     EXPECT_FALSE(session->render(f.camera, f.settings).ok());
 }
 
+// The colour, ids and depth of `views` views of `pixels` each, as renderViews writes them.
+struct ViewImages {
+    ViewImages(size_t views, size_t pixels)
+        : pixels(pixels), color(views * pixels), ids(views * pixels), depth(views * pixels)
+    {
+    }
+    std::vector<RenderSession::ViewTarget> targets()
+    {
+        return {{OUTPUT_COLOR, color.data(), false},
+                {OUTPUT_ID, ids.data(), false},
+                {OUTPUT_DEPTH, depth.data(), false}};
+    }
+    // View b against a frame drawn alone, byte for byte.
+    void expectView(size_t b, const RenderOutput& expected) const
+    {
+        ASSERT_EQ(expected.aov.id.size(), pixels);
+        EXPECT_TRUE(std::equal(expected.color.pixels.begin(), expected.color.pixels.end(),
+                               color.begin() + long(b * pixels)));
+        EXPECT_TRUE(
+            std::equal(expected.aov.id.begin(), expected.aov.id.end(), ids.begin() + long(b * pixels)));
+        expectSameBits(expected.aov.depth,
+                       {depth.begin() + long(b * pixels), depth.begin() + long((b + 1) * pixels)}, "depth");
+    }
+    size_t pixels;
+    std::vector<uint32_t> color, ids;
+    std::vector<float> depth;
+};
+
 // Views (RenderSession::renderViews): each view's colour, ids and depth equal a frame of the scene with
 // that view's positions, drawn alone, also where the batch overflows its lists (tiny starting lists) and
 // views are drawn again; the session's next render draws the scene's own positions again.
@@ -215,15 +243,11 @@ TEST_P(DeliveryTest, ViewsEqualFramesOfTheirPositionsDrawnAlone)
         s.initialListCapacity = capacity;
         auto session = RenderSession::create(*device_, scene);
         ASSERT_TRUE(session.ok());
-        std::vector<uint32_t> color(views * pixels), ids(views * pixels);
-        std::vector<float> depth(views * pixels);
+        ViewImages images(views, pixels);
         ViewInputs inputs;
         inputs.positions = positions.data();
         inputs.bytes = scene.positions.size() * sizeof(glm::vec4);
-        auto invalid = session->renderViews({*camera}, s, inputs, views,
-                                            {{OUTPUT_COLOR, color.data(), false},
-                                             {OUTPUT_ID, ids.data(), false},
-                                             {OUTPUT_DEPTH, depth.data(), false}});
+        auto invalid = session->renderViews({*camera}, s, inputs, views, images.targets());
         ASSERT_TRUE(invalid.ok()) << invalid.error().message;
         EXPECT_EQ(*invalid, std::vector<uint32_t>(views, 0u));
         for (size_t b = 0; b < views; ++b) {
@@ -234,14 +258,7 @@ TEST_P(DeliveryTest, ViewsEqualFramesOfTheirPositionsDrawnAlone)
             RenderSettings alone = s;
             alone.initialListCapacity = 0;
             const RenderOutput expected = render(moved, alone, *camera);
-            ASSERT_EQ(expected.aov.id.size(), pixels);
-            EXPECT_TRUE(std::equal(expected.color.pixels.begin(), expected.color.pixels.end(),
-                                   color.begin() + long(b * pixels)));
-            EXPECT_TRUE(
-                std::equal(expected.aov.id.begin(), expected.aov.id.end(), ids.begin() + long(b * pixels)));
-            expectSameBits(expected.aov.depth,
-                           {depth.begin() + long(b * pixels), depth.begin() + long((b + 1) * pixels)},
-                           "depth");
+            images.expectView(b, expected);
         }
         auto own = session->render(*camera, s);
         ASSERT_TRUE(own.ok());
@@ -273,26 +290,15 @@ TEST_P(DeliveryTest, FramesOfManyCamerasEqualFramesDrawnAlone)
         s.initialListCapacity = capacity;
         auto session = RenderSession::create(*device_, scene);
         ASSERT_TRUE(session.ok());
-        std::vector<uint32_t> color(views * pixels), ids(views * pixels);
-        std::vector<float> depth(views * pixels);
-        auto invalid = session->renderViews(cameras, s, ViewInputs{}, views,
-                                            {{OUTPUT_COLOR, color.data(), false},
-                                             {OUTPUT_ID, ids.data(), false},
-                                             {OUTPUT_DEPTH, depth.data(), false}});
+        ViewImages images(views, pixels);
+        auto invalid = session->renderViews(cameras, s, ViewInputs{}, views, images.targets());
         ASSERT_TRUE(invalid.ok()) << invalid.error().message;
         for (size_t b = 0; b < views; ++b) {
             SCOPED_TRACE("camera " + std::to_string(b));
             RenderSettings alone = s;
             alone.initialListCapacity = 0;
             const RenderOutput expected = render(scene, alone, cameras[b]);
-            ASSERT_EQ(expected.aov.id.size(), pixels);
-            EXPECT_TRUE(std::equal(expected.color.pixels.begin(), expected.color.pixels.end(),
-                                   color.begin() + long(b * pixels)));
-            EXPECT_TRUE(
-                std::equal(expected.aov.id.begin(), expected.aov.id.end(), ids.begin() + long(b * pixels)));
-            expectSameBits(expected.aov.depth,
-                           {depth.begin() + long(b * pixels), depth.begin() + long((b + 1) * pixels)},
-                           "depth");
+            images.expectView(b, expected);
         }
     }
 }

@@ -840,26 +840,12 @@ Result<InterpolateReport> interpolate(const InterpolateArrays& a, Device* device
     // The device's loop on the host, pixel by pixel (shared/interpolate.h).
     const auto triangles = uint32_t(std::min<size_t>(a.triangleCount, UINT32_MAX));
     for (size_t p = 0; p < pixels; ++p) {
-        float* dst = a.out + p * a.channels;
-        const uint32_t slot = sr::interpolateSlot(a.rast[4 * p + 3], triangles);
-        bool drawn = slot != 0u && slot != INTERPOLATE_BAD_SLOT;
-        if (slot == INTERPOLATE_BAD_SLOT && report.badPixel < 0) report.badPixel = int64_t(p);
-        const uint32_t* corner = drawn ? a.triangles + 3 * size_t(slot - 1u) : nullptr;
-        if (drawn && (corner[0] >= a.vertices || corner[1] >= a.vertices || corner[2] >= a.vertices)) {
-            if (report.badTriangle < 0 || int64_t(slot - 1u) < report.badTriangle)
-                report.badTriangle = int64_t(slot - 1u);
-            drawn = false;
-        }
-        if (!drawn) {
-            std::fill(dst, dst + a.channels, 0.0f);
-            continue;
-        }
-        const float u = a.rast[4 * p], v = a.rast[4 * p + 1];
         const float* view = a.attr + (a.attrViews == 1 ? 0 : p / pixelsPerView) * a.vertices * a.channels;
-        const float* a0 = view + size_t(corner[0]) * a.channels;
-        const float* a1 = view + size_t(corner[1]) * a.channels;
-        const float* a2 = view + size_t(corner[2]) * a.channels;
-        for (size_t c = 0; c < a.channels; ++c) dst[c] = sr::interpolateValue(u, v, a0[c], a1[c], a2[c]);
+        const sr::InterpolateFault fault = sr::interpolatePixel(
+            a.rast + 4 * p, view, a.triangles, triangles, a.vertices, a.channels, a.out + p * a.channels);
+        if (fault.badSlot && report.badPixel < 0) report.badPixel = int64_t(p);
+        if (fault.badTriangle && (report.badTriangle < 0 || int64_t(fault.triangle) < report.badTriangle))
+            report.badTriangle = int64_t(fault.triangle);
     }
     return report;
 }

@@ -42,13 +42,16 @@ Status ComputeDevice::runViews(const std::vector<RasterParams>& params,
         SR_TRY(run(params[params.size() == 1 ? 0 : b - first], dispatches, ms));
         SR_TRY(
             download(BUF_COUNTERS, counters + (b - first) * COUNTER_COUNT, COUNTER_COUNT * sizeof(uint32_t)));
-        for (const ViewCopy& c : copies) {
-            char* to = c.destination + b * c.bytes;
-            SR_TRY(c.onDevice ? downloadToDevice(BUF_FRAMEBUFFER, to, c.bytes, c.offset)
-                              : download(BUF_FRAMEBUFFER, to, c.bytes, c.offset));
-        }
+        for (const ViewCopy& c : copies) SR_TRY(copyView(c, b));
     }
     return okStatus();
+}
+
+Status ComputeDevice::copyView(const ViewCopy& c, size_t b)
+{
+    char* to = c.destination + b * c.bytes;
+    return c.onDevice ? downloadToDevice(BUF_FRAMEBUFFER, to, c.bytes, c.offset)
+                      : download(BUF_FRAMEBUFFER, to, c.bytes, c.offset);
 }
 
 Status ComputeDevice::interpolate(const InterpolateJob&, int64_t&, int64_t&)

@@ -112,6 +112,8 @@ public:
     virtual Status runViews(const std::vector<RasterParams>& params, const std::vector<Dispatch>& dispatches,
                             const ViewInputs& views, size_t first, size_t count,
                             const std::vector<ViewCopy>& copies, uint32_t* counters);
+    // View b's image of `copy` out of BUF_FRAMEBUFFER (runViews' last step, alone).
+    Status copyView(const ViewCopy& copy, size_t b);
     // Copies view b's positions over the head of BUF_POSITIONS (runViews' first step, alone; nothing
     // without positions).
     virtual Status uploadView(const ViewInputs& views, size_t b);

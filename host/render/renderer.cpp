@@ -1033,11 +1033,7 @@ Result<std::vector<uint32_t>> RenderSession::renderViews(const std::vector<Camer
         SR_TRY(device_->uploadView(views, b));
         SR_TRY(draw(cameraOf(b), settings, f));
         invalid[b] = f.counters[COUNTER_INVALID];
-        for (const ViewCopy& c : *copies) {
-            char* to = c.destination + b * c.bytes;
-            SR_TRY(c.onDevice ? device_->downloadToDevice(BUF_FRAMEBUFFER, to, c.bytes, c.offset)
-                              : device_->download(BUF_FRAMEBUFFER, to, c.bytes, c.offset));
-        }
+        for (const ViewCopy& c : *copies) SR_TRY(device_->copyView(c, b));
         return okStatus();
     };
     size_t first = 0;
