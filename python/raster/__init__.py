@@ -208,6 +208,11 @@ class Scene:
 
         positions: (N, 3) float32 world-space points (other float types are converted), or (N, 4)
             homogeneous points (x, y, z, w). Non-finite vertices drop their primitives with a warning.
+
+        Every array may also be a GPU array (torch, CuPy: anything with __cuda_array_interface__); it is
+        copied to the host once, through its own library. A Scene is the host's description of the
+        mesh (its checks, normals, bounds and clusters are computed there; a Renderer uploads it once).
+        Positions that change every frame on the GPU go to rasterize instead, which reads them in place.
         indices: (T, 3) int32 or uint32 vertex indices, counter-clockwise in front; a triangle with an
             index out of range is dropped with a warning (as the loaders do). May be None with lines
             or points.
@@ -237,6 +242,9 @@ class Scene:
                 a = np.where((wide < 0) | (wide > EMPTY_ID), np.int64(EMPTY_ID), wide).astype(np.uint32)
             return a
 
+        what = "from_arrays"
+        positions, indices, normals, uv, colors, texture, lines, points = (
+            _host_copy(a, what) for a in (positions, indices, normals, uv, colors, texture, lines, points))
         positions = _real_array(positions, "from_arrays: positions")
         tri = ints(indices, "indices")
         if tri is None:
@@ -277,8 +285,9 @@ class Scene:
         """Moves the vertices of a scene made by from_arrays, in place: `positions` has the shape the
         scene was made with ((N, 3) or (N, 4)); every primitive keeps its vertices, flat normals follow.
         A Renderer that drew this Scene uploads the positions alone before its next frame (no rebuild).
-        Non-finite positions raise raster.Error and leave the scene as it was."""
-        positions = _real_array(positions, "update_positions: positions")
+        Non-finite positions raise raster.Error and leave the scene as it was. A GPU array is copied to
+        the host once (the Scene lives there; see from_arrays)."""
+        positions = _real_array(_host_copy(positions, "update_positions: positions"), "update_positions: positions")
         self._native.update_positions(positions)
 
     @property

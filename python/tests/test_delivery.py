@@ -277,6 +277,26 @@ def test_rasterize_takes_and_returns_gpu_tensors():
                                       raster.rasterize(pos, tri[:, [0, 2, 1]], (40, 32), renderer=r))
 
 
+def test_scenes_take_gpu_tensors_as_the_host_arrays_they_hold():
+    """Scene.from_arrays and update_positions given torch tensors on the GPU make the scene the same
+    arrays on the host make (the Scene is a host object: copied once), frames equal byte for byte.
+    Needs CUDA and torch."""
+    r = renderer("cuda")
+    torch = pytest.importorskip("torch")
+    pos, tri = mesh(2, seed=4)
+    world = [np.ascontiguousarray(p[:, :3] / p[:, 3:]) for p in pos]
+    kwargs = dict(camera="orbit:10,20,3.5", clusters="on")
+    host = raster.Scene.from_arrays(world[0], tri, double_sided=True)
+    gpu = raster.Scene.from_arrays(torch.from_numpy(world[0]).cuda(), torch.from_numpy(tri).cuda(),
+                                   double_sided=True)
+    for step in range(2):
+        a, b = r.render(host, 64, 48, **kwargs), r.render(gpu, 64, 48, **kwargs)
+        for name in ("color", "ids", "depth"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=f"{name}, step {step}")
+        host.update_positions(world[1])
+        gpu.update_positions(torch.from_numpy(world[1]).cuda())
+
+
 def test_interpolate_refuses_arrays_split_between_host_and_gpu():
     with pytest.raises(raster.Error, match="all on the host or all on the GPU, not attr on the GPU, rast on "
                                            "the host, tri on the host"):
