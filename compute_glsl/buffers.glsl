@@ -5,6 +5,11 @@
 #define RASTER_BUFFERS_GLSL
 
 #extension GL_EXT_shader_atomic_int64 : require
+#if defined(SR_CPU_BUILD)
+// The texel views below are images without a sampler (texelFetch takes them directly): a sampled-image
+// type of buffer dimension is not valid SPIR-V for Vulkan 1.4's validation.
+#extension GL_EXT_samplerless_texture_functions : require
+#endif
 
 #include "method.glsl"
 
@@ -61,20 +66,20 @@ layout(std430, set = 0, binding = BUF_AO) buffer AoBlock { float ao[]; };
 // loop over the SIMD lanes with a branch per lane and component: raster_tiles its records, bin entries and
 // keys, shade (through LOAD_*) what it reads by triangle, vertex and texel index.
 #if defined(SR_CPU_BUILD)
-layout(set = 0, binding = VIEW_SETUP_TRIS) uniform usamplerBuffer setupTrisView;
-layout(set = 0, binding = VIEW_BIN_ENTRIES) uniform usamplerBuffer binEntriesView;
-layout(set = 0, binding = VIEW_VISIBILITY) uniform usamplerBuffer visibilityView;
-layout(set = 0, binding = VIEW_INDICES) uniform usamplerBuffer indicesView;
-layout(set = 0, binding = VIEW_POSITIONS) uniform usamplerBuffer positionsView;
-layout(set = 0, binding = VIEW_NORMALS) uniform usamplerBuffer normalsView;
-layout(set = 0, binding = VIEW_COLORS) uniform usamplerBuffer colorsView;
-layout(set = 0, binding = VIEW_TEXCOORDS) uniform usamplerBuffer texcoordsView;
-layout(set = 0, binding = VIEW_TRI_MATERIALS) uniform usamplerBuffer triMaterialsView;
-layout(set = 0, binding = VIEW_MATERIALS) uniform usamplerBuffer materialsView;
-layout(set = 0, binding = VIEW_TEXTURES) uniform usamplerBuffer texturesView;
-layout(set = 0, binding = VIEW_TEXELS) uniform usamplerBuffer texelsView;
-layout(set = 0, binding = VIEW_SRGB_TABLE) uniform usamplerBuffer srgbTableView;
-layout(set = 0, binding = VIEW_AO) uniform usamplerBuffer aoView;
+layout(set = 0, binding = VIEW_SETUP_TRIS) uniform utextureBuffer setupTrisView;
+layout(set = 0, binding = VIEW_BIN_ENTRIES) uniform utextureBuffer binEntriesView;
+layout(set = 0, binding = VIEW_VISIBILITY) uniform utextureBuffer visibilityView;
+layout(set = 0, binding = VIEW_INDICES) uniform utextureBuffer indicesView;
+layout(set = 0, binding = VIEW_POSITIONS) uniform utextureBuffer positionsView;
+layout(set = 0, binding = VIEW_NORMALS) uniform utextureBuffer normalsView;
+layout(set = 0, binding = VIEW_COLORS) uniform utextureBuffer colorsView;
+layout(set = 0, binding = VIEW_TEXCOORDS) uniform utextureBuffer texcoordsView;
+layout(set = 0, binding = VIEW_TRI_MATERIALS) uniform utextureBuffer triMaterialsView;
+layout(set = 0, binding = VIEW_MATERIALS) uniform utextureBuffer materialsView;
+layout(set = 0, binding = VIEW_TEXTURES) uniform utextureBuffer texturesView;
+layout(set = 0, binding = VIEW_TEXELS) uniform utextureBuffer texelsView;
+layout(set = 0, binding = VIEW_SRGB_TABLE) uniform utextureBuffer srgbTableView;
+layout(set = 0, binding = VIEW_AO) uniform utextureBuffer aoView;
 
 // setupTris[slot] through its view.
 TriSetup fetchSetupRecord(uint slot)

@@ -27,10 +27,9 @@ bool isOneLine(const std::string& text)
     return !text.empty() && text.find('\n') == text.size() - 1;
 }
 
-// Files are limited to 2 blocks (1 or 2 KiB: dash counts 512-byte blocks, bash 1024) and a write past
-// that fails with EFBIG instead of killing the process, as a full disk fails a write with ENOSPC: the
-// 32 x 32 PNG (about 600 bytes) fits, its EXR (about 6 KB) does not.
-const char* kSmallDisk = "trap '' XFSZ; ulimit -f 2;";
+// A disk with room for 1 KiB per file in the scratch folder, past which a write fails with ENOSPC
+// (test::fullDisk): the 32 x 32 PNG (about 600 bytes) fits, its EXR (about 6 KB) does not.
+const std::string kSmallDisk = test::fullDisk(1024);
 
 TEST(OutputFiles, AFailedWriteIsAnErrorAndLeavesNothing)
 {
@@ -70,8 +69,8 @@ TEST(OutputFiles, AFailedBatchJobLeavesNoneOfItsFiles)
         << "{\"scene\": \"builtin\", \"width\": 32, \"height\": 32, \"output\": \"a.png\", \"aov\": "
            "\"a.exr\"}\n"
            "{\"scene\": \"builtin\", \"width\": 32, \"height\": 32, \"output\": \"b.png\"}\n";
-    // 2 or 4 KiB: the PNG (about 900 bytes) and the sidecar (about 1.1 kB) fit, the EXR does not.
-    ToolRun run = runTool("batch jobs.jsonl --backend vulkan -q", dir.file(""), "trap '' XFSZ; ulimit -f 4;");
+    // 2 KiB: the PNG (about 900 bytes) and the sidecar (about 1.1 kB) fit, the EXR does not.
+    ToolRun run = runTool("batch jobs.jsonl --backend vulkan -q", dir.file(""), test::fullDisk(2048));
     EXPECT_EQ(run.exitCode, 1) << run.stderrText;
     EXPECT_NE(run.stderrText.find("cannot write 'a.exr'"), std::string::npos) << run.stderrText;
     for (const char* name : {"a.png", "a.exr", "a.png.job.json"})

@@ -311,6 +311,22 @@ Scene namedScene(const std::string& name)
     return scene.ok() ? std::move(*scene) : Scene{};
 }
 
+std::string rasterExe()
+{
+    // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
+    const char* exe = std::getenv("SR_RASTER_EXE");
+    return exe ? exe : SR_RASTER_EXE;
+}
+
+std::string fullDisk(size_t bytes)
+{
+    const std::string exe = rasterExe();
+    const std::string shim = exe.substr(0, exe.find_last_of('/') + 1) + "libsr_full_disk.so";
+    // A sanitizer build's raster checks that its runtime comes first among the preloaded libraries.
+    return "LD_PRELOAD='" + shim + "' SR_FULL_DISK_BYTES=" + std::to_string(bytes) +
+           " ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0\"";
+}
+
 ToolRun runTool(const std::string& args, const std::string& workDir, const std::string& wrapper)
 {
     // ctest runs tests in parallel processes: name the capture files after this process and call.
@@ -319,11 +335,8 @@ ToolRun runTool(const std::string& args, const std::string& workDir, const std::
         ::testing::TempDir() + "raster_tool_" + std::to_string(getpid()) + "_" + std::to_string(calls++);
     std::string out = stem + ".out";
     std::string err = stem + ".err";
-    // SR_RASTER_EXE in the environment points at a relocated binary (the GPU machine's bundle).
-    const char* exe = std::getenv("SR_RASTER_EXE");
     std::string cmd = (workDir.empty() ? "" : "cd '" + workDir + "' && ") + wrapper +
-                      (wrapper.empty() ? "" : " ") + std::string(exe ? exe : SR_RASTER_EXE) + " " + args +
-                      " >" + out + " 2>" + err;
+                      (wrapper.empty() ? "" : " ") + rasterExe() + " " + args + " >" + out + " 2>" + err;
     int status = std::system(cmd.c_str());
     ToolRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

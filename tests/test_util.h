@@ -226,6 +226,11 @@ struct ToolRun {
 // Runs in `workDir` when given, else in the current directory; `wrapper` goes before the binary (a
 // command that runs it, e.g. `xvfb-run -a` or `env -u DISPLAY`).
 ToolRun runTool(const std::string& args, const std::string& workDir = "", const std::string& wrapper = "");
+// The raster binary runTool runs: SR_RASTER_EXE from the environment (a relocated bundle) or the build's.
+std::string rasterExe();
+// runTool's wrapper for a disk that holds `bytes` per file in the run's working folder: writes past that
+// fail with ENOSPC (tests/support/full_disk.c, the library beside the raster binary).
+std::string fullDisk(size_t bytes);
 
 }  // namespace sr::test
 
