@@ -141,7 +141,6 @@ SR_NAMESPACE_BEGIN
 #define CLUSTER_LANES 32           // invocations per cluster in stage clusters (a warp on NVIDIA)
 #define CLUSTERS_PER_GROUP 4       // clusters per clusters group: CLUSTER_LANES x this invocations
 #define LOD_CLUSTER_GROUPS 2048    // clusters groups with level of detail on a GPU (they loop over the cut)
-#define LOD_CLUSTER_GROUPS_CPU 64  // the same on a CPU device
 #define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)
 #define CLUSTER_PLANE_W 10         // RasterParams.clusterPlanes[10]: clip w as a plane (not normalised)
 // Ambient occlusion (shared/ao.h).
@@ -161,11 +160,12 @@ SR_NAMESPACE_BEGIN
 #define AO_FALLOFF 0.2f          // a sample's weight falls from 1 to 0 over the outer fifth of the radius
 #define AO_DENOISE_PLANE 0.02f   // ao_denoise averages neighbours within this x distance of the pixel's plane
 #define MIN_RASTER_LANES 8   // raster_tiles invocations per group on a CPU (TILE_SIZE^2 on a GPU)
-// Bin entries per raster_tiles work item on a CPU device at one sample per pixel. llvmpipe ends every
-// loop of a shader invocation after 65,535 iterations in all (its loop limiter), and one entry costs an
-// invocation up to about 35 loop iterations at 1x (more with more samples), so a group resolves at
-// most this many entries of a tile; the rest of the tile's bin goes to further groups, merged with
-// 64-bit atomicMin.
+// Bin entries per raster_tiles work item on a CPU device at one sample per pixel. llvmpipe 22.3 ends
+// every loop of a shader invocation after 65,535 turns in all (its loop limiter, docs/benchmark.md
+// "Loops on a CPU device"), and one entry costs an invocation about 26 turns at 1x (the alpha test's
+// texture lookups hold no loop in the CPU build), so a group resolves at most this many entries of a
+// tile (RASTER_CPU_CHUNK / msaa with more samples); the rest of the tile's bin goes to further groups,
+// merged with 64-bit atomicMin.
 #define RASTER_CPU_CHUNK 1024
 #define MAX_PIXELS_PER_LANE \
     (TILE_SIZE * TILE_SIZE / MIN_RASTER_LANES)  // pixels a raster_tiles invocation owns
@@ -266,6 +266,7 @@ SR_NAMESPACE_BEGIN
 // between triangles of ordinary shape (methods.h derives where it stops being enough).
 #define FLOAT_EPSILON 1.52587890625e-5f  // 2^-16
 #define MAX_TEXTURE_DIM 16384  // largest texture edge accepted; a 16384^2 level 0 is 1 GiB of texels
+#define MAX_TEXTURE_LEVELS 15u  // levels of a MAX_TEXTURE_DIM texture: 16384 down to 1
 
 #define TESS_OFF 0u       // no tessellation: the tess_* stages do not run
 #define TESS_FLAT 1u      // split each triangle to the screen size its edges ask for, in its plane

@@ -10,8 +10,8 @@
 // SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
 // reads records alone).
 // CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP), or with level
-// of detail at most LOD_CLUSTER_GROUPS (LOD_CLUSTER_GROUPS_CPU on a CPU device), looping over the
-// clusters stage lod_cut listed.
+// of detail at most LOD_CLUSTER_GROUPS on a GPU, looping over the clusters stage lod_cut listed (on a CPU
+// device every group takes its clusters once: a loop there may not run long, docs/benchmark.md).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"

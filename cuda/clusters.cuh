@@ -10,8 +10,7 @@
 // A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
 // setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
 // 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP),
-// or with level of detail at most LOD_CLUSTER_GROUPS (LOD_CLUSTER_GROUPS_CPU on a CPU device), looping
-// over the clusters stage lod_cut listed.
+// or with level of detail at most LOD_CLUSTER_GROUPS, looping over the clusters stage lod_cut listed.
 namespace sr {
 
 template <bool kMaterials, bool kMultisample, uint kMethod>

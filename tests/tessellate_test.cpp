@@ -204,6 +204,17 @@ TEST_P(TessellationTest, GeneratedMeshIsTheHostsBitForBit)
                       tessSettings(TESS_CENTROID, 8.0f, 2, 160, 120));
 }
 
+// Centroid tessellation at its deepest level: 3^8 triangles from each scene triangle, all emitted by one
+// invocation of tess_emit, whose loops take about 48,000 turns (docs/benchmark.md, "Loops on a CPU
+// device": llvmpipe 22.3 ends an invocation's loops after 65,535 turns in all; with 3^k computed in a
+// loop, levels 7 and 8 went past that and lost vertices and triangles silently).
+TEST_P(TessellationTest, CentroidAtItsDeepestLevelIsTheHostsBitForBit)
+{
+    Scene lowpoly = *builtinSceneNamed("builtin:lowpoly");
+    expectMatchesHost(lowpoly, orbitCamera(lowpoly, "orbit:30,25,4", 96, 64),
+                      tessSettings(TESS_CENTROID, 8.0f, TESS_MAX_CENTROID, 96, 64));
+}
+
 // A closed low-poly sphere filling most of the view, back faces culled: every pixel of it is covered
 // exactly once (no overlap) and no uncovered pixel is enclosed by it (no crack), with triangles whose
 // three edges chose different factors.

@@ -216,6 +216,36 @@ TEST_P(TextureTest, AlphaMaskCutsCoverageIdsAndDepth)
     }
 }
 
+// The loop bound of a CPU device (docs/benchmark.md, "Loops on a CPU device"): 1,999 alpha-masked
+// quads cut out everywhere, in front of one opaque quad drawn last, over every tile, with a mipmapped
+// texture seen minified (level 4 and 5 blended), so that each pixel of each bin entry runs the alpha
+// test's trilinear lookup. Every pixel must show the opaque quad. On llvmpipe 22.3, whose loop limiter
+// ends a shader invocation's loops after 65,535 turns in all, a chunk of bin entries whose lookups each
+// walked the mip levels in a loop lost the rest of its entries, and every pixel showed nothing.
+TEST_P(TextureTest, ThousandsOfAlphaMaskedLayersOverATileAreEachTested)
+{
+    Scene scene;
+    const uint32_t layers = 1000;  // 2,000 bin entries per tile: two full chunks on a CPU device
+    for (uint32_t k = 0; k + 1 < layers; ++k) addQuad(scene, -1, -1, 1, 1, 0.1f + 0.7f * k / layers, 1.0f, 0);
+    addQuad(scene, -1, -1, 1, 1, 0.9f, 1.0f, 1);
+    // 1024^2 texels of alpha 0 over 64 pixels: 16 texels a pixel, levels 4 and 5 (default sampler:
+    // trilinear).
+    scene.textures.push_back(linearTexture(1024, 1024, std::vector<uint8_t>(1024 * 1024 * 4, 0), {}));
+    SceneMaterial cut = texturedMaterial(0);
+    cut.alphaMode = ALPHA_MASK;
+    scene.materials.push_back(cut);
+    scene.materials.push_back(SceneMaterial{});
+    for (uint32_t t = 0; t + 2 < scene.triangleCount(); ++t) scene.triFlags[t] = TRI_FLAG_ALPHA_MASK;
+    const uint32_t size = 64;
+    RenderOutput out = render(scene, size, size);
+    ASSERT_EQ(out.aov.id.size(), size_t(size) * size);
+    const uint32_t back = 2 * (layers - 1);
+    size_t wrong = 0;
+    for (size_t p = 0; p < out.aov.id.size(); ++p)
+        wrong += (out.aov.id[p] != back && out.aov.id[p] != back + 1) || out.aov.depth[p] != 0.9f;
+    EXPECT_EQ(wrong, 0u) << "of " << out.aov.id.size() << " pixels on " << out.device.driver;
+}
+
 TEST_P(TextureTest, TexturesCostMemoryOnlyWhenTheSceneHasThem)
 {
     Scene plain;

@@ -219,11 +219,15 @@ SR_FN bool tessFacingCulled(RasterParams params, uint flags, vec4 c0, vec4 c1, v
     return (params.cullMode == CULL_BACK && !frontFacing) || (params.cullMode == CULL_FRONT && frontFacing);
 }
 
-// 3^level.
+// 3^level for level <= 15, without a loop: the product of 3^(2^k) over the set bits of `level`.
+// (tess_emit calls it in its innermost loops; on a CPU device every turn of a loop counts towards
+// llvmpipe's limit of 65,535 per invocation, docs/benchmark.md "Loops on a CPU device".)
 SR_FN uint tessPow3(uint level)
 {
-    uint r = 1u;
-    for (uint i = 0u; i < level; ++i) r *= 3u;
+    uint r = (level & 1u) != 0u ? 3u : 1u;
+    if ((level & 2u) != 0u) r *= 9u;
+    if ((level & 4u) != 0u) r *= 81u;
+    if ((level & 8u) != 0u) r *= 6561u;
     return r;
 }
 

@@ -63,10 +63,21 @@ SR_FN ivec2 textureLevelSize(GpuTexture t, uint level)
 SR_FN uint textureLevelOffset(GpuTexture t, uint level)
 {
     uint offset = t.texelOffset;
+#if defined(SR_CPU_BUILD)
+    // On a CPU device every turn of a loop whose trip count is only known at run time counts towards
+    // llvmpipe's limit of 65,535 per invocation (docs/benchmark.md "Loops on a CPU device"), and
+    // raster_tiles' alpha test looks levels up for every pixel of every bin entry: a constant trip count
+    // unrolls, with no turn to count.
+    for (uint k = 0u; k < MAX_TEXTURE_LEVELS - 1u; ++k) {
+        ivec2 s = textureLevelSize(t, k);
+        if (k < level) offset += uint(s.x) * uint(s.y);
+    }
+#else
     for (uint k = 0u; k < level; ++k) {
         ivec2 s = textureLevelSize(t, k);
         offset += uint(s.x) * uint(s.y);
     }
+#endif
     return offset;
 }
 

@@ -88,11 +88,13 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
          groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_LOD_CUT, p.lodScale > 0.0f ? groupsFor(p.clusterCount, GROUP_SIZE) : 0u},
-        {STAGE_CLUSTERS, p.lodScale > 0.0f
-                             ? std::min(groupsFor(p.clusterCount, CLUSTERS_PER_GROUP),
-                                        work.groups.rasterChunk != 0 ? uint32_t(LOD_CLUSTER_GROUPS_CPU)
-                                                                     : uint32_t(LOD_CLUSTER_GROUPS))
-                             : groupsFor(p.clusterCount, CLUSTERS_PER_GROUP)},
+        // With level of detail a GPU's groups loop over the cut. On a CPU device (rasterChunk != 0) each
+        // group takes its clusters once, as without: llvmpipe 22.3 ends a shader's loops after 65,535
+        // turns in all, which a few rounds of big clusters reach (docs/benchmark.md).
+        {STAGE_CLUSTERS,
+         p.lodScale > 0.0f && work.groups.rasterChunk == 0
+             ? std::min(groupsFor(p.clusterCount, CLUSTERS_PER_GROUP), uint32_t(LOD_CLUSTER_GROUPS))
+             : groupsFor(p.clusterCount, CLUSTERS_PER_GROUP)},
         {STAGE_SETUP,
          groupsFor(uint64_t(p.triangleCount) + p.lineCount + p.pointCount - p.setupFirstPrimitive,
                    GROUP_SIZE)},
