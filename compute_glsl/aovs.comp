@@ -4,6 +4,10 @@
 // id + 1) (layout: shared/aovs.h). The host then copies out only the arrays it was asked for, already
 // unpacked, instead of every sample's 64-bit key. Lines and points get their id and depth, and zero
 // surfaces. One invocation per output pixel; groups = ceil(outputPixels / GROUP_SIZE).
+// AOVS_CPU: the build for CPU devices, which a frame without the surface AOVs and rasterize's output runs:
+// ids and depth alone, each key read through the texel view (a vector gather, where llvmpipe loads a
+// storage buffer lane by lane). A CPU device runs the code behind a branch under a mask whether or not
+// any lane takes it, so the surface part, compiled in, would cost every pixel of every frame.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "raster_shared.h"
@@ -19,12 +23,13 @@ void main()
     if (i >= n) return;
     uint x = i % pixelParams.width;
     uint y = i / pixelParams.width;
-    uint64_t key = visibility[aovSampleOf(params, x, y)];
+    uint64_t key = LOAD_KEY(aovSampleOf(params, x, y));
     uint id = visibilityId(key);
     float depth = visibilityDepth(key);
     AovsLayout l = aovsLayout(n, params.aovOutputs);
     framebuffer[l.ids + i] = id;
     framebuffer[l.depths + i] = floatBitsToUint(depth);
+#if !defined(AOVS_CPU)
     if ((params.aovOutputs & (AOV_OUT_SURFACE | AOV_OUT_RAST)) == 0u) return;
 
     vec2 bary = vec2(0.0f);
@@ -65,4 +70,5 @@ void main()
         framebuffer[l.rast + 4u * i + 2u] = floatBitsToUint(r.z);
         framebuffer[l.rast + 4u * i + 3u] = floatBitsToUint(r.w);
     }
+#endif
 }

@@ -115,8 +115,9 @@ GpuTexture fetchTexture(uint k)
 }
 #endif
 
-// The AO stages' CPU builds (AO_CPU) read the scene, the keys and BUF_AO's planes through the views too.
-#if defined(AO_CPU)
+// The AO stages' CPU builds (AO_CPU) read the scene, the keys and BUF_AO's planes through the views too,
+// and aovs' (AOVS_CPU) the keys.
+#if defined(AO_CPU) || defined(AOVS_CPU)
 #define LOAD_KEY(i) fetchKey(i)
 #define LOAD_AO(i) uintBitsToFloat(texelFetch(aoView, int(i)).x)
 #else

@@ -42,6 +42,7 @@ namespace {
 #include "ao_cpu.spv.h"
 #include "ao_denoise_cpu.spv.h"
 #include "ao_gbuffer_cpu.spv.h"
+#include "aovs_cpu.spv.h"
 #include "shade_cpu.spv.h"
 #include "bin_count_fixed4.spv.h"
 #include "bin_fill_fixed4.spv.h"
@@ -214,11 +215,14 @@ private:
         uint32_t shadeUses = 0;           // SPEC_SHADE_USES, its SHADE_USES_* (0 elsewhere)
         uint32_t shadeSsaa = 0;           // and SPEC_SHADE_SSAA, its SSAA factor
         bool countHits = false;           // raster_tiles on a CPU device: SPEC_COUNT_HITS
+        bool idsDepthOnly = false;        // aovs on a CPU device without surfaces: kSpv_aovs_cpu
         bool operator<(const Build& o) const
         {
             return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses, shadeSsaa,
-                            countHits) < std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method,
-                                                  o.shadeMode, o.shadeUses, o.shadeSsaa, o.countHits);
+                            countHits, idsDepthOnly) < std::tie(o.materials, o.samples, o.resolve,
+                                                                o.linesPoints, o.method, o.shadeMode,
+                                                                o.shadeUses, o.shadeSsaa, o.countHits,
+                                                                o.idsDepthOnly);
         }
     };
     // SHADE_USES_* of a frame with `params` on this device's buffers.
@@ -360,6 +364,8 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
     if (stage == STAGE_AO && info_.isCpu) spirv = StageSpirv{kSpv_ao_cpu, sizeof kSpv_ao_cpu};
     if (stage == STAGE_AO_DENOISE && info_.isCpu)
         spirv = StageSpirv{kSpv_ao_denoise_cpu, sizeof kSpv_ao_denoise_cpu};
+    // aovs' CPU build writes ids and depth alone (compute_glsl/aovs.comp).
+    if (stage == STAGE_AOVS && build.idsDepthOnly) spirv = StageSpirv{kSpv_aovs_cpu, sizeof kSpv_aovs_cpu};
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
@@ -411,6 +417,8 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
     build.countHits =
         d.stage == STAGE_RASTER_TILES && info_.isCpu && (params.debugFlags & DEBUG_COUNT_HITS) != 0;
+    build.idsDepthOnly = d.stage == STAGE_AOVS && info_.isCpu &&
+                         (params.aovOutputs & (AOV_OUT_SURFACE | AOV_OUT_RAST)) == 0u;
     if (d.stage == STAGE_SHADE && info_.isCpu) {
         build.shadeMode = params.shadingMode;
         build.shadeUses = shadeUses(params);
@@ -419,7 +427,8 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     if (build.method >= RASTER_METHOD_COUNT)
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
     if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8 &&
-        build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0 && !build.countHits) {
+        build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0 && !build.countHits &&
+        !build.idsDepthOnly) {
         VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
         if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
         return p;
