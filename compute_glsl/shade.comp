@@ -49,10 +49,14 @@ vec3 shadePrimitive(uint id, int x, int y)
 }
 
 // A pixel's stored colour, RGBA8 sRGB-encoded: packRgba8, or on a CPU device the same code without pow.
+// The frame's shading mode: on a CPU device the constant itself, so that a module specialized to it
+// holds no other mode's resolve (host/vulkan/spirv_specialize.h).
 #if SHADE_CPU
 #define encodeColor packRgba8NoPow
+#define FRAME_SHADING_MODE SHADE_MODE
 #else
 #define encodeColor packRgba8
+#define FRAME_SHADING_MODE params.shadingMode
 #endif
 
 void main()
@@ -75,7 +79,7 @@ void main()
         if (i >= params.width * params.height) return;
         uint id = LOAD_KEY_ID(i);
         vec3 color = background;
-        if (params.shadingMode == SHADING_HIT_COUNT)
+        if (FRAME_SHADING_MODE == SHADING_HIT_COUNT)
             color = hitCountColor(hitCount[i], color);
         else if (id != EMPTY_ID)
             color = shadePrimitive(id, int(i % params.width), int(i / params.width));
@@ -90,7 +94,7 @@ void main()
             int x = int((i % outWidth) * n + sx);
             int y = int((i / outWidth) * n + sy);
             uint pixel = uint(y) * params.width + uint(x);
-            if (params.shadingMode == SHADING_HIT_COUNT) {
+            if (FRAME_SHADING_MODE == SHADING_HIT_COUNT) {
                 for (uint s = 0u; s < SAMPLES; ++s)
                     sum = sum + hitCountColor(hitCount[s * params.samplePlane + pixel], background);
                 continue;

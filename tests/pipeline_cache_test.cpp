@@ -97,7 +97,59 @@ TEST(PipelineCacheFile, RoundTripsAndRefusesDamage)
         why.clear();
         EXPECT_TRUE(pipelineCacheData(d.bytes, why).empty());
         EXPECT_NE(why.find(d.why), std::string::npos) << why;
+        EXPECT_FALSE(olderPipelineCacheFormat(d.bytes));
     }
+    // A file of an earlier format (version 1 held the driver's bytes alone) is not used either, but it
+    // is no damage: the cache replaces it without a warning.
+    std::vector<unsigned char> older = file;
+    older[8] = 1;
+    why.clear();
+    EXPECT_TRUE(pipelineCacheData(older, why).empty());
+    EXPECT_NE(why.find("format version 1"), std::string::npos) << why;
+    EXPECT_TRUE(olderPipelineCacheFormat(older));
+    EXPECT_FALSE(olderPipelineCacheFormat(file));
+}
+
+TEST(PipelineCacheFile, DataHoldsTheDriversBytesAndTheModulesAndRefusesPartsThatDoNotAddUp)
+{
+    PipelineCacheContents contents;
+    contents.driverData = {9, 8, 7, 6, 5};
+    contents.modules["v1 12 0123 1=0"] = {0x07230203u, 1u, 2u};
+    contents.modules["v1 12 0123 1=1"] = {0x07230203u, 0xffffffffu};
+    contents.modules["empty"] = {};
+    const std::vector<unsigned char> data = pipelineCacheDataBytes(contents);
+    // 8 + 5 driver bytes, 4 for the count, and per module 4 + key + 4 + 4 per word.
+    EXPECT_EQ(data.size(), 8u + 5 + 4 + (4 + 14 + 4 + 12) + (4 + 14 + 4 + 8) + (4 + 5 + 4));
+    PipelineCacheContents back;
+    std::string why;
+    ASSERT_TRUE(pipelineCacheContents(data, back, why)) << why;
+    EXPECT_EQ(back.driverData, contents.driverData);
+    EXPECT_EQ(back.modules, contents.modules);
+    // No modules and no driver bytes: valid too.
+    ASSERT_TRUE(pipelineCacheContents(pipelineCacheDataBytes({}), back, why)) << why;
+    EXPECT_TRUE(back.driverData.empty() && back.modules.empty());
+
+    // Cut anywhere, or with a byte more, the parts no longer add up (the file's checksum catches damage
+    // first; these are files of the right checksum written wrong).
+    for (size_t keep = 0; keep < data.size(); ++keep) {
+        why.clear();
+        EXPECT_FALSE(
+            pipelineCacheContents(std::vector<unsigned char>(data.begin(), data.begin() + keep), back, why))
+            << keep;
+        EXPECT_NE(why, "");
+        EXPECT_TRUE(back.driverData.empty() && back.modules.empty());
+    }
+    std::vector<unsigned char> longer = data;
+    longer.push_back(0);
+    why.clear();
+    EXPECT_FALSE(pipelineCacheContents(longer, back, why));
+    EXPECT_NE(why.find("after the last module"), std::string::npos) << why;
+    // A driver length far past the end (the 8 bytes read as 2^64 - 1) is refused, not allocated.
+    std::vector<unsigned char> huge = data;
+    std::fill(huge.begin(), huge.begin() + 8, 0xff);
+    why.clear();
+    EXPECT_FALSE(pipelineCacheContents(huge, back, why));
+    EXPECT_NE(why.find("driver"), std::string::npos) << why;
 }
 
 TEST(PipelineCacheFile, NamedByDeviceAndDriverUnderTheChosenFolder)
@@ -172,9 +224,18 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
     ASSERT_NE(file, "");
     EXPECT_EQ(std::filesystem::path(file).filename().string().rfind("compute-", 0), 0u) << file;
     std::string why;
-    pipelineCacheData(bytesOf(file), why);
+    std::vector<unsigned char> data = pipelineCacheData(bytesOf(file), why);
     EXPECT_EQ(why, "");
     EXPECT_EQ(bytesOf(dir.file("first.png")), reference);
+    // A CPU device keeps its specialized modules there too (host/vulkan/spirv_specialize.h), a GPU none.
+    PipelineCacheContents contents;
+    ASSERT_TRUE(pipelineCacheContents(data, contents, why)) << why;
+    auto device = test::openBackend("vulkan", skip);
+    ASSERT_TRUE(device);
+    if (device->info().isCpu)
+        EXPECT_GE(contents.modules.size(), 5u);
+    else
+        EXPECT_TRUE(contents.modules.empty());
 
     // Second run: loads it, no warning, the same image.
     test::ToolRun second = render(folder, dir.file("second.png"));

@@ -13,11 +13,15 @@
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -25,6 +29,7 @@
 #include "render/compute_device.h"
 #include "vulkan/vulkan_context.h"
 #include "vulkan/pipeline_cache.h"
+#include "vulkan/spirv_specialize.h"
 #include "vulkan/vulkan_device_internal.h"
 #include "vulkan/vulkan_present_source.h"
 
@@ -219,18 +224,24 @@ private:
         bool operator<(const Build& o) const
         {
             return std::tie(materials, samples, resolve, linesPoints, method, shadeMode, shadeUses, shadeSsaa,
-                            countHits, idsDepthOnly) < std::tie(o.materials, o.samples, o.resolve,
-                                                                o.linesPoints, o.method, o.shadeMode,
-                                                                o.shadeUses, o.shadeSsaa, o.countHits,
-                                                                o.idsDepthOnly);
+                            countHits, idsDepthOnly) <
+                   std::tie(o.materials, o.samples, o.resolve, o.linesPoints, o.method, o.shadeMode,
+                            o.shadeUses, o.shadeSsaa, o.countHits, o.idsDepthOnly);
         }
     };
     // SHADE_USES_* of a frame with `params` on this device's buffers.
     uint32_t shadeUses(const RasterParams& params) const;
     Status createPipeline(uint32_t stage, const Build& build, VkPipeline& pipeline);
-    // The pipeline dispatch `d` runs in a frame with `params`, created (through pipelineCache_) the first
-    // time a frame asks for it: a run compiles only the stages and builds its frames use.
-    Result<VkPipeline> pipeline(const Dispatch& d, const RasterParams& params);
+    // Where the pipeline dispatch `d` runs in a frame with `params` is kept, and its build; the slot is
+    // null until a frame first asks for it (createPipelines, through pipelineCache_): a run compiles only
+    // the stages and builds its frames use.
+    Result<VkPipeline*> pipelineSlot(const Dispatch& d, const RasterParams& params, Build& build);
+    struct PipelineToMake {
+        uint32_t stage;
+        Build build;
+        VkPipeline* slot;
+    };
+    Status createPipelines(const std::vector<PipelineToMake>& wanted);
     // Writes the pipeline cache after a frame that created pipelines. A failure is one warning, and the
     // cache is not saved again by this device: it only costs the next run's start-up time.
     void savePipelineCache();
@@ -247,8 +258,11 @@ private:
     // Declared first, so destroyed last: everything below is created through it.
     VulkanContext context_;
     DeviceInfo info_;
-    PipelineCache pipelineCache_;     // destroyed before the context's device
-    bool pipelinesAdded_ = false;     // pipelines were created since the cache was last saved
+    PipelineCache pipelineCache_;              // destroyed before the context's device
+    std::atomic<bool> pipelinesAdded_{false};  // pipelines were created since the cache was last saved
+    std::mutex modulesMutex_;                  // pipelineCache_'s modules, for createPipelines' threads
+    // Modules specialized before the driver sees them: on CPU devices, unless RASTER_SPECIALIZE=off.
+    bool specialize_ = false;
     bool pipelineCacheSaves_ = true;  // false after a failed save
     VkPipeline pipelines_[STAGE_COUNT] = {};
     // setup and raster_tiles built with the alpha test of MASK materials (SPEC_MATERIALS), bound for
@@ -291,6 +305,13 @@ Status VulkanDevice::init(int index, const PresentTarget* present)
     SR_TRY(context_.init(index, QueueKind::Compute, present));
     info_ = context_.deviceInfo("vulkan");
     SR_TRY(pipelineCache_.open(context_.device(), pipelineCacheFile(context_.properties())));
+    // RASTER_SPECIALIZE=off hands a CPU device the modules as built, as a GPU gets them: the same images
+    // (tests/spirv_specialize_test.cpp), created slower; a way to rule the optimizer out.
+    const char* specialize = std::getenv("RASTER_SPECIALIZE");
+    if (specialize && std::string(specialize) != "on" && std::string(specialize) != "off")
+        return makeError(ExitCode::Usage, "RASTER_SPECIALIZE is {}; it takes on or off",
+                         quotedInput(specialize));
+    specialize_ = info_.isCpu && !(specialize && std::string(specialize) == "off");
     // Host-visible so that run() writes the parameters directly; device-local where the device
     // offers such memory (resizable BAR), which makes the reads from every stage cheaper.
     SR_TRY(context_.allocateBuffer(
@@ -366,6 +387,39 @@ Status VulkanDevice::createPipeline(uint32_t stage, const Build& build, VkPipeli
         spirv = StageSpirv{kSpv_ao_denoise_cpu, sizeof kSpv_ao_denoise_cpu};
     // aovs' CPU build writes ids and depth alone (compute_glsl/aovs.comp).
     if (stage == STAGE_AOVS && build.idsDepthOnly) spirv = StageSpirv{kSpv_aovs_cpu, sizeof kSpv_aovs_cpu};
+    // A CPU device gets the module specialized to the constants first (spirv_specialize.h): the same
+    // pipeline, which lavapipe translates several times faster. Should the optimizer refuse a module, the
+    // original does the same work, slower to create.
+    std::vector<uint32_t> specialized;
+    if (specialize_) {
+        std::vector<SpecValue> values;
+        if (variants)
+            for (const VkSpecializationMapEntry& e : entries) {
+                uint32_t bits;
+                std::memcpy(&bits, reinterpret_cast<const unsigned char*>(&constants) + e.offset,
+                            sizeof bits);
+                values.push_back({e.constantID, bits});
+            }
+        // Specialized once per module and constants: the pipeline cache keeps the result for later runs.
+        // Pipelines are created on several threads (createPipelines); each takes a copy of its module.
+        const std::string key = specializationKey(spirv.code, spirv.bytes, values);
+        {
+            std::lock_guard<std::mutex> lock(modulesMutex_);
+            if (const std::vector<uint32_t>* cached = pipelineCache_.module(key)) specialized = *cached;
+        }
+        if (specialized.empty()) {
+            Result<std::vector<uint32_t>> s = specializeModule(spirv.code, spirv.bytes, values);
+            if (s.ok()) {
+                specialized = std::move(*s);
+                std::lock_guard<std::mutex> lock(modulesMutex_);
+                pipelineCache_.addModule(key, specialized);
+            } else {
+                fmt::print(stderr, "warning: {}\n", s.error().message);
+            }
+        }
+        if (!specialized.empty())
+            spirv = StageSpirv{specialized.data(), specialized.size() * sizeof(uint32_t)};
+    }
     Result<VkShaderModule> module = context_.createShaderModule(spirv.code, spirv.bytes);
     if (!module.ok()) return module.error();
     VkSpecializationInfo specialization{};
@@ -404,9 +458,9 @@ void VulkanDevice::savePipelineCache()
     fmt::print(stderr, "warning: pipeline cache not saved: {}\n", saved.error().message);
 }
 
-Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams& params)
+Result<VkPipeline*> VulkanDevice::pipelineSlot(const Dispatch& d, const RasterParams& params, Build& build)
 {
-    Build build;
+    build = Build{};
     build.materials =
         d.alphaTest && (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES);
     if (d.stage == STAGE_SETUP || d.stage == STAGE_CLUSTERS || d.stage == STAGE_RASTER_TILES ||
@@ -417,8 +471,8 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
     build.method = methodStage(d.stage) ? d.rasterMethod : uint32_t(RASTER_FIXED8);
     build.countHits =
         d.stage == STAGE_RASTER_TILES && info_.isCpu && (params.debugFlags & DEBUG_COUNT_HITS) != 0;
-    build.idsDepthOnly = d.stage == STAGE_AOVS && info_.isCpu &&
-                         (params.aovOutputs & (AOV_OUT_SURFACE | AOV_OUT_RAST)) == 0u;
+    build.idsDepthOnly =
+        d.stage == STAGE_AOVS && info_.isCpu && (params.aovOutputs & (AOV_OUT_SURFACE | AOV_OUT_RAST)) == 0u;
     if (d.stage == STAGE_SHADE && info_.isCpu) {
         build.shadeMode = params.shadingMode;
         build.shadeUses = shadeUses(params);
@@ -428,14 +482,29 @@ Result<VkPipeline> VulkanDevice::pipeline(const Dispatch& d, const RasterParams&
         return makeError(ExitCode::Usage, "unknown raster method {}", build.method);
     if (build.samples == 1 && !build.resolve && !build.linesPoints && build.method == RASTER_FIXED8 &&
         build.shadeUses == 0 && build.shadeMode == 0 && build.shadeSsaa == 0 && !build.countHits &&
-        !build.idsDepthOnly) {
-        VkPipeline& p = build.materials ? materialPipelines_[d.stage] : pipelines_[d.stage];
-        if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
-        return p;
-    }
-    VkPipeline& p = sampledPipelines_[{d.stage, build}];
-    if (p == VK_NULL_HANDLE) SR_TRY(createPipeline(d.stage, build, p));
-    return p;
+        !build.idsDepthOnly)
+        return build.materials ? &materialPipelines_[d.stage] : &pipelines_[d.stage];
+    return &sampledPipelines_[{d.stage, build}];
+}
+
+Status VulkanDevice::createPipelines(const std::vector<PipelineToMake>& wanted)
+{
+    // One at a time when there is one; else the CPU's cores each take the next pipeline not yet taken.
+    // Drivers create pipelines concurrently (the cache is internally synchronized), and on a CPU device,
+    // where creating a frame's pipelines is most of a short run, that divides the wait by the cores.
+    std::vector<Status> made(wanted.size(), okStatus());
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t i = next++; i < wanted.size(); i = next++)
+            made[i] = createPipeline(wanted[i].stage, wanted[i].build, *wanted[i].slot);
+    };
+    const size_t workers = std::min<size_t>(wanted.size(), std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> helpers;
+    for (size_t w = 1; w < workers; ++w) helpers.emplace_back(work);
+    work();
+    for (std::thread& t : helpers) t.join();
+    for (Status& m : made) SR_TRY(m);
+    return okStatus();
 }
 
 Status VulkanDevice::ensureBindings()
@@ -629,12 +698,24 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
                              stageName(d.stage), d.groups, MAX_DISPATCH_GROUPS);
     }
     if (dispatches.empty()) return okStatus();
-    std::vector<VkPipeline> bound(dispatches.size());
+    // The frame's pipelines, those it is the first to use created now, together. A dispatch of no groups
+    // (a stage the frame skips) and a CPU device's clear (buffer fills) bind none.
+    std::vector<VkPipeline*> slots(dispatches.size(), nullptr);
+    std::vector<PipelineToMake> wanted;
     for (size_t i = 0; i < dispatches.size(); ++i) {
-        Result<VkPipeline> p = pipeline(dispatches[i], params);
-        if (!p.ok()) return p.error();
-        bound[i] = *p;
+        if (dispatches[i].groups == 0 || (dispatches[i].stage == STAGE_CLEAR && info_.isCpu)) continue;
+        Build build;
+        Result<VkPipeline*> slot = pipelineSlot(dispatches[i], params, build);
+        if (!slot.ok()) return slot.error();
+        slots[i] = *slot;
+        bool listed = std::any_of(wanted.begin(), wanted.end(),
+                                  [&](const PipelineToMake& w) { return w.slot == *slot; });
+        if (**slot == VK_NULL_HANDLE && !listed) wanted.push_back({dispatches[i].stage, build, *slot});
     }
+    SR_TRY(createPipelines(wanted));
+    std::vector<VkPipeline> bound(dispatches.size(), VK_NULL_HANDLE);
+    for (size_t i = 0; i < dispatches.size(); ++i)
+        if (slots[i]) bound[i] = *slots[i];
 
     const uint32_t pairs = static_cast<uint32_t>(dispatches.size());
     SR_TRY(context_.ensureQueryPool(2 * pairs));
@@ -653,7 +734,7 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     for (size_t i = 0; i < dispatches.size(); ++i) {
         const Dispatch& d = dispatches[i];
         const uint32_t first = static_cast<uint32_t>(2 * i);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound[i]);
+        if (bound[i] != VK_NULL_HANDLE) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound[i]);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, first);
         if (d.stage == STAGE_CLEAR && info_.isCpu) {
             // On a CPU device the clear stage's stores run one scalar store per SIMD lane; the driver's
