@@ -9,10 +9,13 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "raster/raster.h"
 
@@ -567,6 +570,55 @@ TEST_P(UpdatePositionsTest, ViewsEqualScenesMadeFromEachViewsPositions)
     auto refused = session->renderViews(camera, settings, positions, request);
     ASSERT_FALSE(refused.ok());
     EXPECT_NE(refused.error().message.find("normals"), std::string::npos) << refused.error().message;
+}
+
+// The command line asks for what its files hold: `raster render` and its turntable compute the ids and
+// depth (stage aovs) only for an AOV EXR, and the PNG is the same either way.
+TEST(DeliveryToolTest, IdsAndDepthAreComputedOnlyForAnAovFile)
+{
+    bool skip = false;
+    if (!openBackend("vulkan", skip)) {
+        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        FAIL() << "no Vulkan device";
+    }
+    ScratchDir dir("sr_delivery_tool");
+    auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    auto stagesRan = [&](const std::string& statsPath) {
+        std::ifstream in(statsPath);
+        nlohmann::json stats = nlohmann::json::parse(in);
+        std::vector<std::string> names;
+        for (const auto& [name, timing] : stats.at("stages_ms").items()) names.push_back(name);
+        return names;
+    };
+    auto has = [](const std::vector<std::string>& names, const char* stage) {
+        return std::find(names.begin(), names.end(), stage) != names.end();
+    };
+    const std::string common = "render builtin -q --backend vulkan --width 64 --height 48 ";
+    ToolRun png = runTool(common + "-o " + dir.file("a.png") + " --stats " + dir.file("a.json"));
+    ASSERT_EQ(png.exitCode, 0) << png.stderrText;
+    ToolRun aov = runTool(common + "-o " + dir.file("b.png") + " --aov " + dir.file("b.exr") + " --stats " +
+                          dir.file("b.json"));
+    ASSERT_EQ(aov.exitCode, 0) << aov.stderrText;
+    EXPECT_FALSE(has(stagesRan(dir.file("a.json")), "aovs"));
+    EXPECT_TRUE(has(stagesRan(dir.file("b.json")), "aovs"));
+    EXPECT_TRUE(has(stagesRan(dir.file("a.json")), "shade"));
+    EXPECT_EQ(bytes(dir.file("a.png")), bytes(dir.file("b.png")));
+
+    const std::string turntable = common + "--frames 2 --orbit 0:90 ";
+    ToolRun frames = runTool(turntable + "-o " + dir.file("t%d.png") + " --stats " + dir.file("t%d.json"));
+    ASSERT_EQ(frames.exitCode, 0) << frames.stderrText;
+    ToolRun framesAov = runTool(turntable + "-o " + dir.file("u%d.png") + " --aov " + dir.file("u%d.exr") +
+                                " --stats " + dir.file("u%d.json"));
+    ASSERT_EQ(framesAov.exitCode, 0) << framesAov.stderrText;
+    for (int k = 0; k < 2; ++k) {
+        const std::string n = std::to_string(k);
+        EXPECT_FALSE(has(stagesRan(dir.file("t" + n + ".json")), "aovs")) << k;
+        EXPECT_TRUE(has(stagesRan(dir.file("u" + n + ".json")), "aovs")) << k;
+        EXPECT_EQ(bytes(dir.file("t" + n + ".png")), bytes(dir.file("u" + n + ".png"))) << k;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, UpdatePositionsTest, ::testing::Values("vulkan", "cuda"),

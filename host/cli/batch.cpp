@@ -530,7 +530,9 @@ private:
             // warmup and repeat as the job says (`raster batch` defaults warmup to 0: a warm-up run would
             // change nothing in the images).
             RenderSettings s = job.options.resolved();
+            // The ids and depth (stage aovs) and the surface channels only for a job with an EXR.
             s.surfaceAovs = !f.aov.empty();
+            s.outputs = f.aov.empty() ? OUTPUT_COLOR : OUTPUT_IMAGES;
             s.download = f.aov.empty() ? ImageDownload::Colour : ImageDownload::All;
             const auto renderStart = Clock::now();
             std::string frameSpec = job.options.camera;

@@ -152,8 +152,10 @@ Status runRender(RenderCommand& cmd)
                 return makeError(ExitCode::Usage, "{} {} would overwrite the scene", label,
                                  quotedInput(path));
 
-    // The surface channels cost a host pass over the frame: only for an EXR that will hold them.
+    // The surface channels cost a host pass over the frame, and the ids and depth a pass on the device
+    // (stage aovs): only for an EXR that will hold them.
     s.surfaceAovs = !cmd.aovPath.empty();
+    s.outputs = cmd.aovPath.empty() ? OUTPUT_COLOR : OUTPUT_IMAGES;
     SR_TRY(checkAovSamples(s, !cmd.aovPath.empty(), "--aov-samples", "--aov FILE"));
 
     // A malformed target, camera or frame pattern is reported before anything is loaded or rendered.

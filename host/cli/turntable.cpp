@@ -92,8 +92,10 @@ Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera came
     RenderSettings settings = render.resolved();
     auto model = parseModelSpec(render.model);
     if (!model) return model.error();
-    // The surface channels cost a host pass over the frame: only for EXRs that will hold them.
+    // The surface channels cost a host pass over the frame, and the ids and depth a pass on the device
+    // (stage aovs): only for EXRs that will hold them.
     settings.surfaceAovs = options.hasAov;
+    settings.outputs = options.hasAov ? OUTPUT_IMAGES : OUTPUT_COLOR;
     TurntableResult result;
     result.triangles = session.scene().triangleCount();
     for (uint32_t k = 0; k < options.frames; ++k) {
