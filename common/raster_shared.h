@@ -130,6 +130,7 @@ SR_NAMESPACE_BEGIN
 // shared/stages.h (C++ and CUDA only, included at the end of this file).
 
 #define GROUP_SIZE 128       // threads per group of the 1D stages
+#define SHADE_CPU_PIXELS 4   // output pixels per invocation of shade's CPU build (compute_glsl/shade.comp)
 #define CLEAR_SPAN 8         // elements each clear thread resets, GROUP_SIZE apart
 #define SCAN_GROUP_SIZE 256  // elements per scan block (one per thread)
 #define TILE_SIZE 8          // screen tile edge in pixels; a raster_tiles group has TILE_SIZE^2 threads

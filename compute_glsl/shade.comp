@@ -4,7 +4,9 @@
 // shader once per pixel and primitive), interpolating its vertex attributes perspective-correctly and
 // applying its material (base colour factor, texture with analytic derivatives); average the samples'
 // colours, clamped to the displayable range, in linear space (a box filter) and store RGBA8 (sRGB).
-// One invocation per output pixel; groups = ceil(outputPixels / GROUP_SIZE).
+// One invocation per output pixel, groups = ceil(outputPixels / GROUP_SIZE); the CPU build (below) takes
+// SHADE_CPU_PIXELS output pixels per invocation, groups = ceil(outputPixels / (GROUP_SIZE *
+// SHADE_CPU_PIXELS)).
 // SHADE_CPU (a preprocessor definition, 0 or 1): the build for CPU devices (CMakeLists.txt compiles this
 // shader twice). A CPU device runs every invocation as a SIMD lane, both sides of each branch, so this
 // build takes the frame's shading mode and scene features as specialization constants (buffers.glsl)
@@ -59,20 +61,16 @@ vec3 shadePrimitive(uint id, int x, int y)
 #define FRAME_SHADING_MODE params.shadingMode
 #endif
 
+// Output pixel i. The GPU build is main itself, one invocation per pixel; the CPU build's main calls it
+// for SHADE_CPU_PIXELS pixels per invocation.
+#if SHADE_CPU
+void shadeOutputPixel(uint i)
+{
+#else
 void main()
 {
-#if SHADE_CPU
-    params = frameParams;
-    params.shadingMode = SHADE_MODE;
-    params.sampleCount = SAMPLES;
-    // A loop whose trip count is only known at run time costs a CPU device one more turn, all lanes
-    // masked off, to find that every lane has left it; constant counts unroll.
-    params.ssaa = SHADE_SSAA;
-    if ((SHADE_USES & SHADE_USES_MATERIALS) == 0u) params.materialCount = 0u;
-    if ((SHADE_USES & SHADE_USES_COLORS) == 0u) params.hasColors = 0u;
-    params.uvInterpolation = (SHADE_USES & SHADE_USES_AFFINE_UV) != 0u ? UV_AFFINE : UV_PERSPECTIVE;
-#endif
     uint i = gl_GlobalInvocationID.x;
+#endif
     vec3 background = vec3(params.background.x, params.background.y, params.background.z);
     uint n = params.ssaa;
     if (!RESOLVE) {  // one sample per pixel
@@ -146,3 +144,28 @@ void main()
     }
     framebuffer[i] = encodeColor(sum * sampleWeight(n * n * SAMPLES));
 }
+
+#if SHADE_CPU
+// A CPU device runs a group's invocations as SIMD bundles, and each bundle of a dispatch costs as much
+// as a 4-byte store per lane before it does anything (an empty pass over 1920x1080 takes 11 ms on
+// llvmpipe 25.0, docs/benchmark.md). So each invocation takes SHADE_CPU_PIXELS output pixels, GROUP_SIZE
+// apart, and a bundle's lanes stay on neighbouring pixels in every turn (GroupCounts::shadePixels).
+void main()
+{
+    params = frameParams;
+    params.shadingMode = SHADE_MODE;
+    params.sampleCount = SAMPLES;
+    // A loop whose trip count is only known at run time costs a CPU device one more turn, all lanes
+    // masked off, to find that every lane has left it; constant counts unroll.
+    params.ssaa = SHADE_SSAA;
+    if ((SHADE_USES & SHADE_USES_MATERIALS) == 0u) params.materialCount = 0u;
+    if ((SHADE_USES & SHADE_USES_COLORS) == 0u) params.hasColors = 0u;
+    params.uvInterpolation = (SHADE_USES & SHADE_USES_AFFINE_UV) != 0u ? UV_AFFINE : UV_PERSPECTIVE;
+    const uint first = gl_WorkGroupID.x * uint(GROUP_SIZE * SHADE_CPU_PIXELS) + gl_LocalInvocationID.x;
+    uint k = 0u;
+    do {  // tested at the end: llvmpipe checks for live lanes there (see the resolve loop above)
+        shadeOutputPixel(first + k * uint(GROUP_SIZE));
+        ++k;
+    } while (k < uint(SHADE_CPU_PIXELS));
+}
+#endif

@@ -103,7 +103,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
         {STAGE_SCAN_SUMS, work.binBig ? 1u : 0u},
         {STAGE_BIN_FILL, work.binBig ? p.binGroups : 0u},
         {STAGE_RASTER_TILES, work.binBig ? p.rasterGroups : 0u},
-        {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE)},
+        {STAGE_SHADE, groupsFor(outputPixels, GROUP_SIZE * work.groups.shadePixels)},
     };
     // Ambient occlusion's stages run before shade, and only with GTAO: a frame without them has exactly
     // the dispatches it had before AO existed (an empty dispatch still costs its two timer events).
@@ -788,7 +788,8 @@ Status RenderSession::draw(const CameraMatrices& camera, const RenderSettings& s
 void RenderSession::startWork(const RenderSettings& settings, FrameState& f) const
 {
     f.rasterChunk = device_->info().isCpu ? std::max(32u, uint32_t(RASTER_CPU_CHUNK) / settings.msaa) : 0u;
-    f.work.groups = GroupCounts{uint32_t(f.tiles), groupsFor(capacities_.pieces, GROUP_SIZE), f.rasterChunk};
+    f.work.groups = GroupCounts{uint32_t(f.tiles), groupsFor(capacities_.pieces, GROUP_SIZE), f.rasterChunk,
+                                device_->info().isCpu ? uint32_t(SHADE_CPU_PIXELS) : 1u};
     f.work.binBig = f.work.countSplit = !settings.firstFrameSkipsBinning;
     f.work.rasterMethod = settings.rasterMethod;
     f.work.alphaTest = alphaTest_;

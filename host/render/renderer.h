@@ -39,6 +39,7 @@ struct GroupCounts {
     uint32_t raster = 0;       // raster_tiles
     uint32_t bin = 0;          // bin_count and bin_fill
     uint32_t rasterChunk = 0;  // RasterParams.rasterChunk: 0 on GPUs, bin entries per work item on a CPU
+    uint32_t shadePixels = 1;  // output pixels per shade invocation: SHADE_CPU_PIXELS on a CPU (shade.comp)
 };
 
 // Which stages a frame runs, decided from the previous frame (all of them in the first): the binning

@@ -160,7 +160,7 @@ bool pipelineCacheContents(const std::vector<unsigned char>& data, PipelineCache
             return false;
         }
         uint64_t keyBytes = get(data, at, 4);
-        std::string key(reinterpret_cast<const char*>(&data[at + 4]), keyBytes);
+        std::string key(reinterpret_cast<const char*>(data.data() + at + 4), keyBytes);
         at += 4 + keyBytes;
         uint64_t words = get(data, at, 4);
         at += 4;
