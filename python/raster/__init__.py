@@ -20,6 +20,7 @@ depth, pixel centres) and how they differ from nvdiffrast's and PyTorch3D's are 
 
 from __future__ import annotations
 
+import difflib
 import functools
 import json
 import os
@@ -446,6 +447,7 @@ class Renderer:
         for name, flag in (("surface_aovs", surface_aovs), ("on_device", on_device)):
             if not isinstance(flag, (bool, np.bool_)):
                 raise Error(f"render: {name} must be True or False, not {_shown(flag)}")
+        _check_setting_keys("render", settings)
         args = dict(_SESSION_DEFAULTS)
         args.update(settings)
         args["width"], args["height"] = width, height
@@ -473,6 +475,7 @@ class Renderer:
             raise Error(f"render_many: on_device must be True or False, not {_shown(on_device)}")
         if isinstance(cameras, (str, bytes)) or not isinstance(cameras, Sequence):
             raise Error(f"render_many: cameras must be a sequence of cameras, not {_shown(cameras)}")
+        _check_setting_keys("render_many", settings)
         args = dict(_SESSION_DEFAULTS)
         args.update(settings)
         args["width"], args["height"] = width, height
@@ -501,6 +504,24 @@ def _output_bits(outputs: Any) -> int:
             raise Error(f"render: unknown output {_shown(name)} (expected {', '.join(OUTPUTS)})")
         bits |= _OUTPUT_BITS[name]
     return bits
+
+
+def _check_setting_keys(what: str, settings: Dict[str, Any]) -> None:
+    """raster.Error for a keyword that is not a setting of the schema, naming the nearest one."""
+    keys = [s["key"] for s in SETTINGS if s["key"] not in _PARAMETERS]
+    for key in settings:
+        if key in keys:
+            continue
+        if key in _PARAMETERS:
+            raise Error(f"{what}: {key} is a parameter of its own (scene, width, height, camera), not a "
+                        f"keyword setting")
+        # Quoted as the library quotes input: the first 100 characters and the length of the rest.
+        shown = repr(key) if len(key) <= 100 else f"'{key[:100]}'... ({len(key.encode())} bytes)"
+        near = [k for k in keys if k.lower() == key.lower()]
+        if not near and len(key) <= 64:
+            near = difflib.get_close_matches(key, keys, n=1)
+        hint = f"; did you mean {near[0]!r}?" if near else " (raster.SETTINGS lists them)"
+        raise Error(f"{what}: unknown setting {shown}{hint}")
 
 
 def _setting_values(args: Dict[str, Any]) -> Dict[str, Any]:
@@ -895,3 +916,8 @@ def compare(a: Union[Frame, str, os.PathLike], b: Union[Frame, str, os.PathLike]
     if isinstance(a, Frame) or isinstance(b, Frame):
         raise Error("compare: give two Frames or two file names")
     return _raster.compare_files(os.fspath(a), os.fspath(b), *options)
+
+
+def __dir__() -> List[str]:
+    """The module's API (__all__), not the names it imports to implement it."""
+    return sorted(__all__)

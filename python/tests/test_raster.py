@@ -235,7 +235,7 @@ def test_errors_carry_the_cli_message(vulkan, tmp_path):
 def test_bad_input_raises_one_line_errors(vulkan):
     cases = [
         (lambda: raster.Renderer("metal"), "invalid backend 'metal'"),
-        (lambda: vulkan.render(raster.Scene.load("builtin"), 8, 8, no_such_setting=1), "unknown setting 'no_such_setting'"),
+        (lambda: vulkan.render(raster.Scene.load("builtin"), 8, 8, no_such_setting=1), "render: unknown setting 'no_such_setting'"),
         (lambda: vulkan.render(raster.Scene.load("builtin"), 8, 8, shading="pbr"), "shading"),
         (lambda: vulkan.render(raster.Scene.load("builtin"), 8, 8, camera=(np.eye(3), np.eye(4))), "4x4"),
         (lambda: raster.Scene.from_arrays(np.zeros((3, 2)), [[0, 1, 2]]), "positions must have shape (N, 3 or 4), not (3, 2)"),
@@ -254,6 +254,33 @@ def test_bad_input_raises_one_line_errors(vulkan):
         with pytest.raises(raster.Error) as error:
             call()
         assert text in str(error.value) and "\n" not in str(error.value)
+
+
+def test_a_mistyped_setting_names_the_nearest_one(vulkan):
+    scene = raster.Scene.load("builtin")
+    cases = [
+        (dict(shadng="phong"), "render: unknown setting 'shadng'; did you mean 'shading'?"),
+        (dict(Msaa=4), "render: unknown setting 'Msaa'; did you mean 'msaa'?"),
+        (dict(cul="none"), "render: unknown setting 'cul'; did you mean 'cull'?"),
+        (dict(xyzzy=1), "render: unknown setting 'xyzzy' (raster.SETTINGS lists them)"),
+    ]
+    for settings, message in cases:
+        with pytest.raises(raster.Error) as error:
+            vulkan.render(scene, 8, 8, **settings)
+        assert str(error.value) == message
+    with pytest.raises(raster.Error) as error:
+        vulkan.render_many(scene, 8, 8, ["auto"], texture_filtr="nearest")
+    assert str(error.value) == "render_many: unknown setting 'texture_filtr'; did you mean 'texture_filter'?"
+    # Every key the schema lists is taken as it is.
+    keys = {s["key"] for s in raster.SETTINGS} - {"width", "height", "camera"}
+    assert "shading" in keys and "cull" in keys and "texture_filter" in keys
+
+
+def test_dir_shows_the_api_alone():
+    assert dir(raster) == sorted(raster.__all__)
+    for name in ("np", "json", "os", "Any", "Dict", "dataclass", "threading"):
+        assert name not in dir(raster)
+    assert all(hasattr(raster, name) for name in raster.__all__)
 
 
 def test_every_bad_input_is_a_raster_error_naming_the_value(vulkan):
