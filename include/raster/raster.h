@@ -4,8 +4,9 @@
 //   auto device = raster::Device::open(raster::Backend::Auto);       // CUDA if present, else Vulkan
 //   auto scene = raster::Scene::load("model.gltf");                   // or Scene::fromArrays(...)
 //   raster::Settings settings;                                        // the schema's defaults
-//   settings.set("msaa", 4);                                          // any `raster render` option
-//   auto frame = raster::render(*device, *scene, raster::Camera::spec("auto"), settings);
+//   raster::Status msaa = settings.set("msaa", 4);                    // any `raster render` option
+//   if (!device || !scene || !msaa) return 1;                         // each holds its error()
+//   auto frame = raster::render(*device, *scene, raster::Camera::fromSpec("auto"), settings);
 //   // frame->color (RGBA8, sRGB), frame->id, frame->depth, frame->statsJson ...
 //
 // Errors are values: every call that can fail returns raster::Status or raster::Result<T> holding a
