@@ -294,7 +294,7 @@ TEST(Api, GraphicsReferenceAgreesWithComputeIds)
     auto graphics = raster::Device::open(raster::Backend::VulkanGraphics);
     ASSERT_TRUE(graphics.ok()) << graphics.error().message;
     EXPECT_EQ(graphics->info().backend, raster::Backend::VulkanGraphics);
-    auto scene = raster::Scene::load(std::string(SR_SOURCE_DIR) + "/assets/hierarchy.gltf");
+    auto scene = raster::Scene::load(sr::test::sourceDir() + "/assets/hierarchy.gltf");
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     raster::Settings settings;
     ASSERT_TRUE(settings.set("width", 80).ok());

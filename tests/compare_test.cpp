@@ -196,7 +196,7 @@ TEST(Compare, ToolAppliesThePairsDocumentedToleranceAndSaysWhich)
 TEST(Compare, GoldensAreKnownByTheirMetadataOrProvenance)
 {
     ScratchDir dir("sr_compare");
-    const std::string golden = std::string(SR_SOURCE_DIR) + "/tests/golden/builtin";
+    const std::string golden = sourceDir() + "/tests/golden/builtin";
     ToolRun r = runTool("render builtin --width 256 --height 192 --msaa 1 -q --backend vulkan -o " +
                         dir.file("b.png") + " --aov " + dir.file("b.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.stderrText;

@@ -31,12 +31,6 @@ void PrintTo(const GoldenScene& scene, std::ostream* os)
     *os << scene.name;
 }
 
-std::string sourceDir()
-{
-    const char* env = std::getenv("SR_SOURCE_DIR");
-    return env ? env : SR_SOURCE_DIR;
-}
-
 // A scene's arguments with @assimp (manifest shorthand for Debian's assimp-testmodels folder, which
 // SR_ASSIMP_MODELS overrides) expanded.
 std::string expandAssimp(std::string args)

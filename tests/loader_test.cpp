@@ -2633,13 +2633,7 @@ TEST(AssimpModels, ObjPointsLinesAndPointCloud)
 
 // ---- shipped assets -------------------------------------------------------------------------
 
-#ifdef SR_SOURCE_DIR
-// The checkout's root; SR_SOURCE_DIR in the environment wins for a relocated test binary.
-std::string sourceDir()
-{
-    const char* env = std::getenv("SR_SOURCE_DIR");
-    return env ? env : SR_SOURCE_DIR;
-}
+using test::sourceDir;
 
 // The hand-written files are consistent: every triangle's winding agrees with its normals.
 void expectWindingMatchesNormals(const Scene& scene)
@@ -2679,7 +2673,6 @@ TEST(Assets, ShapesObj)
     expectWindingMatchesNormals(*scene);
     EXPECT_NEAR(scene->boundsMin.y, 0.0f, 1e-6f);
 }
-#endif
 
 // ---- polygons: ear clipping (triangulate.h) ------------------------------------------------------
 

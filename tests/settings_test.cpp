@@ -70,7 +70,7 @@ TEST(SettingsSchema, DefaultsPassTheirOwnChecksAndRoundTripAsText)
 // the schema without `raster settings` pasted into the README fails here.
 TEST(SettingsSchema, ReadmeReferenceIsTheSchema)
 {
-    std::ifstream file(std::string(SR_SOURCE_DIR) + "/README.md");
+    std::ifstream file(test::sourceDir() + "/README.md");
     ASSERT_TRUE(file.good());
     std::stringstream text;
     text << file.rdbuf();

@@ -16,16 +16,12 @@
 
 #include "raster_shared.h"
 #include "render/compute_device.h"
+#include "test_util.h"
 
 namespace sr {
 namespace {
 
-// The checkout's root; SR_SOURCE_DIR in the environment wins for a relocated test binary.
-std::string sourceDir()
-{
-    const char* env = std::getenv("SR_SOURCE_DIR");
-    return env ? env : SR_SOURCE_DIR;
-}
+using test::sourceDir;
 
 std::string readFile(const std::string& path)
 {

@@ -318,6 +318,12 @@ std::string rasterExe()
     return exe ? exe : SR_RASTER_EXE;
 }
 
+std::string sourceDir()
+{
+    const char* env = std::getenv("SR_SOURCE_DIR");
+    return env && *env ? env : SR_SOURCE_DIR;
+}
+
 std::string fullDisk(size_t bytes)
 {
     const std::string exe = rasterExe();

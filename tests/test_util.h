@@ -228,6 +228,9 @@ struct ToolRun {
 ToolRun runTool(const std::string& args, const std::string& workDir = "", const std::string& wrapper = "");
 // The raster binary runTool runs: SR_RASTER_EXE from the environment (a relocated bundle) or the build's.
 std::string rasterExe();
+// The checkout's root, where the tests read assets, goldens, the README and the sources: SR_SOURCE_DIR
+// from the environment (a test binary relocated to another machine) or the one it was built from.
+std::string sourceDir();
 // runTool's wrapper for a disk that holds `bytes` per file in the run's working folder: writes past that
 // fail with ENOSPC (tests/support/full_disk.c, the library beside the raster binary).
 std::string fullDisk(size_t bytes);

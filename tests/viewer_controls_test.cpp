@@ -497,7 +497,7 @@ TEST(ViewerControls, HelpListsEveryControl)
     for (char key : std::string("mwpbrs"))
         EXPECT_NE(help.find(std::string("  ") + key + " "), std::string::npos);
     // The README lists the controls verbatim.
-    std::ifstream readme(std::string(SR_SOURCE_DIR) + "/README.md");
+    std::ifstream readme(sourceDir() + "/README.md");
     std::stringstream text;
     text << readme.rdbuf();
     EXPECT_NE(text.str().find("```\n" + help + "```\n"), std::string::npos) << "README.md lacks:\n" << help;
