@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -582,10 +581,6 @@ TEST(DeliveryToolTest, IdsAndDepthAreComputedOnlyForAnAovFile)
         FAIL() << "no Vulkan device";
     }
     ScratchDir dir("sr_delivery_tool");
-    auto bytes = [](const std::string& path) {
-        std::ifstream in(path, std::ios::binary);
-        return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    };
     auto stagesRan = [&](const std::string& statsPath) {
         std::ifstream in(statsPath);
         nlohmann::json stats = nlohmann::json::parse(in);
@@ -605,7 +600,7 @@ TEST(DeliveryToolTest, IdsAndDepthAreComputedOnlyForAnAovFile)
     EXPECT_FALSE(has(stagesRan(dir.file("a.json")), "aovs"));
     EXPECT_TRUE(has(stagesRan(dir.file("b.json")), "aovs"));
     EXPECT_TRUE(has(stagesRan(dir.file("a.json")), "shade"));
-    EXPECT_EQ(bytes(dir.file("a.png")), bytes(dir.file("b.png")));
+    EXPECT_EQ(fileBytes(dir.file("a.png")), fileBytes(dir.file("b.png")));
 
     const std::string turntable = common + "--frames 2 --orbit 0:90 ";
     ToolRun frames = runTool(turntable + "-o " + dir.file("t%d.png") + " --stats " + dir.file("t%d.json"));
@@ -617,7 +612,7 @@ TEST(DeliveryToolTest, IdsAndDepthAreComputedOnlyForAnAovFile)
         const std::string n = std::to_string(k);
         EXPECT_FALSE(has(stagesRan(dir.file("t" + n + ".json")), "aovs")) << k;
         EXPECT_TRUE(has(stagesRan(dir.file("u" + n + ".json")), "aovs")) << k;
-        EXPECT_EQ(bytes(dir.file("t" + n + ".png")), bytes(dir.file("u" + n + ".png"))) << k;
+        EXPECT_EQ(fileBytes(dir.file("t" + n + ".png")), fileBytes(dir.file("u" + n + ".png"))) << k;
     }
 }
 

@@ -25,11 +25,7 @@ using test::runTool;
 using test::ScratchDir;
 using test::ToolRun;
 
-std::vector<unsigned char> fileBytes(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
-}
+using test::fileBytes;
 
 // The builtin scene rendered on Vulkan (lavapipe on a machine without a GPU), or nothing after a skip.
 class EncoderTest : public ::testing::Test {

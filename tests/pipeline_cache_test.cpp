@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -20,11 +19,7 @@
 namespace sr {
 namespace {
 
-std::vector<unsigned char> bytesOf(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::fileBytes;
 
 void writeBytes(const std::string& path, const std::vector<unsigned char>& bytes)
 {
@@ -213,7 +208,7 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
     test::ToolRun off = render("off", dir.file("off.png"));
     ASSERT_EQ(off.exitCode, 0) << off.stderrText;
     EXPECT_EQ(off.stderrText, "");
-    const std::vector<unsigned char> reference = bytesOf(dir.file("off.png"));
+    const std::vector<unsigned char> reference = fileBytes(dir.file("off.png"));
     ASSERT_FALSE(reference.empty());
 
     // First run: the folder and the file are made, and the file is intact.
@@ -224,9 +219,9 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
     ASSERT_NE(file, "");
     EXPECT_EQ(std::filesystem::path(file).filename().string().rfind("compute-", 0), 0u) << file;
     std::string why;
-    std::vector<unsigned char> data = pipelineCacheData(bytesOf(file), why);
+    std::vector<unsigned char> data = pipelineCacheData(fileBytes(file), why);
     EXPECT_EQ(why, "");
-    EXPECT_EQ(bytesOf(dir.file("first.png")), reference);
+    EXPECT_EQ(fileBytes(dir.file("first.png")), reference);
     // A CPU device keeps its specialized modules there too (host/vulkan/spirv_specialize.h), a GPU none.
     PipelineCacheContents contents;
     ASSERT_TRUE(pipelineCacheContents(data, contents, why)) << why;
@@ -241,10 +236,10 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
     test::ToolRun second = render(folder, dir.file("second.png"));
     ASSERT_EQ(second.exitCode, 0) << second.stderrText;
     EXPECT_EQ(second.stderrText, "");
-    EXPECT_EQ(bytesOf(dir.file("second.png")), reference);
+    EXPECT_EQ(fileBytes(dir.file("second.png")), reference);
 
     // A damaged file (half of it, then garbage): one warning, the same image, and an intact file again.
-    const std::vector<unsigned char> whole = bytesOf(file);
+    const std::vector<unsigned char> whole = fileBytes(file);
     const std::vector<unsigned char> half(whole.begin(), whole.begin() + whole.size() / 2);
     for (const std::vector<unsigned char>& damage : {half, std::vector<unsigned char>(100, 0xab)}) {
         writeBytes(file, damage);
@@ -254,9 +249,9 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
             << rebuilt.stderrText;
         EXPECT_EQ(rebuilt.stderrText.rfind("warning: pipeline cache '" + file + "' not used (", 0), 0u)
             << rebuilt.stderrText;
-        EXPECT_EQ(bytesOf(dir.file("rebuilt.png")), reference);
+        EXPECT_EQ(fileBytes(dir.file("rebuilt.png")), reference);
         why.clear();
-        pipelineCacheData(bytesOf(file), why);
+        pipelineCacheData(fileBytes(file), why);
         EXPECT_EQ(why, "");
     }
 
@@ -271,11 +266,11 @@ TEST(PipelineCacheTool, WrittenReusedRebuiltAndSharedByConcurrentRuns)
     int status = std::system(("sh -c '" + command + "'").c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
     for (int i = 0; i < 4; ++i)
-        EXPECT_EQ(bytesOf(dir.file("c" + std::to_string(i) + ".png")), reference) << i;
+        EXPECT_EQ(fileBytes(dir.file("c" + std::to_string(i) + ".png")), reference) << i;
     const std::string sharedFile = onlyFile(shared);
     ASSERT_NE(sharedFile, "") << "one file, no temporaries";
     why.clear();
-    pipelineCacheData(bytesOf(sharedFile), why);
+    pipelineCacheData(fileBytes(sharedFile), why);
     EXPECT_EQ(why, "");
 }
 

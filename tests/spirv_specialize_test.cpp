@@ -2,8 +2,6 @@
 // (host/vulkan/spirv_specialize.h): the code a constant turns off is gone and the code it leaves on is
 // kept, every specialized module of every CPU build is valid SPIR-V for Vulkan 1.2, the cache keys tell
 // modules and values apart, and the raster tool draws the same bytes with and without specializing.
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <string>
@@ -168,12 +166,6 @@ TEST(SpirvSpecialize, KeysTellModulesAndValuesApart)
     EXPECT_NE(specializationKey(a.code, a.bytes, v1), specializationKey(changed.data(), a.bytes, v1));
 }
 
-std::vector<unsigned char> bytesOf(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // The frames whose pipelines take every specialization constant through its values, drawn by the raster
 // tool with the modules specialized and as built: the same bytes, colour and AOVs (ids, depth, surface).
 TEST(SpirvSpecialize, TheToolDrawsTheSameBytesWithAndWithoutSpecializing)
@@ -206,8 +198,8 @@ TEST(SpirvSpecialize, TheToolDrawsTheSameBytesWithAndWithoutSpecializing)
                 "", std::string("env RASTER_PIPELINE_CACHE=off RASTER_SPECIALIZE=") + (off ? "off" : "on"));
             ASSERT_EQ(run.exitCode, 0) << run.stderrText;
             EXPECT_EQ(run.stderrText, "");
-            images[off] = bytesOf(stem + ".png");
-            aovs[off] = bytesOf(stem + ".exr");
+            images[off] = test::fileBytes(stem + ".png");
+            aovs[off] = test::fileBytes(stem + ".exr");
             ASSERT_FALSE(images[off].empty());
             ASSERT_FALSE(aovs[off].empty());
         }

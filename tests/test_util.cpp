@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -322,6 +323,12 @@ std::string sourceDir()
 {
     const char* env = std::getenv("SR_SOURCE_DIR");
     return env && *env ? env : SR_SOURCE_DIR;
+}
+
+std::vector<unsigned char> fileBytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
 }
 
 std::string fullDisk(size_t bytes)

@@ -231,6 +231,8 @@ std::string rasterExe();
 // The checkout's root, where the tests read assets, goldens, the README and the sources: SR_SOURCE_DIR
 // from the environment (a test binary relocated to another machine) or the one it was built from.
 std::string sourceDir();
+// A file's bytes (none when it cannot be read).
+std::vector<unsigned char> fileBytes(const std::string& path);
 // runTool's wrapper for a disk that holds `bytes` per file in the run's working folder: writes past that
 // fail with ENOSPC (tests/support/full_disk.c, the library beside the raster binary).
 std::string fullDisk(size_t bytes);

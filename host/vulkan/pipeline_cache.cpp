@@ -203,7 +203,6 @@ Status PipelineCache::open(VkDevice device, const std::string& path)
         } else {
             why = file.error().message;
         }
-        if (!why.empty()) contents = {};
         // A file an earlier raster wrote is replaced without a word: nothing is wrong with it.
         if (file && olderPipelineCacheFormat(*file)) why.clear();
         if (!why.empty())
