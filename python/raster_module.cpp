@@ -282,6 +282,65 @@ raster::Frame comparable(const FrameHolder& h)
     return f;
 }
 
+// Frame.save: the file `raster render` writes for the path's extension (.png: -o, .exr: --aov, .json:
+// --stats), byte for byte, whole or not at all.
+void saveFrame(const FrameHolder& h, const std::string& path, const std::string& pngCompression,
+               const std::string& exrCompression)
+{
+    std::string ext = path.size() >= 5 ? path.substr(path.size() - 5) : path;
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    auto endsIn = [&](const std::string& e) {
+        return ext.size() >= e.size() && ext.compare(ext.size() - e.size(), e.size(), e) == 0;
+    };
+    if (!endsIn(".png") && !endsIn(".exr") && !endsIn(".json"))
+        throw RasterError(
+            "save: the path must end in .png (the colour), .exr (the AOVs) or .json (the "
+            "statistics), not '" +
+            path + "'");
+    if (h.targets.onDevice)
+        throw RasterError(
+            "save: the images are in GPU memory (on_device=True); render with on_device=False to "
+            "save them");
+    const raster::Frame f = comparable(h);
+    const size_t pixels = size_t(f.width) * f.height;
+    raster::FileOptions options{pngCompression, exrCompression};
+    // The library names the encoders by its fields; Python callers gave keywords.
+    auto saved = [](const raster::Status& status) {
+        if (status) return;
+        std::string message = "save: " + status.error().message;
+        for (const auto& [from, to] :
+             {std::pair<std::string, std::string>{"pngCompression", "png_compression"},
+              {"exrCompression", "exr_compression"}})
+            for (size_t at = message.find(from); at != std::string::npos; at = message.find(from, at))
+                message.replace(at, from.size(), to);
+        throw RasterError(message);
+    };
+    if (endsIn(".png")) {
+        if (f.color.size() != 4 * pixels)
+            throw RasterError("save: the frame has no colour image (render with outputs including 'color')");
+        saved(raster::writePng(f, path, options));
+    } else if (endsIn(".exr")) {
+        if (f.id.size() != pixels || f.depth.size() != pixels)
+            throw RasterError(
+                "save: an .exr holds the ids and depth, which the frame lacks (render with outputs including "
+                "'ids' and 'depth')");
+        saved(raster::writeExr(f, path, options));
+    } else {
+        if (f.statsJson.empty()) throw RasterError("save: the frame has no statistics");
+        // Whole or not at all: a temporary file beside it, renamed into place.
+        const std::string text = f.statsJson + "\n";
+        const std::string temporary = path + ".tmp-save";
+        FILE* file = std::fopen(temporary.c_str(), "wb");
+        if (!file) throw RasterError("save: cannot write '" + path + "': " + std::strerror(errno));
+        const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+        if (std::fclose(file) != 0 || !written || std::rename(temporary.c_str(), path.c_str()) != 0) {
+            const std::string why = std::strerror(errno);
+            std::remove(temporary.c_str());
+            throw RasterError("save: cannot write '" + path + "': " + why);
+        }
+    }
+}
+
 // An image a frame wrote in place (FrameHolder::targets): a numpy view of host memory, or a DeviceArray
 // of GPU memory, either keeping the frame alive.
 py::object image(const py::object& owner, void* data, std::vector<int64_t> shape, char kind, int bytes)
@@ -854,7 +913,9 @@ PYBIND11_MODULE(_raster, m)
         .def_property_readonly("gpu_ms", [](const FrameHolder& h) { return h.frame.gpuMs; })
         .def_property_readonly("stats_json", [](const FrameHolder& h) { return h.frame.statsJson; })
         .def_property_readonly("device", [](const FrameHolder& h) { return deviceDict(h.frame.device); })
-        .def_property_readonly("warnings", [](const FrameHolder& h) { return h.frame.warnings; });
+        .def_property_readonly("warnings", [](const FrameHolder& h) { return h.frame.warnings; })
+        .def("save", &saveFrame, py::arg("path"), py::kw_only(), py::arg("png_compression") = "",
+             py::arg("exr_compression") = "");
 
     py::class_<DeviceArray>(m, "DeviceArray")
         .def_property_readonly("shape",

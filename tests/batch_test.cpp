@@ -24,7 +24,7 @@
 #include "batch/manifest.h"
 #include "batch/outputs.h"
 #include "batch/shard.h"
-#include "cli/batch.h"
+#include "batch/batch_runner.h"
 #include "io/image_io.h"
 #include "settings/schema.h"
 #include "test_util.h"

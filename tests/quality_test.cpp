@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/study.h"
+#include "study/study_runner.h"
 #include "study/quality.h"
 #include "test_util.h"
 

@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/study.h"
+#include "study/study_runner.h"
 #include "study/ao.h"
 #include "study/scenes.h"
 #include "test_util.h"

@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/study.h"
+#include "study/study_runner.h"
 #include "render/tessellate.h"
 #include "scene/camera.h"
 #include "study/scenes.h"

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/turntable.h"
+#include "batch/turntable.h"
 #include "io/image_io.h"
 #include "test_util.h"
 

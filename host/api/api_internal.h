@@ -1,10 +1,12 @@
-// api_internal.h - what the public API's handles hold, for the front ends inside this project (the
-// command line, batch, the viewer) that also reach the pipeline below the API. Not installed.
+// api_internal.h - what the public API's handles hold, and raster::Internal, the one way in to them: for
+// the library's own files and the front ends inside this project (the command line's scenes of the study,
+// --quality, the turntable). Not installed.
 #ifndef RASTER_API_INTERNAL_H
 #define RASTER_API_INTERNAL_H
 
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "raster/raster.h"
 
@@ -22,6 +24,10 @@ struct raster::Device::Impl {
 struct raster::Scene::Impl {
     sr::Scene scene;
     std::vector<std::string> warnings;  // of loading or making it
+    // What the frames' statistics call the scene (the path it was loaded from; "arrays" for fromArrays),
+    // and the camera it comes with, which the auto camera then means (a study scene's own framing).
+    std::string name = "arrays";
+    std::optional<sr::CameraMatrices> ownCamera;
     // Scene::fromArrays's record of the arrays, for updatePositions: the arrays' vertex each scene vertex
     // copies (flat normals give every triangle corners of its own), their count and width, whether
     // the normals are the triangles' own; positionsVersion counts updates, for the sessions.
@@ -48,9 +54,25 @@ struct raster::Session::Impl {
     bool drawnWireframe = false;
     std::optional<sr::RenderSession> session;  // compute backends: the uploaded scene and its buffers
     uint64_t positionsVersion = 0;             // Scene::Impl::positionsVersion the session drew last
+    std::string warnedView;                    // the camera, model, shading and size last warned about
 };
 
 namespace raster {
+
+struct Internal {
+    static Device::Impl& of(const Device& device) { return *device.impl_; }
+    static Scene::Impl& of(const Scene& scene) { return *scene.impl_; }
+    static Settings::Impl& of(const Settings& settings) { return *settings.impl_; }
+    static Session::Impl& of(const Session& session) { return *session.impl_; }
+    // A scene made below the API (the study's scenes), named `name`, framed by `ownCamera` under the auto
+    // camera when it has one.
+    static Scene makeScene(sr::Scene scene, std::string name, std::optional<sr::CameraMatrices> ownCamera);
+    static Settings makeSettings(const sr::RenderOptions& options);
+    // The scene as a frame with `settings` draws it (its lines, points or overlay) and the camera's
+    // matrices there, as Session::render resolves them: for --quality, which measures that view.
+    static Result<std::pair<sr::Scene, sr::CameraMatrices>> view(const Scene& scene, const Camera& camera,
+                                                                 const Settings& settings);
+};
 
 // The public error of an internal one, and back.
 Error toPublic(const sr::Error& error);

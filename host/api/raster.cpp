@@ -15,6 +15,8 @@
 
 #include "api/api_internal.h"
 #include "api/backend.h"
+#include "api/frame_files.h"
+#include "api/front_end.h"
 #include "api/stats_json.h"
 #include "base/warnings.h"
 #include "io/compare.h"
@@ -177,7 +179,24 @@ Result<Scene> Scene::load(const std::string& path)
     auto impl = std::make_unique<Impl>();
     impl->scene = std::move(*scene);
     impl->warnings = capture.take();
+    impl->name = path;
     return Scene(std::move(impl));
+}
+
+Scene Internal::makeScene(sr::Scene scene, std::string name, std::optional<sr::CameraMatrices> ownCamera)
+{
+    auto impl = std::make_unique<Scene::Impl>();
+    impl->scene = std::move(scene);
+    impl->name = std::move(name);
+    impl->ownCamera = ownCamera;
+    return Scene(std::move(impl));
+}
+
+Settings Internal::makeSettings(const sr::RenderOptions& options)
+{
+    Settings settings;
+    settings.impl_->options = options;
+    return settings;
 }
 
 namespace {
@@ -321,7 +340,7 @@ Memory::Memory(std::shared_ptr<void> data, size_t size, Where where)
 Result<Memory> Memory::allocate(Device& device, size_t bytes, Where where)
 {
     const bool onDevice = where == Where::Device;
-    if (!device.impl().compute) {
+    if (!Internal::of(device).compute) {
         if (onDevice) return usage("memory on the device needs a CUDA device, not vulkan-graphics");
         auto data = std::shared_ptr<void>(::operator new(bytes == 0 ? 1 : bytes, std::nothrow),
                                           [](void* p) { ::operator delete(p); });
@@ -329,7 +348,7 @@ Result<Memory> Memory::allocate(Device& device, size_t bytes, Where where)
             return Error{ErrorKind::Runtime, fmt::format("cannot allocate {} bytes of host memory", bytes)};
         return Memory(std::move(data), bytes, where);
     }
-    auto data = device.impl().compute->allocateMemory(onDevice, bytes);
+    auto data = Internal::of(device).compute->allocateMemory(onDevice, bytes);
     if (!data) return toPublic(data.error());
     return Memory(std::move(*data), bytes, where);
 }
@@ -495,18 +514,34 @@ glm::mat4 toMat4(const std::array<float, 16>& m)
     return out;
 }
 
+// The spec a camera asks for: its own, or the settings' under "auto" ("" for explicit matrices).
+std::string cameraSpecText(const Camera& camera, const sr::RenderOptions& options)
+{
+    if (camera.explicitMatrices) return "";
+    return camera.spec == "auto" ? options.camera : camera.spec;
+}
+
+// Whether the frame is framed by the scene's own camera: the auto camera of a scene that has one.
+bool usesOwnCamera(const Camera& camera, const sr::RenderOptions& options, const Scene::Impl& scene)
+{
+    if (!scene.ownCamera || camera.explicitMatrices) return false;
+    auto spec = sr::parseCameraSpec(cameraSpecText(camera, options));
+    return spec && spec->kind == sr::CameraSpec::Kind::Auto;
+}
+
 // The matrices of `camera` for this scene and image, looking at the scene moved by the model setting: a
 // spec resolved as `raster render --camera --model` does, or explicit matrices with the depth range they
 // encode (perspective: the last column is (0, 0, -1, 0); otherwise orthographic) times the model matrix.
 Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::RenderOptions& options,
-                                          const sr::Scene& scene)
+                                          const sr::Scene& scene, const Scene::Impl& record)
 {
     const sr::RenderSettings& s = options.settings;
     auto model = sr::parseModelSpec(options.model);
     if (!model) return toPublic(model.error());
+    if (usesOwnCamera(camera, options, record))
+        return sr::withModel(*record.ownCamera, *model, sr::boundingSphere(scene).center);
     if (!camera.explicitMatrices) {
-        const std::string& text = camera.spec == "auto" ? options.camera : camera.spec;
-        auto spec = sr::parseCameraSpec(text);
+        auto spec = sr::parseCameraSpec(cameraSpecText(camera, options));
         if (!spec) return toPublic(spec.error());
         auto m = sr::resolveCamera(*spec, scene, s.width, s.height, *model);
         if (!m) return toPublic(m.error());
@@ -542,7 +577,8 @@ bool littleEndian()
 }
 
 Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,
-              const std::string& sceneName, const sr::Scene& scene, const RenderRequest& request)
+              const std::string& sceneName, const std::string& resolvedCamera, const sr::Scene& scene,
+              const RenderRequest& request)
 {
     Frame f;
     f.width = out.color.width;
@@ -579,7 +615,9 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.sampleId = std::move(out.samples.id);
     f.sampleDepth = std::move(out.samples.depth);
     f.gpuMs = out.total.medianMs;
-    if (request.stats) f.statsJson = sr::statsJson(out, options, sceneName).dump(2);
+    for (const sr::StageTiming& t : out.stages) f.stages.push_back({t.name, t.minMs, t.medianMs, t.maxMs});
+    f.stages.push_back({"total", out.total.minMs, out.total.medianMs, out.total.maxMs});
+    if (request.stats) f.statsJson = sr::statsJson(out, options, sceneName, resolvedCamera).dump(2);
     f.device = device;
     return f;
 }
@@ -596,8 +634,8 @@ Session::~Session() = default;
 Result<Session> Session::create(Device& device, const Scene& scene)
 {
     auto impl = std::make_unique<Impl>();
-    impl->device = &device.impl();
-    impl->scene = &scene.impl();
+    impl->device = &Internal::of(device);
+    impl->scene = &Internal::of(scene);
     if (impl->device->compute) {
         auto session = sr::RenderSession::create(*impl->device->compute, impl->scene->scene);
         if (!session) return toPublic(session.error());
@@ -609,11 +647,22 @@ Result<Session> Session::create(Device& device, const Scene& scene)
     return Session(std::move(impl));
 }
 
+Result<std::pair<sr::Scene, sr::CameraMatrices>> Internal::view(const Scene& scene, const Camera& camera,
+                                                                const Settings& settings)
+{
+    const sr::RenderOptions& options = settings.impl_->options;
+    const Scene::Impl& record = *scene.impl_;
+    sr::Scene drawn = sr::displayScene(record.scene, options.primitiveMode, options.wireframe);
+    auto matrices = cameraMatrices(camera, options, drawn, record);
+    if (!matrices) return matrices.error();
+    return std::pair<sr::Scene, sr::CameraMatrices>(std::move(drawn), *matrices);
+}
+
 Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
 {
     sr::WarningCapture capture;  // the frame's warnings go to Frame::warnings, not to stderr
     Impl& self = *impl_;
-    const sr::RenderOptions& options = settings.impl().options;
+    const sr::RenderOptions& options = Internal::of(settings).options;
     const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
     const ImageTargets& t = request.targets;
     const uint32_t targeted = (t.color ? sr::OUTPUT_COLOR : 0u) | (t.id ? sr::OUTPUT_ID : 0u) |
@@ -624,6 +673,8 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     // Positions moved in place (Scene::updatePositions): the session uploads them again; a derived scene
     // (lines, points, the overlay) is derived again.
     const bool moved = self.scene->positionsVersion != self.positionsVersion;
+    if (moved || options.primitiveMode != self.drawnMode || options.wireframe != self.drawnWireframe)
+        self.warnedView.clear();
     self.positionsVersion = self.scene->positionsVersion;
     if (moved && plain && self.session) {
         auto status = self.session->positionsChanged(self.scene->flatNormals);
@@ -645,9 +696,21 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
         if (!session) return toPublic(session.error());
         self.session.emplace(std::move(*session));
     }
-    auto matrices = cameraMatrices(camera, options, scene);
+    auto matrices = cameraMatrices(camera, options, scene, *self.scene);
     if (!matrices) return matrices.error();
     sr::RenderSettings s = options.resolved();
+    // What would make the image plain without the caller knowing why, for cameras given as specs (the
+    // command line's, a viewer's): once per camera and shading, as the eye test may walk every triangle.
+    if (!camera.explicitMatrices) {
+        const std::string key = cameraSpecText(camera, options) + "|" + options.model + "|" +
+                                std::to_string(s.shadingMode) + "|" + std::to_string(s.width) + "x" +
+                                std::to_string(s.height);
+        if (key != self.warnedView) {
+            self.warnedView = key;
+            for (std::string& warning : sr::viewWarnings(scene, *matrices, s))
+                sr::warnLine(std::move(warning));
+        }
+    }
     s.surfaceAovs = request.surfaceAovs;
     s.outputs = ((request.outputs & OutputColor) ? sr::OUTPUT_COLOR : 0u) |
                 ((request.outputs & OutputId) ? sr::OUTPUT_ID : 0u) |
@@ -695,7 +758,17 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     if (!(request.outputs & OutputColor)) out->color.pixels.clear();
     if (!(request.outputs & OutputId)) out->aov.id.clear();
     if (!(request.outputs & OutputDepth)) out->aov.depth.clear();
-    auto frame = toFrame(*out, options, self.device->info, "api", scene, request);
+    // The statistics echo the camera the frame used (a spec given here replaces the settings' one) and
+    // name it in absolute scene units; explicit matrices and a scene's own camera are in the matrices.
+    sr::RenderOptions echoed = options;
+    std::string resolved;
+    if (!camera.explicitMatrices) {
+        echoed.camera = cameraSpecText(camera, options);
+        auto spec = sr::parseCameraSpec(echoed.camera);
+        if (spec && !usesOwnCamera(camera, options, *self.scene))
+            resolved = sr::resolvedCameraSpec(*spec, scene, s.width, s.height);
+    }
+    auto frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request);
     frame.warnings = capture.take();
     return frame;
 }
@@ -749,7 +822,7 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
     sr::WarningCapture capture;
     Impl& self = *impl_;
     const Scene::Impl& scene = *self.scene;
-    const sr::RenderOptions& options = settings.impl().options;
+    const sr::RenderOptions& options = Internal::of(settings).options;
     if (!scene.fromArrays || scene.flatNormals)
         return usage(
             "views need a scene made from arrays with normals (flat normals would not follow the "
@@ -759,7 +832,7 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
         return usage("views: positions on the device need 4 components per vertex");
     auto targets = batchSession(self, options, request, "views");
     if (!targets) return targets.error();
-    auto matrices = cameraMatrices(camera, options, scene.scene);
+    auto matrices = cameraMatrices(camera, options, scene.scene, scene);
     if (!matrices) return matrices.error();
     // The device holds a vec4 per vertex: three components are widened on the host first.
     const size_t vertices = scene.sourceVertexCount;
@@ -788,12 +861,12 @@ Result<ViewsReport> Session::renderMany(const std::vector<Camera>& cameras, cons
 {
     sr::WarningCapture capture;
     Impl& self = *impl_;
-    const sr::RenderOptions& options = settings.impl().options;
+    const sr::RenderOptions& options = Internal::of(settings).options;
     auto targets = batchSession(self, options, request, "frames of many cameras");
     if (!targets) return targets.error();
     std::vector<sr::CameraMatrices> matrices;
     for (const Camera& camera : cameras) {
-        auto m = cameraMatrices(camera, options, self.scene->scene);
+        auto m = cameraMatrices(camera, options, self.scene->scene, *self.scene);
         if (!m) return m.error();
         matrices.push_back(*m);
     }
@@ -819,7 +892,7 @@ Result<InterpolateReport> interpolate(const InterpolateArrays& a, Device* device
         return usage("interpolate: an array is missing");
     InterpolateReport report;
     if (a.onDevice) {
-        if (device == nullptr || !device->impl().compute)
+        if (device == nullptr || !Internal::of(*device).compute)
             return usage("interpolate: arrays on the device need a CUDA device");
         sr::InterpolateJob job;
         job.attr = a.attr;
@@ -833,7 +906,7 @@ Result<InterpolateReport> interpolate(const InterpolateArrays& a, Device* device
         job.triangleCount = a.triangleCount;
         job.out = a.out;
         job.waitStream = a.stream;
-        auto status = device->impl().compute->interpolate(job, report.badPixel, report.badTriangle);
+        auto status = Internal::of(*device).compute->interpolate(job, report.badPixel, report.badTriangle);
         if (!status) return toPublic(status.error());
         return report;
     }
@@ -893,60 +966,13 @@ CompareReport toPublic(const sr::CompareReport& r, const sr::CompareTolerance& t
     return p;
 }
 
-sr::RgbaImage colorImage(const Frame& f)
-{
-    sr::RgbaImage image;
-    image.width = f.width;
-    image.height = f.height;
-    image.pixels.assign(f.color.size() / 4, 0u);
-    for (size_t i = 0; i < image.pixels.size(); ++i)
-        for (size_t c = 0; c < 4; ++c) image.pixels[i] |= uint32_t(f.color[4 * i + c]) << (8 * c);
-    return image;
-}
-
-// A frame's AOVs in the layout of the EXR `raster render --aov` writes (planes, samples per pixel).
-sr::AovImage aovImage(const Frame& f)
-{
-    sr::AovImage aov;
-    aov.width = f.width;
-    aov.height = f.height;
-    aov.id = f.id;
-    aov.depth = f.depth;
-    const size_t n = size_t(f.width) * f.height;
-    if (f.ao.size() == n) aov.ao = f.ao;
-    if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
-        for (auto* plane :
-             {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
-            plane->resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            aov.baryU[i] = f.bary[2 * i];
-            aov.baryV[i] = f.bary[2 * i + 1];
-            aov.uvU[i] = f.uv[2 * i];
-            aov.uvV[i] = f.uv[2 * i + 1];
-            aov.normalX[i] = f.normal[3 * i];
-            aov.normalY[i] = f.normal[3 * i + 1];
-            aov.normalZ[i] = f.normal[3 * i + 2];
-        }
-    }
-    if (!f.sampleId.empty() && f.width > 0) {
-        sr::SampleAovs samples;
-        samples.rasterWidth = f.rasterWidth;
-        samples.rasterHeight = f.rasterHeight;
-        samples.samples = f.samples;
-        samples.id = f.sampleId;
-        samples.depth = f.sampleDepth;
-        sr::fillSampleAovs(samples, f.rasterWidth / f.width, aov);
-    }
-    return aov;
-}
-
 }  // namespace
 
 Result<CompareReport> compare(const Frame& a, const Frame& b, bool aov, const CompareOptions& options)
 {
     const sr::CompareTolerance t = tolerance(options);
-    auto report =
-        aov ? sr::compareAov(aovImage(a), aovImage(b), t) : sr::compareColor(colorImage(a), colorImage(b), t);
+    auto report = aov ? sr::compareAov(sr::aovImage(a), sr::aovImage(b), t)
+                      : sr::compareColor(sr::colorImage(a), sr::colorImage(b), t);
     if (!report) return toPublic(report.error());
     return toPublic(*report, t);
 }
@@ -957,6 +983,72 @@ Result<CompareReport> compareFiles(const std::string& a, const std::string& b, c
     auto report = sr::compareFiles(a, b, t);
     if (!report) return toPublic(report.error());
     return toPublic(*report, t);
+}
+
+// ---- files ------------------------------------------------------------------------------------
+
+namespace {
+
+Result<sr::ImageEncoding> encoding(const FileOptions& options)
+{
+    sr::ImageEncoding e;
+    if (!options.pngCompression.empty()) {
+        auto png = sr::parsePngCompression(options.pngCompression, "pngCompression");
+        if (!png) return raster::toPublic(png.error());
+        e.png = *png;
+    }
+    if (!options.exrCompression.empty()) {
+        auto exr = sr::parseExrCompression(options.exrCompression, "exrCompression");
+        if (!exr) return raster::toPublic(exr.error());
+        e.exr = *exr;
+    }
+    return e;
+}
+
+// One file of the frame, written whole or not at all, after its extension and the frame's images are
+// checked: what `raster render` writes for -o, --aov or --stats.
+Status writeFrameFile(const Frame& frame, const std::string& path, const FileOptions& options,
+                      const char* what, const char* extension)
+{
+    auto e = encoding(options);
+    if (!e) return e.error();
+    std::string lower = path;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = extension;
+    if (lower.size() < ext.size() || lower.compare(lower.size() - ext.size(), ext.size(), ext) != 0)
+        return usage(fmt::format("{}: {} does not end in {}", what, sr::quotedInput(path), ext));
+    const size_t pixels = size_t(frame.width) * frame.height;
+    sr::OutputPaths paths;
+    if (ext == ".png") {
+        if (frame.color.size() != 4 * pixels)
+            return usage(
+                fmt::format("{}: the frame has no colour (render with outputs including OutputColor)", what));
+        paths.png = path;
+    } else {
+        if (frame.id.size() != pixels || frame.depth.size() != pixels)
+            return usage(fmt::format(
+                "{}: the frame has no ids and depth (render with outputs including OutputId and OutputDepth)",
+                what));
+        paths.aov = path;
+    }
+    sr::FileGroup files;
+    auto staged = sr::stageFrame(files, frame, paths, *e);
+    if (!staged) return raster::toPublic(staged.error());
+    auto committed = files.commit();
+    if (!committed) return raster::toPublic(committed.error());
+    return Status();
+}
+
+}  // namespace
+
+Status writePng(const Frame& frame, const std::string& path, const FileOptions& options)
+{
+    return writeFrameFile(frame, path, options, "writePng", ".png");
+}
+
+Status writeExr(const Frame& frame, const std::string& path, const FileOptions& options)
+{
+    return writeFrameFile(frame, path, options, "writeExr", ".exr");
 }
 
 Result<Frame> render(Device& device, const Scene& scene, const Camera& camera, const Settings& settings,

@@ -1,22 +1,6 @@
-// main.cpp - the `raster` command line. The only place where errors become messages and exit codes.
-//
-//   raster render [SCENE] [--backend auto|cuda|vulkan|vulkan-graphics] [--device N] [-o out.png|out.npy]
-//                 [--aov out.exr] [--stats out.json] [--frames N --orbit AZ0:AZ1[)]] [-q]
-//                 [--png-compression fast|default|small] [--exr-compression none|rle|zips|zip|piz]
-//                 [--quality psnr:N [--study FILE]] [SETTINGS: every option of `raster settings`]
-//   raster compare A B [-o diff.png] [--tolerance LSB] [--max-id-mismatches N] [--depth-tolerance D]
-//                  [--max-fraction F]
-//   raster bench [--backends cuda,vulkan,vulkan-graphics] [--resolutions 1920x1080,...] [--scenes ...]
-//                [--msaa 1,4,8] [--triangles N] [--dense-rings N] [--bunny PATH] [--warmup N] [--repeat N]
-//                [--json F]
-//   raster study [--backends vulkan,cuda] [--width W --height H] [--stress-size N] [--axes ...]
-//                [--methods fixed8,fixed4,float,scanline] [--scenes ...] [--bunny PATH] [--warmup N]
-//                [--repeat N] [--lod-scenes sphere,bunny,bunny-fine] [--lod-errors E,...] [--lod-rings N]
-//                [--ao-scenes builtin,bunny-plane,stress-grazing,stress-near] [--json F]
-//   raster batch MANIFEST [--backend auto|cuda|vulkan] [--devices all|0,1,...] [--shard i/N] [--force]
-//                [--io-threads N] [--queue N] [--summary F] [--png-compression C] [--exr-compression C]
-//                [SETTINGS as defaults under the manifest's]
-//   raster settings [--format markdown|json]
+// main.cpp - the `raster` command line: it parses the arguments and calls one function per subcommand
+// (cli/commands.h lists them: `raster commands`). The only place where errors become messages and exit
+// codes.
 #include <algorithm>
 #include <cstdio>
 #include <optional>
@@ -29,277 +13,24 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "api/api_internal.h"
-#include "api/backend.h"
+#include "bench/bench_runner.h"
 #include "cli/batch.h"
-#include "cli/bench.h"
+#include "cli/commands.h"
 #include "cli/options.h"
-#include "cli/outputs.h"
-#include "cli/study.h"
-#include "cli/turntable.h"
+#include "cli/render.h"
 #include "cli/usage_errors.h"
-#include "cli/view.h"
-#include "study/quality.h"
-#include "scene/camera.h"
-#include "scene/primitive_mode.h"
 #include "io/compare.h"
 #include "io/file_write.h"
-#include "render/compute_device.h"
 #include "io/image_io.h"
-#include "render/aov.h"
-#include "render/renderer.h"
 #include "scene/scene.h"
 #include "settings/schema.h"
 #include "api/stats_json.h"
+#include "study/study_runner.h"
 #include "viewer/controls.h"
-#include "scene/orbit.h"
+#include "viewer/view_loop.h"
 
 namespace sr {
 namespace {
-
-struct RenderCommand {
-    std::string scenePath;
-    std::string backend = "auto";
-    int device = -1;
-    std::string output;  // -o; empty: render.png, unless --aov is given (then the EXR alone)
-    std::string aovPath;
-    std::string statsPath;
-    uint32_t frames = 0;     // --frames N: a turntable of N frames (0: one render)
-    std::string orbitRange;  // --orbit AZ0:AZ1: the turntable's azimuths
-    bool quiet = false;
-    std::string quality;    // --quality psnr:N: the settings come from the study's data (cli/study.h)
-    std::string studyPath;  // --study FILE: ... from this study JSON instead of measuring
-    std::string pngCompression, exrCompression;    // --png-compression, --exr-compression; empty: not given
-    RenderOptions options = imageRenderOptions();  // every render setting (settings/schema.h)
-};
-
-void printStageTable(const RenderOutput& out)
-{
-    fmt::print("{:<14} {:>10} {:>10} {:>10}\n", "stage (ms)", "min", "median", "max");
-    for (const StageTiming& t : out.stages)
-        fmt::print("{:<14} {:>10.4f} {:>10.4f} {:>10.4f}\n", t.name, t.minMs, t.medianMs, t.maxMs);
-    fmt::print("{:<14} {:>10.4f} {:>10.4f} {:>10.4f}\n", "total", out.total.minMs, out.total.medianMs,
-               out.total.maxMs);
-}
-
-// The turntable: one session (the scene uploaded once, the device's buffers reused), a progress line on
-// stderr when it is a terminal, one summary line.
-Status runTurntable(const RenderCommand& cmd, ComputeDevice& device, const Scene& scene,
-                    const OrbitCamera& orbit, TurntableOptions frames, const std::string& sceneName)
-{
-    const bool progress = !cmd.quiet && isatty(STDERR_FILENO);
-    if (progress)
-        frames.progress = [](uint32_t done, uint32_t total) {
-            fmt::print(stderr, "\rframe {}/{}{}", done, total, done == total ? "\n" : "");
-            std::fflush(stderr);
-        };
-    frames.sceneName = sceneName;
-    auto session = RenderSession::create(device, scene);
-    if (!session) return session.error();
-    auto result = renderTurntable(*session, orbit, cmd.options, frames);
-    if (!result) {
-        // The error line must not continue the progress line.
-        if (progress) fmt::print(stderr, "\n");
-        return result.error();
-    }
-    if (!cmd.quiet) {
-        // The first and last cameras as specs, so any frame can be rendered again on its own.
-        OrbitPose first = orbit.pose(), last = first;
-        first.azimuthDeg = turntableAzimuth(frames.azimuth, 0, frames.frames);
-        last.azimuthDeg = turntableAzimuth(frames.azimuth, frames.frames - 1, frames.frames);
-        const std::vector<double>& ms = result->frameGpuMs;
-        fmt::print(
-            "{}: {} frame{} from --camera {} to {}: {}x{} on {} ({}), {} triangles, GPU ms per frame min "
-            "{:.4f} median {:.4f} max {:.4f}\n",
-            cmd.output.empty() ? cmd.aovPath : cmd.output, frames.frames, frames.frames == 1 ? "" : "s",
-            orbitSpecString(first), orbitSpecString(last), cmd.options.settings.width,
-            cmd.options.settings.height, result->device.backend, result->device.name, result->triangles,
-            *std::min_element(ms.begin(), ms.end()), median(ms), *std::max_element(ms.begin(), ms.end()));
-    }
-    return okStatus();
-}
-
-Status runRender(RenderCommand& cmd)
-{
-    // An EXR asked for alone is the only output: no render.png appears beside it unasked.
-    if (cmd.output.empty() && cmd.aovPath.empty()) cmd.output = "render.png";
-    RenderSettings s = cmd.options.resolved();
-    // Each output in its format and a file of its own, before anything is loaded or rendered.
-    SR_TRY(checkColorExtension("-o", cmd.output));
-    SR_TRY(checkOutputNames(
-        {{"-o", cmd.output, ""}, {"--aov", cmd.aovPath, ".exr"}, {"--stats", cmd.statsPath, ""}}));
-    // An encoder setting is for a file it encodes: one given without that file would change nothing.
-    ImageEncoding encoding;
-    if (!cmd.pngCompression.empty()) {
-        auto png = parsePngCompression(cmd.pngCompression, "--png-compression");
-        if (!png) return png.error();
-        if (cmd.output.empty() || isNpyPath(cmd.output))
-            return makeError(ExitCode::Usage, "--png-compression needs a PNG output (-o FILE.png){}",
-                             cmd.output.empty() ? "" : ", not " + quotedInput(cmd.output));
-        encoding.png = *png;
-    }
-    if (!cmd.exrCompression.empty()) {
-        auto exr = parseExrCompression(cmd.exrCompression, "--exr-compression");
-        if (!exr) return exr.error();
-        if (cmd.aovPath.empty()) return makeError(ExitCode::Usage, "--exr-compression needs --aov FILE");
-        encoding.exr = *exr;
-    }
-    if (!cmd.scenePath.empty() && cmd.scenePath.compare(0, 7, "builtin") != 0)
-        for (const auto& [label, path] : {std::pair<const char*, const std::string&>{"-o", cmd.output},
-                                          {"--aov", cmd.aovPath},
-                                          {"--stats", cmd.statsPath}})
-            if (!path.empty() && resolvedPath(path) == resolvedPath(cmd.scenePath))
-                return makeError(ExitCode::Usage, "{} {} would overwrite the scene", label,
-                                 quotedInput(path));
-
-    // The surface channels cost a host pass over the frame, and the ids and depth a pass on the device
-    // (stage aovs): only for an EXR that will hold them.
-    s.surfaceAovs = !cmd.aovPath.empty();
-    s.outputs = cmd.aovPath.empty() ? OUTPUT_COLOR : OUTPUT_IMAGES;
-    SR_TRY(checkAovSamples(s, !cmd.aovPath.empty(), "--aov-samples", "--aov FILE"));
-
-    // A malformed target, camera or frame pattern is reported before anything is loaded or rendered.
-    if (!cmd.quality.empty()) SR_TRY(parseQualityTarget(cmd.quality));
-    auto cameraSpec = parseCameraSpec(cmd.options.camera);
-    if (!cameraSpec) return cameraSpec.error();
-    auto model = parseModelSpec(cmd.options.model);
-    if (!model) return model.error();
-    const bool turntable = cmd.frames > 0;
-    TurntableOptions frames;
-    if (turntable) {
-        if (cmd.backend == "vulkan-graphics")
-            return makeError(ExitCode::Usage,
-                             "--frames renders on one compute device: use --backend auto, cuda or vulkan");
-        if (cameraSpec->kind == CameraSpec::Kind::Gltf)
-            return makeError(ExitCode::Usage,
-                             "--frames orbits the scene: use --camera auto or orbit:AZ,EL,DIST[,TX,TY,TZ]");
-        auto range = parseAzimuthRange(cmd.orbitRange);
-        if (!range) return range.error();
-        frames.frames = cmd.frames;
-        frames.azimuth = *range;
-        frames.encoding = encoding;
-        if ((frames.hasPng = !cmd.output.empty())) {
-            auto png = parseFramePattern("-o", cmd.output);
-            if (!png) return png.error();
-            frames.png = *png;
-        }
-        if ((frames.hasAov = !cmd.aovPath.empty())) {
-            auto aov = parseFramePattern("--aov", cmd.aovPath);
-            if (!aov) return aov.error();
-            frames.aov = *aov;
-        }
-        if ((frames.hasStats = !cmd.statsPath.empty())) {
-            auto stats = parseFramePattern("--stats", cmd.statsPath);
-            if (!stats) return stats.error();
-            frames.stats = *stats;
-        }
-    }
-
-    // "study:NAME" is one of the study's scenes, framed by its own camera unless --camera says otherwise
-    // (or a turntable orbits it).
-    const std::string prefix = kStudyScenePrefix;
-    std::optional<CameraMatrices> studyCamera;
-    Result<Scene> scene = makeError(ExitCode::Usage, "no scene");
-    const std::vector<std::string>& aoScenes = aoSceneNames();
-    const bool aoStudyScene =
-        cmd.scenePath.compare(0, prefix.size(), prefix) == 0 &&
-        std::find(aoScenes.begin(), aoScenes.end(), cmd.scenePath.substr(prefix.size())) != aoScenes.end() &&
-        cmd.scenePath != prefix + "builtin";
-    if (aoStudyScene) {
-        // The ambient-occlusion group's scenes (study/ao.h): "study:bunny-plane", "study:stress-grazing", ...
-        auto study =
-            makeAoScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
-        if (!study) return study.error();
-        scene = std::move(study->scene);
-        if (cameraSpec->kind == CameraSpec::Kind::Auto && !turntable) studyCamera = study->camera;
-    } else if (cmd.scenePath.compare(0, prefix.size(), prefix) == 0) {
-        auto study =
-            makeStudyScene(cmd.scenePath.substr(prefix.size()), s.width, s.height, StudyOptions{}.bunnyPath);
-        if (!study) return study.error();
-        scene = std::move(study->scene);
-        if (cameraSpec->kind == CameraSpec::Kind::Auto && !turntable) studyCamera = study->camera;
-    } else {
-        scene = cmd.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(cmd.scenePath);
-    }
-    if (!scene) return scene.error();
-    *scene = displayScene(std::move(*scene), cmd.options.primitiveMode, cmd.options.wireframe);
-    // A turntable's camera is the orbit model; its first frame stands for the sequence where one camera
-    // is needed (--quality).
-    std::optional<OrbitCamera> orbit;
-    if (turntable) {
-        auto start = OrbitCamera::fromSpec(*cameraSpec, *scene, s.width, s.height);
-        if (!start) return start.error();
-        orbit = *start;
-        OrbitPose pose = orbit->pose();
-        pose.azimuthDeg = turntableAzimuth(frames.azimuth, 0, frames.frames);
-        orbit->setPose(pose);
-    }
-    auto camera = studyCamera
-                      ? Result<CameraMatrices>(withModel(*studyCamera, *model, boundingSphere(*scene).center))
-                  : orbit ? Result<CameraMatrices>(orbit->matrices(s.width, s.height, *model))
-                          : resolveCamera(*cameraSpec, *scene, s.width, s.height, *model);
-    if (!camera) return camera.error();
-    // Before the render, so that a long one is not waited for to learn that it shows nothing.
-    for (const std::string& warning : viewWarnings(*scene, *camera, s))
-        fmt::print(stderr, "warning: {}\n", warning);
-    const std::string sceneName = cmd.scenePath.empty() ? "builtin" : cmd.scenePath;
-    Result<RenderOutput> out = makeError(ExitCode::Usage, "no backend");
-    if (cmd.backend == "vulkan-graphics") {
-        if (!cmd.quality.empty())
-            return makeError(ExitCode::Usage,
-                             "--quality picks among the compute backends' settings: use --backend auto, cuda "
-                             "or vulkan");
-        out = renderGraphics(*scene, *camera, s, cmd.device);
-    } else {
-        // The device through the public API, as any application opens it; the turntable and --quality
-        // work on the pipeline below it.
-        auto opened = raster::Device::open(*raster::parseBackend(cmd.backend), cmd.device);
-        if (!opened) return raster::fromPublic(opened.error());
-        ComputeDevice* device = opened->impl().compute.get();
-        if (!cmd.quality.empty()) {
-            StudyScene study;
-            study.name = studySceneNameFor(cmd.scenePath);
-            study.scene = *scene;
-            study.camera = *camera;
-            study.textured = !scene->textures.empty();
-            auto choice = chooseQuality(cmd.quality, cmd.studyPath, *device, study, s);
-            if (!choice) return choice.error();
-            s = withSetting(s, choice->setting);
-            // What was chosen is what the frames and the statistics' echo use.
-            cmd.options.settings = withSetting(cmd.options.settings, choice->setting);
-            cmd.options.tessMaxLevel = s.tessMaxLevel;
-            SR_TRY(checkAovSamples(s, true, "--aov-samples (with what --quality chose)", "--aov FILE"));
-            if (!cmd.quiet) fmt::print("{}\n", choice->line);
-        }
-        if (turntable) return runTurntable(cmd, *device, *scene, *orbit, frames, sceneName);
-        out = renderScene(*device, *scene, *camera, s);
-    }
-    if (!out) return out.error();
-
-    SR_TRY(writeOutputs(*out, *scene, cmd.options, OutputPaths{cmd.output, cmd.aovPath, cmd.statsPath},
-                        sceneName, encoding));
-    if (!cmd.quiet) {
-        const RenderStats& st = out->stats;
-        std::string lines =
-            st.linesIn ? fmt::format(", {} line segments ({} drawn)", st.linesIn, st.lines) : "";
-        std::string points = st.pointsIn ? fmt::format(", {} points ({} drawn)", st.pointsIn, st.points) : "";
-        // The graphics pipeline's fixed-function stages count nothing we read back.
-        std::string counts =
-            st.pipelineCounts
-                ? fmt::format("{} culled, {} clipped, {} triangles rasterized", st.culled, st.clipped,
-                              st.rasterized)
-                : "culled, clipped and rasterized n/a (the graphics pipeline does not count them)";
-        if (!st.pipelineCounts) {
-            lines = st.linesIn ? fmt::format(", {} line segments", st.linesIn) : "";
-            points = st.pointsIn ? fmt::format(", {} points", st.pointsIn) : "";
-        }
-        fmt::print("{}: {}x{} on {} ({}), {} triangles{}{}: {}\n",
-                   cmd.output.empty() ? cmd.aovPath : cmd.output, s.width, s.height, out->device.backend,
-                   out->device.name, st.trianglesIn, lines, points, counts);
-        printStageTable(*out);
-    }
-    return okStatus();
-}
 
 struct CompareCommand {
     std::string a, b;
@@ -471,7 +202,7 @@ int main(int argc, char** argv)
     app.require_subcommand(1);
 
     RenderCommand cmd;
-    CLI::App* render = app.add_subcommand("render", "render a scene (built-in when SCENE is omitted)");
+    CLI::App* render = app.add_subcommand("render", command("render").summary);
     render->add_option(
         "scene", cmd.scenePath,
         "glTF 2.0 (.gltf/.glb), OBJ, PLY or STL file, or builtin, builtin:dense, builtin:huge");
@@ -531,8 +262,7 @@ int main(int argc, char** argv)
         ->needs(qualityOption);
 
     CompareCommand compare;
-    CLI::App* cmp =
-        app.add_subcommand("compare", "compare two PNG images or two EXR AOVs (idiff-style report)");
+    CLI::App* cmp = app.add_subcommand("compare", command("compare").summary);
     cmp->add_option("a", compare.a, "reference (.png or .exr)")->required();
     cmp->add_option("b", compare.b, "test image of the same kind")->required();
     cmp->add_option("-o,--output", compare.diffPath, "difference heat map (PNG)");
@@ -561,7 +291,7 @@ int main(int argc, char** argv)
             ->check(CLI::Range(0.0, 1.0));
 
     BenchCommand bench;
-    CLI::App* benchApp = app.add_subcommand("bench", "the benchmark suite on several backends in one run");
+    CLI::App* benchApp = app.add_subcommand("bench", command("bench").summary);
     benchApp->add_option("--backends", bench.backends, "comma-separated: cuda, vulkan, vulkan-graphics");
     benchApp->add_option("--resolutions", bench.resolutions, "comma-separated WxH");
     benchApp->add_option(
@@ -596,7 +326,7 @@ int main(int argc, char** argv)
     benchApp->add_option("--json", bench.jsonPath, "all results as JSON");
 
     ViewOptions view;
-    CLI::App* viewApp = app.add_subcommand("view", "an interactive window (see README for the controls)");
+    CLI::App* viewApp = app.add_subcommand("view", command("view").summary);
     viewApp->add_option("scene", view.scenePath, "as for render");
     viewApp->add_option("--backend", view.backend, "auto, cuda or vulkan")
         ->check(CLI::IsMember({"auto", "cuda", "vulkan"}));
@@ -623,9 +353,7 @@ int main(int argc, char** argv)
     viewApp->footer("Controls:\n" + controlsHelp());
 
     StudyCommand study;
-    CLI::App* studyApp = app.add_subcommand(
-        "study",
-        "speed against accuracy per setting and failures per stress axis (ci/study-chart draws them)");
+    CLI::App* studyApp = app.add_subcommand("study", command("study").summary);
     studyApp->add_option("--backends", study.backends, "comma-separated: cuda, vulkan");
     studyApp->add_option("--width", study.options.width, "accuracy renders: width")
         ->check(CLI::Range(8, 4096));
@@ -667,10 +395,11 @@ int main(int argc, char** argv)
     CLI::App* batchApp = addBatchCommand(app, batch);
 
     std::string settingsFormat = "markdown";
-    CLI::App* settingsApp = app.add_subcommand(
-        "settings", "every render setting: option, manifest key, values, default and help (the schema)");
-    settingsApp->add_option("--format", settingsFormat, "markdown (the README's reference) or json")
+    CLI::App* settingsApp = app.add_subcommand("settings", command("settings").summary);
+    settingsApp->add_option("--format", settingsFormat, "markdown (docs/settings.md's reference) or json")
         ->check(CLI::IsMember({"markdown", "json"}));
+
+    CLI::App* commandsApp = app.add_subcommand("commands", command("commands").summary);
 
     try {
         app.parse(argc, argv);
@@ -688,6 +417,7 @@ int main(int argc, char** argv)
     if (benchApp->parsed()) status = runBenchCommand(bench);
     if (studyApp->parsed()) status = runStudyCommand(study);
     if (viewApp->parsed()) status = runView(view);
+    if (commandsApp->parsed()) fmt::print("{}", commandsMarkdown());
     if (settingsApp->parsed())
         fmt::print("{}", settingsFormat == "json" ? schemaJson().dump(2) + "\n" : settingsMarkdown());
     if (batchApp->parsed()) {

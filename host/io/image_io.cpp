@@ -665,4 +665,18 @@ void linearColorAov(const RgbaImage& image, AovImage& aov)
     }
 }
 
+std::string pngCompressionHelp()
+{
+    return "PNG encoder: fast (zlib level 1, no row filter: several times quicker, files 1.5-2x larger), "
+           "default (level 6, adaptive filters) or small (level 9, every filter tried per row: slowest, "
+           "under 2% smaller); the pixels are the same";
+}
+
+std::string exrCompressionHelp()
+{
+    return "EXR codec, all lossless: none (quick, largest), rle (about as quick, several times smaller: the "
+           "fast choice), zips (zlib per scanline), zip (zlib per 16 scanlines, the default) or piz "
+           "(wavelet)";
+}
+
 }  // namespace sr

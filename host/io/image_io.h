@@ -95,6 +95,10 @@ struct ImageEncoding {
     ExrCompression exr = ExrCompression::Zip;
 };
 
+// The help of --png-compression and --exr-compression (render and batch).
+std::string pngCompressionHelp();
+std::string exrCompressionHelp();
+
 // The extensions a colour output may have, each selecting its format: ".png" or ".npy".
 const std::vector<std::string>& colorExtensions();
 // Whether the colour output `path` is written as NPY (it ends in .npy) rather than PNG.

@@ -33,6 +33,8 @@
 
 namespace raster {
 
+struct Internal;  // the library's own access to what the handles below hold (not part of the API)
+
 // ---- errors -------------------------------------------------------------------------------------
 
 enum class ErrorKind : int {
@@ -115,10 +117,10 @@ public:
     Device& operator=(Device&&) noexcept;
     ~Device();
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
+    struct Impl;  // what the handle holds, opaque here
 
 private:
+    friend struct Internal;
     explicit Device(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
@@ -189,10 +191,10 @@ public:
     Scene& operator=(Scene&&) noexcept;
     ~Scene();
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
+    struct Impl;  // what the handle holds, opaque here
 
 private:
+    friend struct Internal;
     explicit Scene(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
@@ -226,10 +228,10 @@ public:
     static std::vector<std::string> names();
     static std::string schemaJson();
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
+    struct Impl;  // what the handle holds, opaque here
 
 private:
+    friend struct Internal;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -252,6 +254,12 @@ struct Camera {
 
 // ---- frames -------------------------------------------------------------------------------------
 
+// One stage's GPU time over a frame's timed runs (settings "warmup" and "repeat"), ms.
+struct StageTime {
+    std::string name;
+    double minMs = 0.0, medianMs = 0.0, maxMs = 0.0;
+};
+
 // What a render returns, as plain buffers. Pixel (x, y) is at index y * width + x, rows from the top.
 struct Frame {
     uint32_t width = 0, height = 0;
@@ -271,7 +279,8 @@ struct Frame {
     uint32_t rasterWidth = 0, rasterHeight = 0, samples = 0;
     std::vector<uint32_t> sampleId;
     std::vector<float> sampleDepth;
-    double gpuMs = 0.0;     // median GPU time of the whole frame over the timed runs
+    double gpuMs = 0.0;             // median GPU time of the whole frame over the timed runs
+    std::vector<StageTime> stages;  // each stage that ran, in pipeline order, then "total" (the frame)
     std::string statsJson;  // the statistics `raster render --stats` writes (counts, stage times, settings)
     DeviceInfo device;
     std::vector<std::string> warnings;  // what rendering drew otherwise than asked, one line each
@@ -379,9 +388,10 @@ public:
     Session& operator=(Session&&) noexcept;
     ~Session();
 
-    struct Impl;
+    struct Impl;  // what the handle holds, opaque here
 
 private:
+    friend struct Internal;
     explicit Session(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
@@ -421,6 +431,25 @@ Result<CompareReport> compare(const Frame& a, const Frame& b, bool aov, const Co
 // Two files of one kind (.png colour, .exr AOVs), as `raster compare A B` reads them.
 Result<CompareReport> compareFiles(const std::string& a, const std::string& b,
                                    const CompareOptions& options = {});
+
+// ---- files --------------------------------------------------------------------------------------
+
+// How the image files are encoded: PNG "fast", "default" or "small" (only the size and the time to write
+// change, never the pixels); EXR "none", "rle", "zips", "zip" or "piz" (all lossless). Empty: "default"
+// and "zip", as `raster render`'s --png-compression and --exr-compression.
+struct FileOptions {
+    std::string pngCompression;
+    std::string exrCompression;
+};
+
+// The files `raster render` writes, from a frame, byte for byte (the same frame, the same file): each is
+// written whole or not at all, and records the backend and device that drew it (`raster compare` reads
+// them). writePng: Frame::color as an sRGB PNG (-o). writeExr: the AOVs (--aov): id and Z, the surface
+// AOVs, ao and every sample's id and depth where the frame holds them, and the linear colour (HALF). The
+// path must end in .png or .exr; a frame without the images asked for is refused. Frame::statsJson plus a
+// newline is what --stats writes.
+Status writePng(const Frame& frame, const std::string& path, const FileOptions& options = {});
+Status writeExr(const Frame& frame, const std::string& path, const FileOptions& options = {});
 
 // nvdiffrast's interpolate (forward) over rasterize's output: out[b, y, x, c] = u a0 + v a1 + (1 - u - v) a2
 // of attribute c of the vertices of triangle rast[b, y, x, 3] - 1, with (u, v) = rast[b, y, x, 0..1];

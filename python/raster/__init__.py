@@ -396,6 +396,18 @@ class Frame:
     def device(self) -> DeviceInfo:
         return _device(self._native.device)
 
+    def save(self, path: Union[str, "os.PathLike[str]"], *, png_compression: Optional[str] = None,
+             exr_compression: Optional[str] = None) -> None:
+        """Writes the file ``raster render`` writes for the path's extension, byte for byte: .png the
+        colour (its -o), .exr the AOVs (its --aov: ids and depth, the surface AOVs, ao and every sample
+        where the frame holds them, and the linear colour), .json the statistics (its --stats). The file
+        appears whole or not at all. png_compression: "fast", "default" or "small" (the pixels are the
+        same); exr_compression: "none", "rle", "zips", "zip" or "piz" (all lossless). raster.Error for
+        another extension, a frame without the images the file holds, or a file that cannot be written.
+        """
+        self._native.save(os.fspath(path), png_compression=png_compression or "",
+                          exr_compression=exr_compression or "")
+
     def __repr__(self) -> str:
         return f"raster.Frame({self.width}x{self.height}, {self.device.backend}, {self.gpu_ms:.3f} ms)"
 

@@ -1,4 +1,4 @@
-// bench.h - `raster bench`: the scene suite on several backends of one machine, in one run.
+// bench_runner.h - `raster bench`: the scene suite on several backends of one machine, in one run.
 //
 // Scenes: a triangle-size sweep (about 1M triangles of 0.5, 2, 8, 32 and 128 px area each, scattered at
 // random depths), as many 1-px points (`points-1m`) and 8-px, 1-px wide line segments in random
@@ -13,8 +13,8 @@
 // vulkan-graphics a second run that shades in its fragment shader, so that both sides shade alike),
 // triangles/s, pixels/s, peak and working device memory (peak less the scene's own buffers) against
 // 40 B/triangle + 8 B/pixel + 8 B/sample.
-#ifndef RASTER_BENCH_H
-#define RASTER_BENCH_H
+#ifndef RASTER_BENCH_RUNNER_H
+#define RASTER_BENCH_RUNNER_H
 
 #include <string>
 #include <vector>
@@ -56,4 +56,4 @@ std::string benchMarkdown(const nlohmann::json& bench);
 
 }  // namespace sr
 
-#endif  // RASTER_BENCH_H
+#endif  // RASTER_BENCH_RUNNER_H

@@ -1,5 +1,5 @@
-// view.cpp - see view.h.
-#include "cli/view.h"
+// view_loop.cpp - see view_loop.h.
+#include "viewer/view_loop.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/backend.h"
-#include "cli/outputs.h"
+#include "api/frame_files.h"
 #include "api/stats_json.h"
 #include "io/image_io.h"
 #include "render/frame_share.h"
@@ -276,7 +276,8 @@ Status runView(const ViewOptions& o)
                 state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
             // The save's five files appear together or not at all.
             FileGroup files;
-            SR_TRY(stageOutputs(files, *out, scene, viewOptions(state), savePaths(prefix),
+            SR_TRY(stageOutputs(files, *out, scene, viewOptions(state),
+                                OutputPaths{prefix + ".png", prefix + ".exr", prefix + ".json"},
                                 o.scenePath.empty() ? "builtin" : o.scenePath, ImageEncoding{}));
             auto shownPng = encodePng(shown);
             if (!shownPng) return shownPng.error();

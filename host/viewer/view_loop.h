@@ -1,9 +1,9 @@
-// view.h - `raster view`: the interactive window (issue 13). The scene is rendered by a compute
+// view_loop.h - `raster view`: the interactive window (issue 13). The scene is rendered by a compute
 // backend at the window's size whenever the view changes and presented through a Vulkan swapchain
 // (host/viewer/present.h); input comes from the window or, with --script, from a replayed file that
 // goes through the same handlers (host/viewer/script.h), so a test under Xvfb drives the real window.
-#ifndef RASTER_CLI_VIEW_H
-#define RASTER_CLI_VIEW_H
+#ifndef RASTER_VIEW_LOOP_H
+#define RASTER_VIEW_LOOP_H
 
 #include <cstdint>
 #include <string>
@@ -36,4 +36,4 @@ Status runView(const ViewOptions& options);
 
 }  // namespace sr
 
-#endif  // RASTER_CLI_VIEW_H
+#endif  // RASTER_VIEW_LOOP_H

@@ -1,5 +1,6 @@
 // turntable.h - `raster render --frames N --orbit AZ0:AZ1 -o frame_%04d.png`: an orbit sequence rendered
-// in one process on one device, the scene uploaded once (RenderSession).
+// in one process on one device through one raster::Session (the scene uploaded once), and the
+// frame-number patterns of its file names (and of batch jobs').
 #ifndef RASTER_TURNTABLE_H
 #define RASTER_TURNTABLE_H
 
@@ -8,10 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "raster/raster.h"
+
 #include "base/result.h"
-#include "cli/outputs.h"
-#include "render/renderer.h"
+#include "io/image_io.h"
 #include "scene/orbit.h"
+#include "settings/render_settings.h"
 
 namespace sr {
 
@@ -45,24 +48,29 @@ struct TurntableOptions {
     FramePattern png;         // used when hasPng (no -o with --aov: EXRs only)
     FramePattern aov, stats;  // used when hasAov / hasStats
     bool hasPng = true, hasAov = false, hasStats = false;
-    std::string sceneName;   // for the JSON
     ImageEncoding encoding;  // how the PNGs and EXRs are encoded
     // Called after each frame is written with (frames done, frames): the progress line.
     std::function<void(uint32_t, uint32_t)> progress;
 };
 
 struct TurntableResult {
-    DeviceInfo device;
-    std::vector<double> frameGpuMs;  // each frame's GPU time (the median over its timed runs)
+    raster::DeviceInfo device;
+    std::vector<double> frameGpuMs;       // each frame's GPU time (the median over its timed runs)
+    std::string firstCamera, lastCamera;  // the first and last frames' cameras as specs
     uint64_t triangles = 0;
 };
 
-// Renders and writes the frames with the settings `render` resolves to (the surface AOVs when the frames
-// write EXRs): frame k is the camera's pose with turntableAzimuth(k) (elevation,
-// distance and target offset as given), exactly what `raster render --camera orbit:...` of that pose
-// renders, written like `raster render` writes one frame (outputs.h).
-Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera camera,
-                                        const RenderOptions& render, const TurntableOptions& options);
+// The orbit a turntable of `scene` with `options` turns: the pose of the settings' camera spec (auto or
+// orbit) on the scene as the frames draw it (its lines, points or overlay), for their image size.
+Result<OrbitCamera> turntableOrbit(const raster::Scene& scene, const RenderOptions& options);
+
+// Renders and writes the frames of `scene` through `session` with `settings` (the surface AOVs when the
+// frames write EXRs): frame k is the pose of the settings' camera (auto or orbit) with turntableAzimuth(k)
+// (elevation, distance and target offset as given), as the spec orbitSpecString writes, so that each frame
+// is exactly what `raster render --camera` of that spec renders; its files are written as `raster render`
+// writes one frame's (api/frame_files.h). The frames' warnings go to `warnings`.
+Result<TurntableResult> renderTurntable(raster::Session& session, const raster::Scene& scene,
+                                        const raster::Settings& settings, const TurntableOptions& options);
 
 }  // namespace sr
 

@@ -1,11 +1,18 @@
 // turntable.cpp - frame-number patterns and the orbit sequence of `raster render --frames`.
-#include "cli/turntable.h"
+#include "batch/turntable.h"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <set>
 
-#include "cli/outputs.h"
+#include <nlohmann/json.hpp>
+
+#include "api/api_internal.h"
+#include "api/frame_files.h"
+#include "base/warnings.h"
+#include "scene/orbit.h"
+#include "scene/primitive_mode.h"
 
 namespace sr {
 
@@ -86,33 +93,50 @@ float turntableAzimuth(const AzimuthRange& range, uint32_t frame, uint32_t frame
     return range.from + (range.to - range.from) * float(frame) / float(frames - 1);
 }
 
-Result<TurntableResult> renderTurntable(RenderSession& session, OrbitCamera camera,
-                                        const RenderOptions& render, const TurntableOptions& options)
+Result<OrbitCamera> turntableOrbit(const raster::Scene& scene, const RenderOptions& options)
 {
-    RenderSettings settings = render.resolved();
-    auto model = parseModelSpec(render.model);
-    if (!model) return model.error();
+    const Scene& loaded = raster::Internal::of(scene).scene;
+    auto spec = parseCameraSpec(options.camera);
+    if (!spec) return spec.error();
+    const uint32_t w = options.settings.width, h = options.settings.height;
+    if (options.primitiveMode == PrimitiveMode::Triangles && !options.wireframe)
+        return OrbitCamera::fromSpec(*spec, loaded, w, h);
+    return OrbitCamera::fromSpec(*spec, displayScene(loaded, options.primitiveMode, options.wireframe), w, h);
+}
+
+Result<TurntableResult> renderTurntable(raster::Session& session, const raster::Scene& scene,
+                                        const raster::Settings& settings, const TurntableOptions& options)
+{
+    const RenderOptions& render = raster::Internal::of(settings).options;
+    auto orbit = turntableOrbit(scene, render);
+    if (!orbit) return orbit.error();
     // The surface channels cost a host pass over the frame, and the ids and depth a pass on the device
     // (stage aovs): only for EXRs that will hold them.
-    settings.surfaceAovs = options.hasAov;
-    settings.outputs = options.hasAov ? OUTPUT_IMAGES : OUTPUT_COLOR;
+    raster::RenderRequest request;
+    request.surfaceAovs = options.hasAov;
+    request.outputs = options.hasAov ? raster::OutputImages : raster::OutputColor;
     TurntableResult result;
-    result.triangles = session.scene().triangleCount();
+    std::set<std::string> warned;  // each warning once for the sequence, not once per frame
     for (uint32_t k = 0; k < options.frames; ++k) {
-        OrbitPose pose = camera.pose();
+        OrbitPose pose = orbit->pose();
         pose.azimuthDeg = turntableAzimuth(options.azimuth, k, options.frames);
-        camera.setPose(pose);
-        auto out = session.render(camera.matrices(settings.width, settings.height, *model), settings);
-        if (!out) return out.error();
+        // Each frame's statistics name its own camera, so that any frame renders again from its JSON.
+        const std::string camera = orbitSpecString(pose);
+        if (k == 0) result.firstCamera = camera;
+        result.lastCamera = camera;
+        auto frame = session.render(raster::Camera::fromSpec(camera), settings, request);
+        if (!frame) return raster::fromPublic(frame.error());
+        for (const std::string& warning : frame->warnings)
+            if (warned.insert(warning).second) warnLine(warning);
         OutputPaths paths{options.hasPng ? framePath(options.png, k) : "",
                           options.hasAov ? framePath(options.aov, k) : "",
                           options.hasStats ? framePath(options.stats, k) : ""};
-        // Each frame's statistics name its own camera, so that any frame renders again from its JSON.
-        RenderOptions frame = render;
-        frame.camera = camera.specString();
-        SR_TRY(writeOutputs(*out, session.scene(), frame, paths, options.sceneName, options.encoding));
-        result.device = out->device;
-        result.frameGpuMs.push_back(out->total.medianMs);
+        FileGroup files;
+        SR_TRY(stageFrame(files, *frame, paths, options.encoding));
+        SR_TRY(files.commit());
+        result.device = frame->device;
+        if (k == 0) result.triangles = nlohmann::json::parse(frame->statsJson)["triangles"]["in"];
+        result.frameGpuMs.push_back(frame->gpuMs);
         if (options.progress) options.progress(k + 1, options.frames);
     }
     return result;

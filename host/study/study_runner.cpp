@@ -1,5 +1,5 @@
-// study.cpp - see study.h.
-#include "cli/study.h"
+// study_runner.cpp - see study_runner.h.
+#include "study/study_runner.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +17,6 @@
 #include "api/backend.h"
 #include "study/quality.h"
 #include "study/stress.h"
-#include "vulkan/vulkan_graphics.h"
 
 namespace sr {
 namespace {
@@ -65,7 +64,7 @@ public:
         if (!available_) return static_cast<const RenderOutput*>(nullptr);
         auto it = outputs_.find({axis, index});
         if (it != outputs_.end()) return &it->second;
-        auto out = renderVulkanGraphics(c.scene, c.camera, c.settings, device_);
+        auto out = renderGraphics(c.scene, c.camera, c.settings, device_);
         if (!out) {
             if (!outputs_.empty()) return out.error();
             fmt::print(stderr, "study: vulkan-graphics unavailable, oracle_mismatches left null: {}\n",

@@ -1,5 +1,5 @@
-// bench.cpp - see bench.h.
-#include "cli/bench.h"
+// bench_runner.cpp - see bench_runner.h.
+#include "bench/bench_runner.h"
 
 #include <optional>
 
@@ -17,7 +17,7 @@
 #include "settings/schema.h"
 #include "render/compute_device.h"
 #include "api/stats_json.h"
-#include "vulkan/vulkan_graphics.h"
+#include "api/backend.h"
 
 namespace sr {
 namespace {
@@ -300,16 +300,16 @@ size_t sceneBytes(const Scene& s)
 Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
                               const RenderSettings& r, bool shaded = false)
 {
-    if (backend == "vulkan-graphics" && shaded) return renderVulkanGraphics(s.scene, s.camera, r, device);
+    if (backend == "vulkan-graphics" && shaded) return renderGraphics(s.scene, s.camera, r, device);
     if (backend == "vulkan-graphics") {
         // The hardware baseline: depth + id with the cheapest fragment shader, i.e. rasterization and
         // the depth test, which is what the compute pipeline's stages before `shade` do.
         RenderSettings visibility = r;
         visibility.visibilityOnly = true;
-        return renderVulkanGraphics(s.scene, s.camera, visibility, device);
+        return renderGraphics(s.scene, s.camera, visibility, device);
     }
     // A fresh device per run, so its peak memory is this run's alone.
-    auto dev = backend == "cuda" ? makeCudaDevice(device) : makeVulkanDevice(device);
+    auto dev = makeComputeDevice(backend == "cuda" ? BackendKind::Cuda : BackendKind::Vulkan, device);
     if (!dev) return dev.error();
     return renderScene(**dev, s.scene, s.camera, r);
 }
@@ -366,8 +366,9 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                     r.lod = LOD_ON;
                                     r.lodErrorPx = lodError;
                                     if (!lodSession) {
-                                        auto dev = backend == "cuda" ? makeCudaDevice(o.device)
-                                                                     : makeVulkanDevice(o.device);
+                                        auto dev = makeComputeDevice(
+                                            backend == "cuda" ? BackendKind::Cuda : BackendKind::Vulkan,
+                                            o.device);
                                         if (!dev) return dev.error();
                                         lodDevice = std::move(*dev);
                                         auto session = RenderSession::create(*lodDevice, s.scene);

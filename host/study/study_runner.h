@@ -1,5 +1,5 @@
-// study.h - `raster study`: speed against accuracy and stability, the rasterization settings and methods
-// side by side (issue 12).
+// study_runner.h - `raster study`: speed against accuracy and stability, the rasterization settings and
+// methods side by side (issue 12).
 //
 // Accuracy: each scene of the set (study/scenes.h: the built-in scene, the textured grazing
 // checkerboard, the dense sphere, the bunny when its file is present, a sliver fan, a jittered grid)
@@ -23,8 +23,8 @@
 // --lod off frame's SSAA reference (colour PSNR), with the triangles drawn and the visibility time (the
 // GPU frame less the shade stage, as `raster bench` reports it). One JSON holds all three;
 // ci/study-chart draws them.
-#ifndef RASTER_STUDY_H
-#define RASTER_STUDY_H
+#ifndef RASTER_STUDY_RUNNER_H
+#define RASTER_STUDY_RUNNER_H
 
 #include <cstdint>
 #include <functional>
@@ -131,4 +131,4 @@ std::string studyMarkdown(const nlohmann::json& study);
 
 }  // namespace sr
 
-#endif  // RASTER_STUDY_H
+#endif  // RASTER_STUDY_RUNNER_H

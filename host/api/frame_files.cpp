@@ -1,0 +1,158 @@
+// frame_files.cpp - PNG or NPY, EXR and JSON of a rendered frame.
+#include "api/frame_files.h"
+
+#include <chrono>
+
+#include "api/front_end.h"
+#include "api/stats_json.h"
+#include "render/aov.h"
+
+namespace sr {
+
+RgbaImage colorImage(const raster::Frame& f)
+{
+    RgbaImage image;
+    image.width = f.width;
+    image.height = f.height;
+    image.pixels.assign(f.color.size() / 4, 0u);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (size_t c = 0; c < 4; ++c) image.pixels[i] |= uint32_t(f.color[4 * i + c]) << (8 * c);
+    return image;
+}
+
+AovImage aovImage(const raster::Frame& f, bool withColor)
+{
+    AovImage aov;
+    aov.width = f.width;
+    aov.height = f.height;
+    aov.id = f.id;
+    aov.depth = f.depth;
+    const size_t n = size_t(f.width) * f.height;
+    if (f.ao.size() == n) aov.ao = f.ao;
+    if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
+        for (auto* plane :
+             {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
+            plane->resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            aov.baryU[i] = f.bary[2 * i];
+            aov.baryV[i] = f.bary[2 * i + 1];
+            aov.uvU[i] = f.uv[2 * i];
+            aov.uvV[i] = f.uv[2 * i + 1];
+            aov.normalX[i] = f.normal[3 * i];
+            aov.normalY[i] = f.normal[3 * i + 1];
+            aov.normalZ[i] = f.normal[3 * i + 2];
+        }
+    }
+    if (!f.sampleId.empty() && f.width > 0) {
+        SampleAovs samples;
+        samples.rasterWidth = f.rasterWidth;
+        samples.rasterHeight = f.rasterHeight;
+        samples.samples = f.samples;
+        samples.id = f.sampleId;
+        samples.depth = f.sampleDepth;
+        fillSampleAovs(samples, f.rasterWidth / f.width, aov);
+    }
+    if (withColor && f.color.size() == 4 * n) linearColorAov(colorImage(f), aov);
+    return aov;
+}
+
+ImageOrigin outputOrigin(const raster::Frame& frame)
+{
+    return {raster::backendName(frame.device.backend), frame.device.name};
+}
+
+ImageOrigin outputOrigin(const RenderOutput& out)
+{
+    return {out.device.backend, out.device.name};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPaths& paths,
+                  const ImageEncoding& encoding, OutputTimes* times)
+{
+    OutputTimes spent;
+    // Each file is staged as soon as it is encoded, so that its bytes are freed before the next one.
+    auto stage = [&](const std::string& path, const std::vector<unsigned char>& bytes) {
+        const auto start = Clock::now();
+        Status staged = files.stage(path, bytes.data(), bytes.size());
+        spent.write += since(start);
+        return staged;
+    };
+    const ImageOrigin origin = outputOrigin(frame);
+    if (!paths.png.empty()) {
+        const auto start = Clock::now();
+        const RgbaImage color = colorImage(frame);
+        // NPY has no room for the origin: it is the array alone, as numpy.save writes one.
+        auto png = isNpyPath(paths.png) ? encodeNpy(color) : encodePng(color, origin, encoding.png);
+        if (!png) return png.error();
+        spent.encode = since(start);
+        SR_TRY(stage(paths.png, *png));
+    }
+    if (!paths.aov.empty()) {
+        const auto start = Clock::now();
+        auto exr = encodeAovExr(aovImage(frame, true), origin, paths.aov, encoding.exr);
+        if (!exr) return exr.error();
+        spent.aux += since(start);
+        SR_TRY(stage(paths.aov, *exr));
+    }
+    if (!paths.stats.empty()) {
+        const std::string text = frame.statsJson + "\n";
+        SR_TRY(stage(paths.stats, std::vector<unsigned char>(text.begin(), text.end())));
+    }
+    if (times) *times = spent;
+    return okStatus();
+}
+
+Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
+                    const OutputPaths& paths, const std::string& sceneName, const ImageEncoding& encoding,
+                    OutputTimes* times)
+{
+    OutputTimes spent;
+    auto stage = [&](const std::string& path, const std::vector<unsigned char>& bytes) {
+        const auto start = Clock::now();
+        Status staged = files.stage(path, bytes.data(), bytes.size());
+        spent.write += since(start);
+        return staged;
+    };
+    const RenderSettings settings = options.resolved();
+    const ImageOrigin origin = outputOrigin(out);
+    if (!paths.png.empty()) {
+        const auto start = Clock::now();
+        auto png = isNpyPath(paths.png) ? encodeNpy(out.color) : encodePng(out.color, origin, encoding.png);
+        if (!png) return png.error();
+        spent.encode = since(start);
+        SR_TRY(stage(paths.png, *png));
+    }
+    if (!paths.aov.empty()) {
+        const auto start = Clock::now();
+        if (!out.aov.hasBary()) fillSurfaceAovs(scene, out.params, out.aov);
+        if (settings.aovSamples && out.aov.sampleId.empty())
+            fillSampleAovs(out.samples, settings.ssaa, out.aov);
+        if (!out.aov.hasColor()) linearColorAov(out.color, out.aov);
+        auto exr = encodeAovExr(out.aov, origin, paths.aov, encoding.exr);
+        if (!exr) return exr.error();
+        spent.aux += since(start);
+        SR_TRY(stage(paths.aov, *exr));
+    }
+    if (!paths.stats.empty()) {
+        const auto start = Clock::now();
+        const std::string text =
+            statsJson(out, options, sceneName, absoluteCamera(options, scene, sceneName)).dump(2) + "\n";
+        spent.aux += since(start);
+        SR_TRY(stage(paths.stats, std::vector<unsigned char>(text.begin(), text.end())));
+    }
+    if (times) *times = spent;
+    return okStatus();
+}
+
+}  // namespace sr

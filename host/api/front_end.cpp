@@ -1,0 +1,35 @@
+// front_end.cpp - a view's warnings and the camera its statistics name.
+#include "api/front_end.h"
+
+#include "settings/schema.h"
+#include "study/scenes.h"
+
+namespace sr {
+
+std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName)
+{
+    auto spec = parseCameraSpec(options.camera);
+    if (!spec) return "";
+    if (spec->kind == CameraSpec::Kind::Auto && sceneName.rfind(kStudyScenePrefix, 0) == 0) return "";
+    return resolvedCameraSpec(*spec, scene, options.settings.width, options.settings.height);
+}
+
+std::vector<std::string> viewWarnings(const Scene& scene, const CameraMatrices& camera,
+                                      const RenderSettings& settings)
+{
+    std::vector<std::string> warnings;
+    if ((settings.shadingMode == SHADING_TEXCOORD || settings.shadingMode == SHADING_MIP) &&
+        scene.textures.empty())
+        warnings.push_back(fmt::format(
+            "--shading {} shows the base colour texture's {}, but the scene has no textures: every surface "
+            "shows the same colour",
+            choiceName(setting("shading"), settings.shadingMode),
+            settings.shadingMode == SHADING_TEXCOORD ? "coordinates" : "level of detail"));
+    if (scene.triangleCount() > 0 && eyeInsideScene(scene, camera))
+        warnings.push_back(
+            "the camera is inside the scene's geometry, so it sees the inside of its surfaces (culled back "
+            "faces, or the wrong side): move it out, e.g. --camera orbit:AZ,EL,2.5r (2.5 bounding radii)");
+    return warnings;
+}
+
+}  // namespace sr
