@@ -496,11 +496,12 @@ TEST(ViewerControls, HelpListsEveryControl)
         EXPECT_NE(help.find(text), std::string::npos) << text;
     for (char key : std::string("mwpbrs"))
         EXPECT_NE(help.find(std::string("  ") + key + " "), std::string::npos);
-    // The README lists the controls verbatim.
-    std::ifstream readme(sourceDir() + "/README.md");
+    // docs/viewer.md lists the controls verbatim.
+    std::ifstream readme(sourceDir() + "/docs/viewer.md");
     std::stringstream text;
     text << readme.rdbuf();
-    EXPECT_NE(text.str().find("```\n" + help + "```\n"), std::string::npos) << "README.md lacks:\n" << help;
+    EXPECT_NE(text.str().find("```\n" + help + "```\n"), std::string::npos) << "docs/viewer.md lacks:\n"
+                                                                            << help;
 
     ViewerState s = startState();
     EXPECT_EQ(stateSummary(s), "blinn-phong, 1x, triangles");

@@ -68,6 +68,12 @@ struct Internal {
     // camera when it has one.
     static Scene makeScene(sr::Scene scene, std::string name, std::optional<sr::CameraMatrices> ownCamera);
     static Settings makeSettings(const sr::RenderOptions& options);
+    // A device the front end opened itself (the viewer's Vulkan device made on its window).
+    static Device makeDevice(std::unique_ptr<sr::ComputeDevice> compute);
+    // What Session::render is a face of: the frame with `download` of its images (the viewer presents
+    // from the device and downloads nothing, or the colour alone; Session::render downloads all).
+    static Result<Frame> render(Session& session, const Camera& camera, const Settings& settings,
+                                const RenderRequest& request, sr::ImageDownload download);
     // The scene as a frame with `settings` draws it (its lines, points or overlay) and the camera's
     // matrices there, as Session::render resolves them: for --quality, which measures that view.
     static Result<std::pair<sr::Scene, sr::CameraMatrices>> view(const Scene& scene, const Camera& camera,

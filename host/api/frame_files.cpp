@@ -2,6 +2,7 @@
 #include "api/frame_files.h"
 
 #include <chrono>
+#include <cstring>
 
 #include "api/front_end.h"
 #include "api/stats_json.h"
@@ -15,6 +16,14 @@ RgbaImage colorImage(const raster::Frame& f)
     image.width = f.width;
     image.height = f.height;
     image.pixels.assign(f.color.size() / 4, 0u);
+    // A word holds R in its low byte: on a little-endian host the bytes are the words' memory already.
+    const uint32_t one = 1;
+    uint8_t low = 0;
+    std::memcpy(&low, &one, 1);
+    if (low == 1 && !image.pixels.empty()) {
+        std::memcpy(image.pixels.data(), f.color.data(), image.pixels.size() * 4);
+        return image;
+    }
     for (size_t i = 0; i < image.pixels.size(); ++i)
         for (size_t c = 0; c < 4; ++c) image.pixels[i] |= uint32_t(f.color[4 * i + c]) << (8 * c);
     return image;

@@ -660,8 +660,26 @@ Result<std::pair<sr::Scene, sr::CameraMatrices>> Internal::view(const Scene& sce
 
 Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
 {
+    return Internal::render(*this, camera, settings, request, sr::ImageDownload::All);
+}
+
+Device Internal::makeDevice(std::unique_ptr<sr::ComputeDevice> compute)
+{
+    auto impl = std::make_unique<Device::Impl>();
+    const sr::DeviceInfo& info = compute->info();
+    impl->info.backend = info.backend == "cuda" ? Backend::Cuda : Backend::Vulkan;
+    impl->info.name = info.name;
+    impl->info.driver = info.driver;
+    impl->info.cpu = info.isCpu;
+    impl->compute = std::move(compute);
+    return Device(std::move(impl));
+}
+
+Result<Frame> Internal::render(Session& session, const Camera& camera, const Settings& settings,
+                               const RenderRequest& request, sr::ImageDownload download)
+{
     sr::WarningCapture capture;  // the frame's warnings go to Frame::warnings, not to stderr
-    Impl& self = *impl_;
+    Session::Impl& self = *session.impl_;
     const sr::RenderOptions& options = Internal::of(settings).options;
     const bool plain = options.primitiveMode == sr::PrimitiveMode::Triangles && !options.wireframe;
     const ImageTargets& t = request.targets;
@@ -699,6 +717,7 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     auto matrices = cameraMatrices(camera, options, scene, *self.scene);
     if (!matrices) return matrices.error();
     sr::RenderSettings s = options.resolved();
+    s.download = download;
     // What would make the image plain without the caller knowing why, for cameras given as specs (the
     // command line's, a viewer's): once per camera and shading, as the eye test may walk every triangle.
     if (!camera.explicitMatrices) {

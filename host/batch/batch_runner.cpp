@@ -198,7 +198,8 @@ LoadedScene loadFrameScene(const ManifestJob& job)
     auto scene = raster::Scene::load(job.scene);
     if (scene) {
         for (const std::string& warning : scene->warnings()) warnLine(warning);
-        loaded.scene = std::shared_ptr<const raster::Scene>(std::make_shared<raster::Scene>(std::move(*scene)));
+        loaded.scene =
+            std::shared_ptr<const raster::Scene>(std::make_shared<raster::Scene>(std::move(*scene)));
     } else {
         loaded.scene = raster::fromPublic(scene.error());
     }

@@ -4,18 +4,19 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "api/api_internal.h"
 #include "api/backend.h"
 #include "api/frame_files.h"
-#include "api/stats_json.h"
+#include "base/warnings.h"
 #include "io/image_io.h"
 #include "render/frame_share.h"
 #include "scene/camera.h"
-#include "scene/scene.h"
 #include "settings/schema.h"
 #include "viewer/controls.h"
 #include "viewer/present.h"
@@ -34,9 +35,10 @@ double msSince(Clock::time_point start)
 }
 
 // The compute backends the window can switch between (`b`): the one asked for first, then the other
-// where it opens; with `auto`, CUDA first as `raster render` does.
-Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::string& backend, int device,
-                                                                 const PresentTarget* window)
+// where it opens; with `auto`, CUDA first as `raster render` does. Each is a raster::Device, as the
+// library's sessions take them.
+Result<std::vector<raster::Device>> openBackends(const std::string& backend, int device,
+                                                 const PresentTarget* window)
 {
     std::vector<BackendKind> order = backend == "vulkan"
                                          ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
@@ -62,7 +64,9 @@ Result<std::vector<std::unique_ptr<ComputeDevice>>> openBackends(const std::stri
         if (first) return *first;
         return makeError(ExitCode::Usage, "view: no compute backend opened");
     }
-    return devices;
+    std::vector<raster::Device> opened;
+    for (auto& d : devices) opened.push_back(raster::Internal::makeDevice(std::move(d)));
+    return opened;
 }
 
 // Live input, through the same controls a script uses.
@@ -93,21 +97,27 @@ RenderOptions viewOptions(const ViewerState& state)
     return options;
 }
 
-nlohmann::json viewJson(const ViewerState& state, const std::string& scenePath, const DeviceInfo& device)
+nlohmann::json viewJson(const ViewerState& state, const std::string& scenePath,
+                        const raster::DeviceInfo& info)
 {
+    const std::pair<std::string, std::string> device{raster::backendName(info.backend), info.name};
     const std::string args =
         fmt::format("{} {}", scenePath.empty() ? "builtin" : scenePath, renderArguments(viewOptions(state)));
-    return {{"camera", state.camera.specString()}, {"model", modelSpecString(state.model)},
-            {"backend", device.backend},           {"device", device.name},
-            {"state", stateSummary(state)},        {"render_args", args}};
+    return {{"camera", state.camera.specString()},
+            {"model", modelSpecString(state.model)},
+            {"backend", device.first},
+            {"device", device.second},
+            {"state", stateSummary(state)},
+            {"render_args", args}};
 }
 
 }  // namespace
 
 Status runView(const ViewOptions& o)
 {
-    Result<Scene> base = o.scenePath.empty() ? Result<Scene>(builtinScene()) : loadScene(o.scenePath);
-    if (!base) return base.error();
+    auto base = raster::Scene::load(o.scenePath.empty() ? "builtin" : o.scenePath);
+    if (!base) return raster::fromPublic(base.error());
+    for (const std::string& warning : base->warnings()) warnLine(warning);
     auto spec = parseCameraSpec(o.camera);
     if (!spec) return spec.error();
     auto model = parseModelSpec(o.model);
@@ -147,13 +157,15 @@ Status runView(const ViewOptions& o)
     settings.height = std::max(height, 1u);
     settings.warmup = 0;
     settings.repeat = 1;
-    auto camera = OrbitCamera::fromSpec(*spec, *base, settings.width, settings.height);
+    auto camera =
+        OrbitCamera::fromSpec(*spec, raster::Internal::of(*base).scene, settings.width, settings.height);
     if (!camera) return camera.error();
     ViewerState state =
         makeViewerState(*camera, settings, false, PrimitiveMode::Triangles, uint32_t(devices->size()));
     state.model = *model;
-    Scene scene = frameScene(*base, state);
-    std::optional<RenderSession> session;
+    // The library's session draws the scene as the state's primitive mode and overlay ask.
+    std::optional<raster::Session> session;
+    std::set<std::string> warned;  // each warning once
 
     size_t next = 0;  // the script's next event
     bool dirty = true;
@@ -176,21 +188,18 @@ Status runView(const ViewOptions& o)
             draw = dirty || state.sceneChanged || state.backendChanged || state.saveRequested;
         }
         if (state.quit) break;
-        if (state.sceneChanged || state.backendChanged) {
-            // A new scene or device: the session's uploads belong to the old one.
-            session.reset();
-            if (state.sceneChanged) scene = frameScene(*base, state);
-            state.sceneChanged = state.backendChanged = false;
-        }
+        if (state.backendChanged) session.reset();  // a new device: the uploads belong to the old one
+        state.sceneChanged = state.backendChanged = false;
         if (!draw) {
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
         Clock::time_point start = Clock::now();
-        ComputeDevice& device = *(*devices)[state.backendIndex % devices->size()];
+        raster::Device& opened = (*devices)[state.backendIndex % devices->size()];
+        ComputeDevice& device = *raster::Internal::of(opened).compute;
         if (!session) {
-            auto created = RenderSession::create(device, scene);
-            if (!created) return created.error();
+            auto created = raster::Session::create(opened, *base);
+            if (!created) return raster::fromPublic(created.error());
             session.emplace(std::move(*created));
         }
         const size_t backend = state.backendIndex % devices->size();
@@ -226,14 +235,23 @@ Status runView(const ViewOptions& o)
                                              : shared   ? "shared"
                                                         : "host");
         if (std::find(paths.begin(), paths.end(), path) == paths.end()) paths.push_back(path);
-        RenderSettings s = state.settings;
+        const RenderSettings& s = state.settings;
         // From the GPU nothing comes back, through the host only the colour image, unless the frame
-        // is saved.
-        s.download = state.saveRequested    ? ImageDownload::All
-                     : fromDevice || shared ? ImageDownload::None
-                                            : ImageDownload::Colour;
-        auto out = session->render(state.camera.matrices(s.width, s.height, state.model), s);
-        if (!out) return out.error();
+        // is saved. The camera and model go as the specs `raster render` takes (viewOptions), so that a
+        // saved frame's render_args draw it again bit for bit.
+        const ImageDownload download = state.saveRequested    ? ImageDownload::All
+                                       : fromDevice || shared ? ImageDownload::None
+                                                              : ImageDownload::Colour;
+        raster::RenderRequest request;
+        request.surfaceAovs = state.saveRequested;
+        request.outputs = state.saveRequested ? raster::OutputImages : raster::OutputColor;
+        request.stats = state.saveRequested;
+        auto out =
+            raster::Internal::render(*session, raster::Camera::fromSpec("auto"),
+                                     raster::Internal::makeSettings(viewOptions(state)), request, download);
+        if (!out) return raster::fromPublic(out.error());
+        for (const std::string& warning : out->warnings)
+            if (warned.insert(warning).second) warnLine(warning);
         // Read after the frame: a new size replaces the buffer.
         std::optional<VulkanPresentSource> source;
         if (fromDevice) source = vulkanPresentSource(device);
@@ -267,18 +285,17 @@ Status runView(const ViewOptions& o)
                 if (!created) return created.error();
                 hostPresenter = std::move(*created);
             }
-            SR_TRY(hostPresenter->present(out->color, windowWidth, windowHeight, readback));
+            SR_TRY(hostPresenter->present(colorImage(*out), windowWidth, windowHeight, readback));
         }
         presentMs.push_back(msSince(presentStart));
-        gpuMs.push_back(out->total.medianMs);
+        gpuMs.push_back(out->gpuMs);
         if (state.saveRequested) {
             std::string prefix =
                 state.savePrefix.empty() ? fmt::format("view_{:04d}", gpuMs.size()) : state.savePrefix;
             // The save's five files appear together or not at all.
             FileGroup files;
-            SR_TRY(stageOutputs(files, *out, scene, viewOptions(state),
-                                OutputPaths{prefix + ".png", prefix + ".exr", prefix + ".json"},
-                                o.scenePath.empty() ? "builtin" : o.scenePath, ImageEncoding{}));
+            SR_TRY(stageFrame(files, *out, OutputPaths{prefix + ".png", prefix + ".exr", prefix + ".json"},
+                              ImageEncoding{}));
             auto shownPng = encodePng(shown);
             if (!shownPng) return shownPng.error();
             SR_TRY(files.stage(prefix + ".window.png", shownPng->data(), shownPng->size()));
@@ -294,8 +311,8 @@ Status runView(const ViewOptions& o)
             window->setTitle(fmt::format(
                 "raster view - {} ({}), {} - GPU {:.2f} ms, present {:.2f} ms, {:.0f} fps - "
                 "{} triangles - {}",
-                out->device.backend, out->device.name, path.substr(path.find(' ') + 1), out->total.medianMs,
-                presentMs.back(), fps, out->stats.trianglesIn, stateSummary(state)));
+                raster::backendName(out->device.backend), out->device.name, path.substr(path.find(' ') + 1),
+                out->gpuMs, presentMs.back(), fps, base->triangleCount(), stateSummary(state)));
         dirty = false;
     }
     if (!gpuMs.empty() && !o.scriptPath.empty()) {
