@@ -479,7 +479,7 @@ SR_NAMESPACE_END
 #include "shared/vertex.h"
 #include "shared/clip.h"
 #include "shared/setup.h"
-#include "shared/raster.h"
+#include "shared/coverage.h"
 #include "shared/methods.h"
 #include "shared/texture.h"
 #include "shared/shade.h"

@@ -1,10 +1,10 @@
-// shared/raster.h - the raster stages: Vulkan's standard sample patterns, sample coverage and depth of a
+// shared/coverage.h - the raster stages: Vulkan's standard sample patterns, sample coverage and depth of a
 // TriSetup, points, the early depth bound of raster_tiles, and the 64-bit visibility key whose minimum
 // resolves every sample.
 //
 // Part of raster_shared.h (included from there, not on its own); same three-language rules.
-#ifndef RASTER_SHARED_RASTER_H
-#define RASTER_SHARED_RASTER_H
+#ifndef RASTER_SHARED_COVERAGE_H
+#define RASTER_SHARED_COVERAGE_H
 
 SR_NAMESPACE_BEGIN
 
@@ -229,4 +229,4 @@ SR_FN float visibilityDepth(uint64_t key)
 
 SR_NAMESPACE_END
 
-#endif  // RASTER_SHARED_RASTER_H
+#endif  // RASTER_SHARED_COVERAGE_H
