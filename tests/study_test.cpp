@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "study/study_runner.h"
-#include "study/ao.h"
+#include "study/ao_study.h"
 #include "study/scenes.h"
 #include "test_util.h"
 

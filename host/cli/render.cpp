@@ -22,11 +22,11 @@
 #include "io/image_io.h"
 #include "scene/camera.h"
 #include "scene/primitive_mode.h"
-#include "study/ao.h"
+#include "study/ao_study.h"
 #include "study/quality.h"
 #include "study/study_runner.h"
 #include "study/scenes.h"
-#include "study/settings.h"
+#include "study/settings_study.h"
 
 namespace sr {
 namespace {
@@ -43,7 +43,8 @@ Result<raster::Scene> loadScene(const std::string& path, const RenderSettings& s
         std::optional<CameraMatrices> own;
         Scene scene;
         if (std::find(aoScenes.begin(), aoScenes.end(), name) != aoScenes.end() && name != "builtin") {
-            // The ambient-occlusion group's scenes (study/ao.h): "study:bunny-plane", "study:stress-grazing",
+            // The ambient-occlusion group's scenes (study/ao_study.h): "study:bunny-plane",
+            // "study:stress-grazing",
             // ...
             auto study = makeAoScene(name, s.width, s.height, StudyOptions{}.bunnyPath);
             if (!study) return study.error();

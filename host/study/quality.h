@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/result.h"
-#include "study/settings.h"
+#include "study/settings_study.h"
 
 namespace sr {
 

@@ -3,7 +3,7 @@
 //
 // Accuracy: each scene of the set (study/scenes.h: the built-in scene, the textured grazing
 // checkerboard, the dense sphere, the bunny when its file is present, a sliver fan, a jittered grid)
-// rendered with every setting of study/settings.h -- anti-aliasing (MSAA 1-16, SSAA 2-3 and a
+// rendered with every setting of study/settings_study.h -- anti-aliasing (MSAA 1-16, SSAA 2-3 and a
 // combination), texture filter (nearest, bilinear, trilinear), UV interpolation (perspective, affine)
 // and raster method (fixed8, fixed4, float, scanline) -- and compared with the scene's reference, a
 // render better than every setting: SSAA 4 x MSAA 16 (64 samples per pixel) with fixed8 coverage,
@@ -16,7 +16,7 @@
 // primitive differs from the conformant graphics pipeline's (vulkan-graphics: Mesa's rasterizer on
 // lavapipe, the GPU's on NVIDIA), which draws each case once for all methods and backends.
 //
-// Level of detail (issue 29, study/lod.h): each LOD scene (the sphere of --lod-rings rings, the bunny,
+// Level of detail (issue 29, study/lod_study.h): each LOD scene (the sphere of --lod-rings rings, the bunny,
 // the bunny subdivided to 16 times its triangles) from a near and a far camera, drawn with --lod off and
 // with --lod on at every error of --lod-errors, each frame against the --lod off one (coverage pixels
 // that differ and those beyond 1 pixel of its silhouette, depth error, colour PSNR), and against the
@@ -35,10 +35,10 @@
 
 #include "base/result.h"
 #include "render/renderer.h"
-#include "study/lod.h"
+#include "study/lod_study.h"
 #include "study/scenes.h"
-#include "study/ao.h"
-#include "study/settings.h"
+#include "study/ao_study.h"
+#include "study/settings_study.h"
 
 namespace sr {
 
@@ -59,7 +59,7 @@ struct StudyOptions {
     std::vector<std::string> lodScenes{"sphere", "bunny"};
     int lodRings = 200;
     std::vector<float> lodErrors{0.25f, 0.5f, 1.0f, 2.0f, 4.0f};
-    // The ambient-occlusion group (issue 30, study/ao.h): its scenes (aoSceneNames(); "bunny-plane" is
+    // The ambient-occlusion group (issue 30, study/ao_study.h): its scenes (aoSceneNames(); "bunny-plane" is
     // skipped when bunnyPath does not exist; empty: the group is left out), each drawn with --ao reference
     // at every radius of aoStudySettings() and with --ao gtao at every setting of it.
     std::vector<std::string> aoScenes = aoSceneNames();
@@ -81,7 +81,7 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
                                        const RenderSettings& base, const std::vector<std::string>& methods,
                                        const std::function<void(const std::string&)>& progress = {});
 
-// The level-of-detail rows of one scene on `device` (study/lod.h), its near camera's then its far
+// The level-of-detail rows of one scene on `device` (study/lod_study.h), its near camera's then its far
 // camera's, each the --lod off frame (the baseline) and then one per error in `errors`, drawn with `base`
 // (size, shading, warmup and repeat) and --lod on at that error. One RenderSession draws them all, so the
 // hierarchy is built once per scene and device. Each row: {"scene", "camera", "camera_spec" (the --camera
@@ -91,7 +91,7 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
 // "depth_mean_error" (LodImageDiff against the baseline), "psnr_vs_off" and "psnr_vs_reference" (dB,
 // "inf" for an identical image; the reference is the baseline's frame at SSAA 4 x MSAA 16,
 // referenceSettings)}. `progress` hears what is being drawn.
-// The ambient-occlusion rows of one scene on `device` (study/ao.h): the reference (--ao reference, the
+// The ambient-occlusion rows of one scene on `device` (study/ao_study.h): the reference (--ao reference, the
 // host's rays) at each radius of aoStudySettings(), then every setting drawn with --ao gtao and
 // --shading ao, with `base`'s size, warmup and repeat: {"scene", "camera_spec", "backend", "slices",
 // "steps", "radius_scale", "radius", "denoise", "ao_ms" (the AO stages' median GPU time), "shade_ms",

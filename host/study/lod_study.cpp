@@ -1,5 +1,5 @@
-// lod.cpp - see lod.h.
-#include "study/lod.h"
+// lod_study.cpp - see lod_study.h.
+#include "study/lod_study.h"
 
 #include <algorithm>
 #include <cmath>

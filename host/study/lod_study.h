@@ -1,4 +1,4 @@
-// lod.h - the level-of-detail group of `raster study` (issue 29, item 5): its scenes, its two cameras,
+// lod_study.h - the level-of-detail group of `raster study` (issue 29, item 5): its scenes, its two cameras,
 // and what a frame drawn with --lod on is compared with --lod off by.
 //
 // Scenes: "sphere", the built-in sphere builtin:dense:N (about 4 N^2 triangles: N = 5000 is the 100M

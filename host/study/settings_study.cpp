@@ -1,5 +1,5 @@
-// settings.cpp - see settings.h.
-#include "study/settings.h"
+// settings_study.cpp - see settings_study.h.
+#include "study/settings_study.h"
 
 #include <utility>
 

@@ -1,4 +1,4 @@
-// settings.h - the settings the accuracy half of `raster study` compares, and the names they go by in
+// settings_study.h - the settings the accuracy half of `raster study` compares, and the names they go by in
 // its JSON and on the command line (`--raster-method`, `--texture-filter`, `--uv-interpolation`).
 #ifndef RASTER_STUDY_SETTINGS_H
 #define RASTER_STUDY_SETTINGS_H

@@ -1,5 +1,5 @@
-// ao.cpp - see ao.h.
-#include "study/ao.h"
+// ao_study.cpp - see ao_study.h.
+#include "study/ao_study.h"
 
 #include <algorithm>
 #include <cmath>

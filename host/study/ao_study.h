@@ -1,4 +1,4 @@
-// ao.h - the ambient-occlusion group of `raster study` (issue 30, item 5): its scenes and cameras, the
+// ao_study.h - the ambient-occlusion group of `raster study` (issue 30, item 5): its scenes and cameras, the
 // GTAO settings it sweeps, and what a GTAO image is compared with the ground truth (--ao reference) by.
 //
 // Scenes: "builtin" (the built-in scene under the auto camera), "bunny-plane" (the Stanford bunny
