@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "ao/ao_host.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "vulkan/vulkan_graphics.h"
 #include "test_util.h"
 

@@ -10,7 +10,7 @@
 #include "raster/raster.h"
 
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "settings/schema.h"
 #include "test_util.h"
 

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/camera.h"
-#include "scene/orbit.h"
+#include "camera/camera.h"
+#include "camera/orbit.h"
 #include "test_util.h"
 
 namespace sr {

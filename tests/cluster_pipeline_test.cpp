@@ -7,7 +7,7 @@
 // clusters would pass by comparing setup with itself.
 #include <gtest/gtest.h>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/clusters.h"
 #include "test_util.h"
 

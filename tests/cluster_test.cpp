@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/clusters.h"
 #include "scene/scene.h"
 #include "test_util.h"

@@ -20,7 +20,7 @@
 
 #include "render/aov.h"
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 #include "test_util.h"
 

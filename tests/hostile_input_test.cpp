@@ -22,7 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 #include "scene/scene.h"
 #include "test_util.h"
 

@@ -25,10 +25,10 @@
 #include "io/image_io.h"
 #include "raster_shared.h"
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
-#include "scene/triangulate.h"
+#include "loaders/triangulate.h"
 
 namespace sr {
 namespace {

@@ -25,7 +25,7 @@
 
 #include "api/backend.h"
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/lod.h"
 #include "scene/scene.h"
 #include "test_util.h"

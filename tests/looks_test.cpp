@@ -17,7 +17,7 @@
 #include "api/backend.h"
 #include "io/image_io.h"
 #include "render/tessellate.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/primitive_mode.h"
 #include "test_util.h"
 #include "vulkan/vulkan_graphics.h"

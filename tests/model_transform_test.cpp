@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/image_io.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "test_util.h"
 #include "vulkan/vulkan_graphics.h"
 

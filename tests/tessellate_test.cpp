@@ -17,7 +17,7 @@
 
 #include "study/study_runner.h"
 #include "render/tessellate.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "study/scenes.h"
 #include "shared/tess_emit.h"
 #include "test_util.h"

@@ -21,7 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "render/materials.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/texture.h"
 #include "test_util.h"
 #include "vulkan/vulkan_graphics.h"

@@ -12,13 +12,13 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/primitive_mode.h"
 #include "scene/scene.h"
 #include "test_util.h"
 #include "settings/schema.h"
 #include "viewer/controls.h"
-#include "scene/orbit.h"
+#include "camera/orbit.h"
 #include "viewer/script.h"
 
 namespace sr::test {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 #include "settings/render_settings.h"
 

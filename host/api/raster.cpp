@@ -22,7 +22,7 @@
 #include "io/compare.h"
 #include "raster_shared.h"
 #include "render/aov.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/primitive_mode.h"
 #include "scene/texture.h"
 #include "settings/schema.h"

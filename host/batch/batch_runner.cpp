@@ -30,8 +30,8 @@
 #include "base/warnings.h"
 #include "batch/turntable.h"
 #include "io/image_io.h"
-#include "scene/camera.h"
-#include "scene/orbit.h"
+#include "camera/camera.h"
+#include "camera/orbit.h"
 
 namespace sr {
 

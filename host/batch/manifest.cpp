@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "io/file_write.h"
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 #include "settings/schema.h"
 
 namespace sr {

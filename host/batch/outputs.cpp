@@ -13,7 +13,7 @@
 
 #include <unistd.h>
 
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 
 namespace sr {
 

@@ -11,7 +11,7 @@
 #include "api/api_internal.h"
 #include "api/frame_files.h"
 #include "base/warnings.h"
-#include "scene/orbit.h"
+#include "camera/orbit.h"
 #include "scene/primitive_mode.h"
 
 namespace sr {

@@ -13,7 +13,7 @@
 
 #include "base/result.h"
 #include "io/image_io.h"
-#include "scene/orbit.h"
+#include "camera/orbit.h"
 #include "settings/render_settings.h"
 
 namespace sr {

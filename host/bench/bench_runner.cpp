@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/texture.h"
 #include "settings/schema.h"
 #include "render/compute_device.h"

@@ -20,7 +20,7 @@
 #include "cli/usage_errors.h"
 #include "io/file_write.h"
 #include "io/image_io.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/primitive_mode.h"
 #include "study/ao_study.h"
 #include "study/quality.h"

@@ -14,7 +14,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "render/compute_device.h"
 #include "render/tessellate.h"
 #include "io/image_io.h"

@@ -130,8 +130,8 @@ struct Scene {
 Result<Scene> loadScene(const std::string& path);
 Result<Scene> loadGltf(const std::string& path);
 Result<Scene> loadObj(const std::string& path);
-Result<Scene> loadPly(const std::string& path);  // scene_mesh.cpp, through assimp
-Result<Scene> loadStl(const std::string& path);  // scene_mesh.cpp, through assimp
+Result<Scene> loadPly(const std::string& path);  // loaders/ply_stl.cpp, through assimp
+Result<Scene> loadStl(const std::string& path);  // loaders/ply_stl.cpp, through assimp
 
 // The built-in procedural scene used when no file is given: a few shaded solids on a ground plane,
 // with vertex colours, sized to a few thousand triangles.

@@ -14,7 +14,7 @@
 #include <memory>
 
 #include "raster_shared.h"
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 
 namespace sr {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 
 namespace sr {
 namespace {

@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 
 namespace sr {

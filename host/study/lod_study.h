@@ -22,7 +22,7 @@
 
 #include "base/result.h"
 #include "io/image_io.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 
 namespace sr {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "base/result.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 
 namespace sr {

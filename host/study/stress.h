@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "render/renderer.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 
 namespace sr {

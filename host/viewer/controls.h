@@ -15,7 +15,7 @@
 #include "render/renderer.h"
 #include "scene/primitive_mode.h"
 #include "scene/scene.h"
-#include "scene/orbit.h"
+#include "camera/orbit.h"
 
 namespace sr {
 

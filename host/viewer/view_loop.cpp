@@ -16,7 +16,7 @@
 #include "base/warnings.h"
 #include "io/image_io.h"
 #include "render/frame_share.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "settings/schema.h"
 #include "viewer/controls.h"
 #include "viewer/present.h"

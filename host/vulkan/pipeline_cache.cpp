@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "io/file_write.h"
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 
 namespace sr {
 namespace {

@@ -50,7 +50,7 @@
 #ifndef RASTER_VULKAN_GRAPHICS_H
 #define RASTER_VULKAN_GRAPHICS_H
 
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "render/renderer.h"
 #include "base/result.h"
 #include "scene/scene.h"

@@ -1,4 +1,4 @@
-// scene_builtin.cpp - the procedural scene drawn when no file is given.
+// builtin.cpp - the procedural scene drawn when no file is given.
 //
 // A 4 x 4 ground plane at y = 0 carrying a UV sphere, a cube and a torus, each with its own colour:
 // about 2,900 triangles, smooth normals on the curved solids, one normal per face on the flat ones.

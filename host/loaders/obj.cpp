@@ -1,4 +1,4 @@
-// scene_obj.cpp - Wavefront OBJ to the flat triangle, segment and point lists, through tinyobjloader.
+// obj.cpp - Wavefront OBJ to the flat triangle, segment and point lists, through tinyobjloader.
 //
 // tinyobjloader's own triangulation is off (it fans polygons, which overlaps itself on concave ones) so
 // that the triangle order (the ids in the `id` AOV) is defined here: polygons are ear clipped in their
@@ -34,10 +34,10 @@
 #include <string_view>
 
 #include "base/warnings.h"
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
-#include "scene/triangulate.h"
+#include "loaders/triangulate.h"
 
 namespace sr {
 namespace {

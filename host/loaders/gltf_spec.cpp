@@ -1,5 +1,5 @@
 // gltf_spec.cpp - the glTF 2.0 rules that tinygltf leaves unchecked (see gltf_spec.h).
-#include "scene/gltf_spec.h"
+#include "loaders/gltf_spec.h"
 
 #include <cstddef>
 #include <cstdint>

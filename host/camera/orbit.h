@@ -7,7 +7,7 @@
 #include <string>
 
 #include "base/result.h"
-#include "scene/camera.h"
+#include "camera/camera.h"
 #include "scene/scene.h"
 
 namespace sr {

@@ -1,5 +1,5 @@
 // orbit.cpp - the viewer's orbit camera: drag, pan and zoom as changes of an OrbitPose.
-#include "scene/orbit.h"
+#include "camera/orbit.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // triangulate.cpp - see triangulate.h.
-#include "scene/triangulate.h"
+#include "loaders/triangulate.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-// scene_gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle, segment and point lists,
+// gltf.cpp - glTF 2.0 (.gltf, .glb) to the flat world-space triangle, segment and point lists,
 // through tinygltf.
 //
 // Primitives of mode POINTS become Scene::points and those of the line modes (LINES, LINE_LOOP,
@@ -33,8 +33,8 @@
 #include "raster_shared.h"
 
 #include "base/warnings.h"
-#include "scene/gltf_spec.h"
-#include "scene/safe_file.h"
+#include "loaders/gltf_spec.h"
+#include "loaders/safe_file.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 

@@ -1,5 +1,5 @@
 // camera.cpp - `--camera` parsing and the view and projection matrices (Vulkan conventions).
-#include "scene/camera.h"
+#include "camera/camera.h"
 
 #include <algorithm>
 #include <cerrno>

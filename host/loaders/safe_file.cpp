@@ -1,6 +1,6 @@
 // safe_file.cpp - readRegularFile: POSIX open/fstat/read, so that the file's type and size are known
 // before the first byte is read.
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

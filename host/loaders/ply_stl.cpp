@@ -1,4 +1,4 @@
-// scene_mesh.cpp - PLY and STL (the formats of scanned and 3D-printed meshes) through assimp.
+// ply_stl.cpp - PLY and STL (the formats of scanned and 3D-printed meshes) through assimp.
 //
 // Why assimp: Debian 12 packages it (libassimp-dev 5.2.5), it is maintained, and it reads both formats
 // in all their variants (PLY ASCII and binary of either endianness, with normals and colours as float
@@ -33,9 +33,9 @@
 #include <sstream>
 
 #include "base/warnings.h"
-#include "scene/safe_file.h"
+#include "loaders/safe_file.h"
 #include "scene/scene.h"
-#include "scene/triangulate.h"
+#include "loaders/triangulate.h"
 
 namespace sr {
 namespace {
