@@ -242,7 +242,7 @@ SR_NAMESPACE_BEGIN
 // Specialization constant of raster_tiles' CPU build (RASTER_TILES_CHUNKED): whether the frame counts
 // hits (DEBUG_COUNT_HITS). A CPU device runs each hit-count load, store and atomic as a loop over the
 // SIMD lanes even when every lane is masked off, 64 such loops per tile; the build without them is
-// 11-25% faster there (docs/benchmark.md, "The CPU raster core").
+// 11-25% faster there (docs/benchmark-log.md, "The CPU raster core").
 #define SPEC_COUNT_HITS 7
 #define SHADE_USES_MATERIALS 1u          // RasterParams.materialCount > 0
 #define SHADE_USES_BASE_TEXTURES 2u      // a material has a base colour texture

@@ -12,7 +12,7 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 // SETUP_LINES_POINTS (a preprocessor definition, 0 or 1): whether the line and point paths are built
 // in. This shader is compiled twice (CMakeLists.txt), and scenes of triangles alone run the module
 // without them: with the point code in the same module (behind a run-time branch) NVIDIA's compiler
-// ran the triangle path 35-95% slower on the H100 (measured; docs/benchmark.md, performance log).
+// ran the triangle path 35-95% slower on the H100 (measured; docs/benchmark-log.md, "Performance pass").
 #ifndef SETUP_LINES_POINTS
 #define SETUP_LINES_POINTS 0
 #endif

@@ -139,7 +139,7 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
 // triangles) reach the same single inlined emitTriangle as a triangle's. compute_glsl/setup.comp gives
 // lines a function of their own; in CUDA that form (a second inlined emitTriangle) ran lines-1m's
 // setup 2.5x slower on the H100 with the same instruction count, its warps stalled on memory (0.39 ->
-// 1.00 ms; docs/benchmark.md, performance log), so this build keeps one loop for both.
+// 1.00 ms; docs/benchmark-log.md, "Performance pass"), so this build keeps one loop for both.
 template <bool kMaterials, bool kMultisample, uint kMethod>
 __device__ inline void setupStageWithLinesPoints(const RasterParams& params, const Buffers& b)
 {

@@ -124,7 +124,8 @@ TEST(Compare, DefaultsAreTheDocumentedBoundsOfThePair)
         EXPECT_EQ(p.tolerance.maxFraction, fraction) << p.rule;
         EXPECT_LT(p.tolerance.surfaceTolerance, 0.0) << p.rule;
     };
-    // README "Goldens": ids and depth identical, colour within 1/255, on any devices, either order.
+    // docs/building-and-testing.md "Goldens": ids and depth identical, colour within 1/255, on any devices,
+    // either order.
     for (bool aov : {false, true}) {
         expectTol(documentedTolerance(cuda, vulkan, aov), 1, 0, 0.0f, 0.0);
         expectTol(documentedTolerance(vulkan, cuda, aov), 1, 0, 0.0f, 0.0);
@@ -138,8 +139,9 @@ TEST(Compare, DefaultsAreTheDocumentedBoundsOfThePair)
         expectTol(documentedTolerance(vulkan, {"vulkan", ""}, aov), 1, 0, 0.0f, 0.0);
         EXPECT_NE(documentedTolerance(none, vulkan, aov).rule.find("names no backend"), std::string::npos);
     }
-    // Against the conformant rasterizer: the oracle tests' 64 pixels and 1e-3 depth (README "Oracle
-    // criteria", docs/antialiasing.md), 2/255 colour on all but 10% of the pixels.
+    // Against the conformant rasterizer: the oracle tests' 64 pixels and 1e-3 depth
+    // (docs/building-and-testing.md "Oracle criteria", docs/antialiasing.md), 2/255 colour on all but 10% of
+    // the pixels.
     expectTol(documentedTolerance(vulkan, graphics, true), 0, 64, 1e-3f, 0.001);
     expectTol(documentedTolerance(graphicsGpu, cuda, true), 0, 64, 1e-3f, 0.001);
     expectTol(documentedTolerance(vulkan, graphics, false), 2, 0, 0.0f, 0.10);

@@ -2,8 +2,9 @@
 //
 // Each scene of tests/golden/scenes.txt is rendered by the `raster` tool with --backend vulkan (lavapipe
 // in CI) and compared with the PNG and EXR that CUDA produced on a GPU (ci/gpu-check --goldens).
-// Criteria (README, "Goldens"): coverage and triangle ids identical, depth bit-identical, colour within
-// 1/255 per channel. A golden whose provenance does not say it came from CUDA fails.
+// Criteria (docs/building-and-testing.md, "Goldens"): coverage and triangle ids identical, depth
+// bit-identical, colour within 1/255 per channel. A golden whose provenance does not say it came from CUDA
+// fails.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

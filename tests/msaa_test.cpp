@@ -399,7 +399,7 @@ TEST(MsaaCommandLine, RejectsBadRequestsWithOneLine)
     }
 }
 
-// `raster render` makes anti-aliased pictures unless told otherwise (kImageMsaa, README), and says so in
+// `raster render` makes anti-aliased pictures unless told otherwise (kImageMsaa, docs/cli.md), and says so in
 // its statistics; `--msaa 1` is the exact one-sample path the tests and goldens use.
 TEST(MsaaCommandLine, RenderDefaultsToMsaa4)
 {

@@ -38,7 +38,7 @@ size_t count(const std::string& text, const std::string& what)
     return n;
 }
 
-// The bunny of the README's batch example (Debian's glmark2-data), where installed.
+// The bunny of docs/batch.md's example (Debian's glmark2-data), where installed.
 const std::string kBunny = glmark2Model("bunny.obj");
 
 TEST(RenderOutputs, AnAovAloneWritesNoPng)
@@ -208,7 +208,8 @@ TEST(RenderWarnings, CameraInsideTheModel)
     EXPECT_EQ(outside.exitCode, 0);
     EXPECT_EQ(outside.stderrText, "");
 
-    // The README's batch example before its fix: the bunny at orbit:30,20,0.4 (scene units), once per job.
+    // docs/batch.md's example before its fix (then in the README): the bunny at orbit:30,20,0.4 (scene
+    // units), once per job.
     ASSERT_TRUE(exists(kBunny)) << kBunny << " is missing: ci/setup installs glmark2-data";
     std::ofstream(dir.file("m.jsonl"))
         << "{\"defaults\": {\"width\": 24, \"height\": 16, \"msaa\": 1}}\n"

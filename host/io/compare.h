@@ -22,9 +22,9 @@ struct CompareTolerance {
     double maxFraction = 0.0;
 };
 
-// The tolerance the project documents for two outputs of the named backends (README "Goldens",
-// docs/validation.md "What raster compare applies"), which `raster compare` applies when no flag sets
-// one:
+// The tolerance the project documents for two outputs of the named backends (docs/building-and-testing.md
+// "Goldens", docs/validation.md "What raster compare applies"), which `raster compare` applies when no flag
+// sets one:
 //   - cuda and vulkan (any devices, and the goldens, which are CUDA's): ids, coverage and depth exact,
 //     colour within 1/255, the goldens' criterion;
 //   - one backend on one device (both origins name the same device): exact, as the determinism tests

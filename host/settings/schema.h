@@ -1,7 +1,7 @@
 // schema.h - every render setting declared once: its name, type, default, allowed values or range and
 // one line of help. From this one table come the `raster render` options and their help, the batch
 // manifest's keys and their checks, the viewer's `raster render` arguments, the settings echoed in
-// --stats, `raster settings` (the reference the README holds) and the public API's settings by name.
+// --stats, `raster settings` (the reference docs/settings.md holds) and the public API's settings by name.
 //
 // A setting is named as on the command line without the dashes ("texture-filter"); manifests and the
 // API spell it with underscores ("texture_filter"), and every look-up accepts both. Values travel as
@@ -9,7 +9,7 @@
 // are checked here and only here (checkSettingValue), and setSetting stores only checked values.
 //
 // Adding a setting: one entry in schema.cpp's table (with its member of RenderOptions) and its use in
-// the pipeline; every front end, the README reference and the tests pick it up from the table.
+// the pipeline; every front end, the reference in docs/settings.md and the tests pick it up from the table.
 #ifndef RASTER_SETTINGS_SCHEMA_H
 #define RASTER_SETTINGS_SCHEMA_H
 
@@ -116,7 +116,7 @@ Result<uint32_t> choiceValue(const Setting& setting, const std::string& name, co
 std::vector<std::string> choiceNames(const Setting& setting);
 
 // The reference as Markdown: one table per group with each setting's command-line option, manifest
-// key, values and default, and help. The README holds exactly this text (a test checks it).
+// key, values and default, and help. docs/settings.md holds exactly this text (a test checks it).
 std::string settingsMarkdown();
 // The schema as JSON, for other front ends (`raster settings --json`).
 nlohmann::json schemaJson();

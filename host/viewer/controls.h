@@ -113,7 +113,7 @@ std::string aaName(const ViewerState& state);
 // One line for the window title: shading, AA, primitive mode, wireframe, the model spec unless identity.
 std::string stateSummary(const ViewerState& state);
 
-// The controls, one per line, for `raster view --help` and the README.
+// The controls, one per line, for `raster view --help` and docs/viewer.md.
 std::string controlsHelp();
 
 }  // namespace sr
