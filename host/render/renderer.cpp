@@ -1,6 +1,8 @@
-// renderer.cpp - buffer sizing, stage dispatch, grow-and-redraw and timing statistics, shared by the
-// CUDA and Vulkan backends.
+// renderer.cpp - the session and its frames: buffer sizing, uploads, stage dispatch, grow-and-redraw,
+// tessellation and level of detail, shared by the CUDA and Vulkan backends (a frame's parameters and checks:
+// frame_params.cpp; what comes back: frame_readback.cpp).
 #include "render/renderer.h"
+#include "render/renderer_internal.h"
 
 #include "ao/ao_image.h"
 #include "ao/ao_reference.h"
@@ -22,14 +24,8 @@
 #include "scene/clusters.h"
 #include "scene/texture.h"
 #include "settings/schema.h"
-
 namespace sr {
 namespace {
-
-uint32_t groupsFor(uint64_t threads, uint32_t groupSize)
-{
-    return uint32_t((threads + groupSize - 1) / groupSize);
-}
 
 template <typename T>
 Status uploadVector(ComputeDevice& device, uint32_t buffer, const std::vector<T>& data)
@@ -61,12 +57,6 @@ std::vector<uint32_t> primitiveMaterials(const Scene& scene)
     materials.insert(materials.end(), scene.lineMaterials.begin(), scene.lineMaterials.end());
     materials.insert(materials.end(), scene.pointMaterials.begin(), scene.pointMaterials.end());
     return materials;
-}
-
-// Screen tiles per row and per column for a width x height framebuffer (RasterParams.tilesX, tilesY).
-glm::uvec2 tileGrid(uint32_t width, uint32_t height)
-{
-    return {(width + TILE_SIZE - 1) / TILE_SIZE, (height + TILE_SIZE - 1) / TILE_SIZE};
 }
 
 // Capacity for a list that needed `counted` entries: what was counted plus an eighth, so that a
@@ -126,220 +116,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
     return dispatches;
 }
 
-// No vertex shared on average: as many vertices as triangle corners.
-bool transformsInSetup(const Scene& scene)
-{
-    return scene.vertexCount() >= scene.indices.size();
-}
-
-bool countsHits(const RenderSettings& s)
-{
-    return s.countHits || s.shadingMode == SHADING_HIT_COUNT;
-}
-
-// The id and depth AOVs of every output pixel from the downloaded visibility keys (the first sample
-// plane at least, every plane with aovSamples), and with aovSamples every sample's (SampleAovs).
-// Every sample's id and depth (RenderSettings::aovSamples) from their visibility keys.
-void sampleAovs(const std::vector<uint64_t>& visibility, const RenderSettings& settings,
-                const RasterParams& params, SampleAovs& all)
-{
-    all.rasterWidth = params.width;
-    all.rasterHeight = params.height;
-    all.samples = settings.msaa;
-    all.id.resize(visibility.size());
-    all.depth.resize(visibility.size());
-    for (uint64_t i = 0; i < visibility.size(); ++i) {
-        all.id[i] = visibilityId(visibility[i]);
-        all.depth[i] = visibilityDepth(visibility[i]);
-    }
-}
-
-StageTiming summarize(std::string name, const std::vector<double>& ms)
-{
-    StageTiming t;
-    t.name = std::move(name);
-    t.minMs = *std::min_element(ms.begin(), ms.end());
-    t.maxMs = *std::max_element(ms.begin(), ms.end());
-    t.medianMs = median(ms);
-    return t;
-}
-
 }  // namespace
-
-RasterParams frameParams(const Scene& scene, const CameraMatrices& camera, const RenderSettings& s,
-                         const ListCapacities& capacities, const GroupCounts& groups)
-{
-    RasterParams p{};
-    p.clipFromWorld = camera.clipFromWorld;
-    p.viewFromWorld = camera.viewFromWorld;
-    p.normalFromWorld = glm::inverseTranspose(camera.viewFromWorld);
-    glm::vec3 l = glm::length(s.lightDirView) > 0.0f ? glm::normalize(s.lightDirView) : glm::vec3(0, 0, 1);
-    p.lightDirView = glm::vec4(l, 0.0f);
-    p.lightColor = glm::vec4(s.lightColor, s.ambient);
-    p.background = glm::vec4(s.background, 1.0f);
-    p.shadeExtra = glm::vec4(s.specularPower, camera.znear, camera.zfar, s.specular);
-    // The raster grid: the output resolution times the SSAA factor per side.
-    p.width = s.width * s.ssaa;
-    p.height = s.height * s.ssaa;
-    p.guardBand = glm::vec4(float(GUARD_BAND_PX) / (0.5f * float(p.width)),
-                            float(GUARD_BAND_PX) / (0.5f * float(p.height)), 0.0f, 0.0f);
-    p.vertexCount = uint32_t(scene.vertexCount());
-    p.triangleCount = uint32_t(scene.triangleCount());
-    p.cullMode = s.cullMode;
-    p.shadingMode = s.shadingMode;
-    p.hasColors = scene.colors.empty() ? 0u : 1u;
-    p.setupCapacity = capacities.records;
-    p.pieceCapacity = capacities.pieces;
-    p.binCapacity = capacities.binEntries;
-    glm::uvec2 grid = tileGrid(p.width, p.height);
-    p.tilesX = grid.x;
-    p.tilesY = grid.y;
-    p.rasterChunk = groups.rasterChunk;
-    p.rasterGroups = std::max(groups.raster, 1u);
-    p.binGroups = std::clamp(groups.bin, 1u, std::max(groupsFor(capacities.pieces, GROUP_SIZE), 1u));
-    p.debugFlags = countsHits(s) ? DEBUG_COUNT_HITS : 0u;
-    p.transformInSetup = transformsInSetup(scene) ? 1u : 0u;
-    p.materialCount = uint32_t(scene.materials.size());
-    p.textureFilter = s.textureFilter;
-    p.uvInterpolation = s.uvInterpolation;
-    p.textureCount = uint32_t(scene.textures.size());
-    p.sampleCount = s.msaa;
-    p.sampleBounds = sampleBoundsOf(s.msaa);
-    p.ssaa = s.ssaa;
-    p.samplePlane = p.width * p.height;
-    p.pointCount = uint32_t(scene.pointCount());
-    p.pointSize = s.pointSize;
-    p.lineCount = uint32_t(scene.lineCount());
-    p.lineWidth = s.lineWidth;
-    p.lineDepthBias = s.lineDepthBias;
-    p.tessMode = s.tessellate;
-    p.tessMaxLevel = s.tessMaxLevel;
-    p.tessEdgePx = s.tessEdgePx;
-    p.tessSourceTriangles = p.triangleCount;
-    p.tessSourceVertices = p.vertexCount;
-    p.tessBlocks = groupsFor(p.triangleCount, SCAN_GROUP_SIZE);
-    // Generated vertices are shared by their triangles: the vertex stage transforms them once.
-    if (s.tessellate != TESS_OFF) p.transformInSetup = 0u;
-    if (s.ao != AO_OFF) {
-        // View-space points from depth (shared/ao.h's aoViewPoint) need the projection alone; GLM's
-        // matrices are [column][row].
-        const glm::mat4& proj = camera.clipFromView;
-        p.aoUnprojectX = glm::vec4(1.0f / proj[0][0], proj[2][0], proj[3][0], proj[2][3]);
-        p.aoUnprojectY = glm::vec4(1.0f / proj[1][1], proj[2][1], proj[3][1], proj[3][3]);
-        p.aoMode = s.ao;
-        p.aoPlane = s.ao == AO_GTAO && s.aoDenoise == AO_DENOISE_ON ? AO_PLANE_DENOISED : AO_PLANE_RAW;
-        p.aoSlices = s.aoSlices;
-        p.aoSteps = s.aoSteps;
-        p.aoRadius = float(aoWorldRadius(scene, s) * aoViewScale(camera.viewFromWorld));
-        // Pixels per view unit at w = 1: half the raster's extent times the projection's scale, the
-        // smaller of the two axes (they agree for square pixels).
-        p.aoPixelScale =
-            0.5f * std::min(float(p.width) * std::abs(proj[0][0]), float(p.height) * std::abs(proj[1][1]));
-        p.aoInvSlices = recipDet(float(p.aoSlices));
-        p.aoInvSteps = recipDet(float(p.aoSteps));
-        p.aoInvFalloff = recipDet(AO_FALLOFF * p.aoRadius);
-        p.aoInvWidth = recipDet(float(p.width));
-        p.aoInvHeight = recipDet(float(p.height));
-    }
-    p.aovOutputs = aovOutputs(s);
-    return p;
-}
-
-uint32_t aovOutputs(const RenderSettings& s)
-{
-    if (s.download != ImageDownload::All) return 0u;
-    uint32_t bits = (s.outputs & (OUTPUT_ID | OUTPUT_DEPTH)) != 0u ? AOV_OUT_IDS_DEPTH : 0u;
-    if (s.surfaceAovs) bits |= AOV_OUT_IDS_DEPTH | AOV_OUT_SURFACE;
-    if ((s.outputs & OUTPUT_RAST) != 0u) bits |= AOV_OUT_IDS_DEPTH | AOV_OUT_RAST;
-    return bits;
-}
-
-double aoStagesMs(const std::vector<StageTiming>& stages)
-{
-    double ms = 0.0;
-    for (const StageTiming& t : stages)
-        for (uint32_t stage : {STAGE_AO_GBUFFER, STAGE_AO, STAGE_AO_DENOISE})
-            if (t.name == kStages[stage].name) ms += t.medianMs;
-    return ms;
-}
-
-double aoWorldRadius(const Scene& scene, const RenderSettings& s)
-{
-    if (s.aoRadius > 0.0f) return s.aoRadius;
-    const glm::dvec3 extent = glm::dvec3(scene.boundsMax) - glm::dvec3(scene.boundsMin);
-    const double radius = 0.5 * glm::length(extent);
-    return kAoRadiusFraction * (radius > 0.0 ? radius : 1.0);
-}
-
-double aoViewScale(const glm::mat4& viewFromWorld)
-{
-    return std::cbrt(std::abs(glm::determinant(glm::dmat3(glm::dmat4(viewFromWorld)))));
-}
-
-double median(std::vector<double> values)
-{
-    std::sort(values.begin(), values.end());
-    size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-std::vector<float> resolveAo(const std::vector<float>& raster, uint32_t width, uint32_t height, uint32_t ssaa)
-{
-    std::vector<float> out(uint64_t(width) * height);
-    const uint64_t rasterWidth = uint64_t(width) * ssaa;
-    for (uint32_t y = 0; y < height; ++y)
-        for (uint32_t x = 0; x < width; ++x) {
-            double sum = 0.0;
-            for (uint32_t j = 0; j < ssaa; ++j)
-                for (uint32_t i = 0; i < ssaa; ++i)
-                    sum += raster[(uint64_t(y) * ssaa + j) * rasterWidth + uint64_t(x) * ssaa + i];
-            out[uint64_t(y) * width + x] = float(sum / (double(ssaa) * ssaa));
-        }
-    return out;
-}
-
-Status checkRenderInputs(const Scene& scene, const RenderSettings& settings)
-{
-    // Each value and their combinations are checked by the settings schema, the one place that knows
-    // their ranges.
-    SR_TRY(checkSettings(settings));
-    // Level of detail simplifies triangles: a display form (lines, points, the wireframe overlay) has
-    // none of its own to simplify.
-    if (settings.lod == LOD_ON && scene.display)
-        return makeError(ExitCode::Usage,
-                         "--lod on draws triangles; it does not combine with --primitive-mode "
-                         "lines or points or --wireframe");
-    // The device's triangles are then generated or simplified ones: the ids rasterize's output carries
-    // would not be the scene's.
-    if ((settings.outputs & OUTPUT_RAST) != 0u && (settings.tessellate != TESS_OFF || settings.lod == LOD_ON))
-        return makeError(ExitCode::Usage,
-                         "rasterize's output does not combine with --tessellate or --lod on");
-    return checkSceneInputs(scene);
-}
-
-Status checkSceneInputs(const Scene& scene)
-{
-    if (scene.primitiveCount() == 0)
-        return makeError(ExitCode::Usage, "the scene has nothing to draw (no triangles, lines or points)");
-    // Primitive ids share 32 bits with EMPTY_ID and index math runs in uint.
-    if (scene.triangleCount() >= (uint64_t(1) << 31) / 3 || scene.primitiveCount() >= (uint64_t(1) << 31) ||
-        scene.vertexCount() >= (uint64_t(1) << 31))
-        return makeError(ExitCode::Usage,
-                         "the scene is too large ({} triangles, {} line segments, {} points, {} vertices)",
-                         scene.triangleCount(), scene.lineCount(), scene.pointCount(), scene.vertexCount());
-    // A scene that skipped finalizeScene (a library caller's own) could send the stages past the end of
-    // its triangle flags.
-    if (scene.triFlags.size() != scene.triangleCount())
-        return makeError(ExitCode::Usage, "the scene has {} triangle flags for {} triangles",
-                         scene.triFlags.size(), scene.triangleCount());
-    if (scene.lines.size() % 2 != 0)
-        return makeError(ExitCode::Usage, "the scene has an odd number ({}) of line indices",
-                         scene.lines.size());
-    if (!scene.colors.empty() && scene.colors.size() != scene.vertexCount())
-        return makeError(ExitCode::Usage, "the scene has {} colours for {} vertices", scene.colors.size(),
-                         scene.vertexCount());
-    return okStatus();
-}
 
 RenderSession::RenderSession(ComputeDevice& device, const Scene& scene) : device_(&device), scene_(&scene)
 {
@@ -589,40 +366,6 @@ Result<RenderOutput> RenderSession::renderLod(const CameraMatrices& camera, cons
     out->stats.lodBuildMs = buildMs;
     return out;
 }
-
-// The state one render() call passes from step to step.
-struct RenderSession::FrameState {
-    uint64_t pixels = 0;        // output pixels
-    uint64_t rasterPixels = 0;  // pixels of the raster grid: output pixels x ssaa^2
-    uint64_t samples = 0;       // samples of the raster grid: raster pixels x msaa
-    uint64_t tiles = 0;         // screen tiles of the raster grid
-    bool tessellating = false;  // RenderSettings::tessellate is not TESS_OFF
-    uint32_t clusters = 0;      // clusters the triangles go through (frameClusters); 0: setup
-    FrameWork work;             // what the next frame runs
-    uint32_t rasterChunk = 0;   // GroupCounts::rasterChunk
-    // The last frame drawn: its parameters, its counters, and its tessellation totals (generated
-    // vertices, triangles, culled scene triangles, overflow).
-    RasterParams params{};
-    uint32_t counters[COUNTER_COUNT] = {};
-    glm::uvec4 tessTotals = glm::uvec4(0u);
-    // The timed runs' GPU times per stage and per frame, and the last timed frame's dispatches in order.
-    std::vector<std::vector<double>> stageMs = std::vector<std::vector<double>>(STAGE_COUNT);
-    std::vector<double> totalMs;
-    std::vector<Dispatch> lastDispatches;
-    RenderOutput out;
-
-    // Keeps a timed frame's GPU times: each dispatch's under its stage, and their sum.
-    void keepTimes(const std::vector<Dispatch>& dispatches, const std::vector<double>& gpuMs)
-    {
-        lastDispatches = dispatches;
-        double total = 0.0;
-        for (size_t i = 0; i < dispatches.size(); ++i) {
-            stageMs[dispatches[i].stage].push_back(gpuMs[i]);
-            total += gpuMs[i];
-        }
-        totalMs.push_back(total);
-    }
-};
 
 Result<RenderOutput> RenderSession::render(const CameraMatrices& camera, const RenderSettings& settings)
 {
@@ -902,104 +645,6 @@ Status RenderSession::shadeReferenceAo(const RenderSettings& settings, FrameStat
     return device_->run(f.params, shade, ms);
 }
 
-// The timed runs' GPU times per stage and in all, the last frame's parameters, the device's peak memory.
-void RenderSession::timings(FrameState& f) const
-{
-    RenderOutput& out = f.out;
-    // Every stage of the frame in dispatch order (one with no work at 0 ms): the tess_* stages first when
-    // they ran.
-    for (const Dispatch& d : f.lastDispatches)
-        out.stages.push_back(summarize(stageName(d.stage), f.stageMs[d.stage]));
-    out.total = summarize("total", f.totalMs);
-    out.params = f.params;
-    out.peakDeviceBytes = device_->peakAllocatedBytes();
-}
-
-// RenderStats from the last frame's counters and tessellation totals.
-void RenderSession::statistics(FrameState& f) const
-{
-    const Scene& scene = *scene_;
-    const uint32_t* counters = f.counters;
-    RenderStats& st = f.out.stats;
-    st.trianglesIn = f.tessellating ? f.tessTotals.y : scene.triangleCount();
-    st.tessVertices = f.tessTotals.x;
-    st.tessTriangles = f.tessTotals.y;
-    st.tessCulled = f.tessTotals.z;
-    st.culled = counters[COUNTER_CULLED];
-    st.clipped = counters[COUNTER_CLIPPED];
-    st.invalid = counters[COUNTER_INVALID];
-    st.rasterized = uint64_t(counters[COUNTER_SMALL]) + counters[COUNTER_BIG];
-    st.smallTris = counters[COUNTER_SMALL];
-    st.bigTris = counters[COUNTER_BIG];
-    st.linesIn = scene.lineCount();
-    st.lines = counters[COUNTER_LINES];
-    st.pointsIn = scene.pointCount();
-    st.points = counters[COUNTER_POINTS];
-    st.records = counters[COUNTER_SETUP];
-    st.pieces = counters[COUNTER_PIECES];
-    st.binEntries = counters[COUNTER_BIN_ENTRIES];
-    st.capacities = capacities_;
-    st.clusters = f.clusters;
-    st.clustersCulled = counters[COUNTER_CLUSTERS_CULLED];
-    if (lodHierarchy_) {
-        st.lodSceneTriangles = lodHierarchy_->sceneTriangles;
-        st.lodTriangles = f.clusters > 0 ? counters[COUNTER_LOD_TRIANGLES] : scene.triangleCount();
-        st.trianglesIn = st.lodTriangles;
-    }
-}
-
-// What RenderSettings::download asks for: the colour image; with All also the hit counts when counted
-// and the id and depth AOVs from the visibility buffer, every sample's when asked for.
-Status RenderSession::download(const RenderSettings& settings, FrameState& f)
-{
-    RenderOutput& out = f.out;
-    ComputeDevice& device = *device_;
-    out.color.width = out.aov.width = settings.width;
-    out.color.height = out.aov.height = settings.height;
-    if (settings.download == ImageDownload::None) return okStatus();
-    const uint32_t copied = settings.outputs & ~settings.keptOutputs;
-    if (settings.download == ImageDownload::Colour || (copied & OUTPUT_COLOR) != 0u) {
-        out.color.pixels.resize(f.pixels);
-        SR_TRY(device.download(BUF_FRAMEBUFFER, out.color.pixels.data(), f.pixels * sizeof(uint32_t)));
-    }
-    if (settings.download == ImageDownload::Colour) return okStatus();
-    if (countsHits(settings)) {
-        out.hitCount.resize(f.samples);
-        SR_TRY(device.download(BUF_HIT_COUNT, out.hitCount.data(), f.samples * sizeof(uint32_t)));
-    }
-    if (settings.ao != AO_OFF) {
-        // The plane shade read, at the raster's resolution (the planes up to it, the head of BUF_AO); an
-        // output pixel takes the mean of its ssaa x ssaa raster pixels, as its colour does.
-        std::vector<float> planes((uint64_t(f.params.aoPlane) + 1) * f.rasterPixels);
-        SR_TRY(device.download(BUF_AO, planes.data(), planes.size() * sizeof(float)));
-        planes.erase(planes.begin(), planes.begin() + int64_t(f.params.aoPlane * f.rasterPixels));
-        for (float& v : planes) v = aoShaded(v);
-        out.aov.ao = resolveAo(planes, settings.width, settings.height, settings.ssaa);
-    }
-    // Every sample's key only when asked for; the pixels' AOVs come from stage aovs, already unpacked.
-    if (settings.aovSamples) {
-        std::vector<uint64_t> visibility(f.samples);
-        SR_TRY(device.download(BUF_VISIBILITY, visibility.data(), visibility.size() * sizeof(uint64_t)));
-        sampleAovs(visibility, settings, f.params, out.samples);
-    }
-    const AovsLayout l = aovsLayout(uint32_t(f.pixels), aovOutputs_);
-    auto plane = [&](auto& values, uint32_t word) {
-        values.resize(f.pixels);
-        return device.download(BUF_FRAMEBUFFER, values.data(), f.pixels * 4, uint64_t(word) * 4);
-    };
-    if ((copied & OUTPUT_ID) != 0u) SR_TRY(plane(out.aov.id, l.ids));
-    if ((copied & OUTPUT_DEPTH) != 0u) SR_TRY(plane(out.aov.depth, l.depths));
-    if (settings.surfaceAovs) {
-        uint32_t word = l.surface;
-        for (std::vector<float>* p : {&out.aov.baryU, &out.aov.baryV, &out.aov.uvU, &out.aov.uvV,
-                                      &out.aov.normalX, &out.aov.normalY, &out.aov.normalZ}) {
-            SR_TRY(plane(*p, word));
-            word += uint32_t(f.pixels);
-        }
-    }
-    return okStatus();
-}
-
 Result<std::vector<uint32_t>> RenderSession::renderViews(const std::vector<CameraMatrices>& cameras,
                                                          const RenderSettings& requested,
                                                          const ViewInputs& views, size_t count,
@@ -1074,60 +719,6 @@ Result<std::vector<uint32_t>> RenderSession::renderViews(const std::vector<Camer
         if (*grown || *skippedNeeded) SR_TRY(drawAlone(b));
     }
     return invalid;
-}
-
-Result<std::vector<ViewCopy>> RenderSession::viewCopies(const std::vector<ViewTarget>& targets) const
-{
-    const AovsLayout l = aovsLayout(uint32_t(aovPixels_), aovOutputs_);
-    std::vector<ViewCopy> copies;
-    for (const ViewTarget& t : targets) {
-        uint64_t word = 0;
-        switch (t.output) {
-        case OUTPUT_COLOR: break;
-        case OUTPUT_ID: word = l.ids; break;
-        case OUTPUT_DEPTH: word = l.depths; break;
-        case OUTPUT_RAST: word = l.rast; break;
-        default: return makeError(ExitCode::Usage, "views: no image {} to write", t.output);
-        }
-        if (t.destination == nullptr)
-            return makeError(ExitCode::Usage, "views: image {} has nowhere to go", t.output);
-        copies.push_back({word * 4, (t.output == OUTPUT_RAST ? 16 : 4) * aovPixels_,
-                          static_cast<char*>(t.destination), t.onDevice});
-    }
-    return copies;
-}
-
-Status RenderSession::readImage(uint32_t output, void* destination, size_t bytes, bool onDevice)
-{
-    const AovsLayout l = aovsLayout(uint32_t(aovPixels_), aovOutputs_);
-    bool drawn = false;
-    uint64_t word = 0;
-    switch (output) {
-    case OUTPUT_COLOR: drawn = framebufferColour_; break;
-    case OUTPUT_ID: drawn = aovOutputs_ != 0u, word = l.ids; break;
-    case OUTPUT_DEPTH: drawn = aovOutputs_ != 0u, word = l.depths; break;
-    case OUTPUT_RAST: drawn = (aovOutputs_ & AOV_OUT_RAST) != 0u, word = l.rast; break;
-    default: break;
-    }
-    const uint64_t expected = (output == OUTPUT_RAST ? 16 : 4) * aovPixels_;
-    if (!drawn || bytes != expected || device_->resident() != id_)
-        return makeError(ExitCode::Usage,
-                         "no image {} of {} bytes to read: the session's last frame was not drawn with it, "
-                         "or another session drew since",
-                         output, bytes);
-    return onDevice ? device_->downloadToDevice(BUF_FRAMEBUFFER, destination, bytes, word * 4)
-                    : device_->download(BUF_FRAMEBUFFER, destination, bytes, word * 4);
-}
-
-// With tessellation, the ids of generated triangles mapped back to the scene's triangles.
-Status RenderSession::remapTessellatedIds(FrameState& f)
-{
-    std::vector<uint32_t> sourceIds(f.tessTotals.y);
-    SR_TRY(device_->download(BUF_TESS_IDS, sourceIds.data(), sourceIds.size() * sizeof(uint32_t)));
-    const auto sceneTriangles = uint32_t(scene_->triangleCount());
-    mapToSourceIds(f.out.aov.id, sourceIds, sceneTriangles);
-    mapToSourceIds(f.out.samples.id, sourceIds, sceneTriangles);
-    return okStatus();
 }
 
 }  // namespace sr
