@@ -487,6 +487,7 @@ private:
             raster::RenderRequest request;
             request.surfaceAovs = !f.aov.empty();
             request.outputs = f.aov.empty() ? raster::OutputColor : raster::OutputImages;
+            request.stats = !f.stats.empty();
             const auto renderStart = Clock::now();
             auto camera = frameCamera(f, *scene);
             if (!camera) {

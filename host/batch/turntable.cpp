@@ -6,8 +6,6 @@
 #include <cstdlib>
 #include <set>
 
-#include <nlohmann/json.hpp>
-
 #include "api/api_internal.h"
 #include "api/frame_files.h"
 #include "base/warnings.h"
@@ -115,7 +113,9 @@ Result<TurntableResult> renderTurntable(raster::Session& session, const raster::
     raster::RenderRequest request;
     request.surfaceAovs = options.hasAov;
     request.outputs = options.hasAov ? raster::OutputImages : raster::OutputColor;
+    request.stats = options.hasStats;
     TurntableResult result;
+    result.triangles = scene.triangleCount();
     std::set<std::string> warned;  // each warning once for the sequence, not once per frame
     for (uint32_t k = 0; k < options.frames; ++k) {
         OrbitPose pose = orbit->pose();
@@ -135,7 +135,6 @@ Result<TurntableResult> renderTurntable(raster::Session& session, const raster::
         SR_TRY(stageFrame(files, *frame, paths, options.encoding));
         SR_TRY(files.commit());
         result.device = frame->device;
-        if (k == 0) result.triangles = nlohmann::json::parse(frame->statsJson)["triangles"]["in"];
         result.frameGpuMs.push_back(frame->gpuMs);
         if (options.progress) options.progress(k + 1, options.frames);
     }

@@ -235,6 +235,7 @@ Status runRender(RenderCommand& cmd)
     raster::RenderRequest request;
     request.surfaceAovs = !cmd.aovPath.empty();
     request.outputs = cmd.aovPath.empty() ? raster::OutputColor : raster::OutputImages;
+    request.stats = !cmd.statsPath.empty() || !cmd.quiet;  // the file, or the summary's counts
     auto frame = session->render(raster::Camera::fromSpec("auto"), settings, request);
     if (!frame) return raster::fromPublic(frame.error());
     for (const std::string& warning : frame->warnings) warnLine(warning);
