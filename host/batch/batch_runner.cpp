@@ -125,10 +125,43 @@ double msSince(Clock::time_point start)
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// A rendered frame on its way to the I/O threads.
+// Host memory a worker's colour images are written into by the render itself (RenderRequest::targets):
+// page-locked on a CUDA device, so the copy runs at the bus's speed, and reused, so no frame pays for a
+// fresh 8 MB allocation. A frame's buffer comes back when its files are written.
+class ColorPool {
+public:
+    Result<raster::Memory> take(raster::Device& device, size_t bytes)
+    {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (size_t i = 0; i < free_.size(); ++i)
+                if (free_[i].size() == bytes) {
+                    raster::Memory memory = std::move(free_[i]);
+                    free_.erase(free_.begin() + std::ptrdiff_t(i));
+                    return memory;
+                }
+        }
+        auto memory = raster::Memory::allocate(device, bytes);
+        if (!memory) return raster::fromPublic(memory.error());
+        return std::move(*memory);
+    }
+    void give(raster::Memory memory)
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        free_.push_back(std::move(memory));
+    }
+
+private:
+    std::mutex mutex_;
+    std::vector<raster::Memory> free_;
+};
+
+// A rendered frame on its way to the I/O threads: its colour in a pool's buffer, the rest in the Frame.
 struct Finished {
     size_t frame = 0;  // index into the expanded frames
     raster::Frame image;
+    std::optional<raster::Memory> color;
+    std::shared_ptr<ColorPool> pool;
     double gpuMs = 0.0, renderMs = 0.0;
 };
 
@@ -453,6 +486,7 @@ private:
         std::string sceneKey;
         std::shared_ptr<const raster::Scene> scene;
         std::optional<raster::Session> session;
+        auto pool = std::make_shared<ColorPool>();
         std::string sceneError;
         for (;;) {
             const size_t i = next_.fetch_add(1);
@@ -489,6 +523,13 @@ private:
             request.outputs = f.aov.empty() ? raster::OutputColor : raster::OutputImages;
             request.stats = !f.stats.empty();
             const auto renderStart = Clock::now();
+            auto color =
+                pool->take(*device, size_t(job.options.settings.width) * job.options.settings.height * 4);
+            if (!color) {
+                fail(frameIndex, color.error().message);
+                continue;
+            }
+            request.targets.color = color->data();
             auto camera = frameCamera(f, *scene);
             if (!camera) {
                 fail(frameIndex, camera.error().message);
@@ -505,6 +546,8 @@ private:
             finished.renderMs = msSince(renderStart);
             finished.gpuMs = frame->gpuMs;
             finished.image = std::move(*frame);
+            finished.color = std::move(*color);
+            finished.pool = pool;
             report.frames++;
             report.gpuMs += finished.gpuMs;
             report.renderMs += finished.renderMs;
@@ -571,6 +614,13 @@ private:
             if (!path->empty()) SR_TRY(createParentFolder(*path));
         FileGroup files;
         OutputTimes spent;
+        if (item.color) {
+            // The colour the render wrote into the pool's buffer: into the frame, and the buffer back.
+            const auto* bytes = static_cast<const uint8_t*>(item.color->data());
+            item.image.color.assign(bytes, bytes + item.color->size());
+            item.pool->give(std::move(*item.color));
+            item.color.reset();
+        }
         SR_TRY(stageFrame(files, item.image, OutputPaths{f.png, f.aov, f.stats}, f.job->encoding, &spent));
         times.encode = spent.encode;
         times.aux = spent.aux;
