@@ -474,6 +474,10 @@ private:
     void work(BackendKind kind, int index, WorkerReport& report, std::promise<Status>& opened,
               std::shared_future<bool> start)
     {
+        // The workers' devices are released one at a time (taken when this worker's frames are done,
+        // released after its device): two Vulkan devices torn down at once on two threads left a batch
+        // of two H200s hanging after its last frame, in the driver, in about one run of three.
+        std::unique_lock<std::mutex> teardown(teardownMutex_, std::defer_lock);
         // Opened on this thread: a CUDA device is current per thread.
         auto device = raster::Device::open(kind == BackendKind::Cuda     ? raster::Backend::Cuda
                                            : kind == BackendKind::Vulkan ? raster::Backend::Vulkan
@@ -553,6 +557,7 @@ private:
             report.renderMs += finished.renderMs;
             report.waitMs += queue_.push(std::move(finished));
         }
+        teardown.lock();
     }
 
     // One warning line per job (the first of its frames to meet it), above the progress line.
@@ -661,7 +666,8 @@ private:
     const bool progress_;
     std::atomic<size_t> next_{0};
     std::vector<WorkerReport> reports_;
-    std::mutex mutex_;  // times_, failures_, warnedJobs_, the progress line
+    std::mutex mutex_;          // times_, failures_, warnedJobs_, the progress line
+    std::mutex teardownMutex_;  // one worker's device released at a time
     std::set<const ManifestJob*> warnedJobs_;
     std::vector<FrameTimes> times_;
     std::vector<Failure> failures_;

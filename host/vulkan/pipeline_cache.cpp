@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 
 #include "io/file_write.h"
 #include "loaders/safe_file.h"
@@ -257,6 +258,10 @@ Status PipelineCache::save()
     uint64_t hash = fnv1a(data.data(), data.size());
     if (data.size() == savedBytes_ && hash == savedHash_ && !modulesAdded_) return okStatus();
     SR_TRY(createParentFolder(path_));
+    // Devices of one model share the file, and the temporary name it is written under is the process's
+    // (temporaryPath): two devices of one process (raster batch --devices all) save one at a time.
+    static std::mutex saving;
+    std::lock_guard<std::mutex> lock(saving);
     PipelineCacheContents contents;
     contents.driverData = std::move(data);
     contents.modules = modules_;
