@@ -311,7 +311,8 @@ void saveFrame(const FrameHolder& h, const std::string& path, const std::string&
         for (const auto& [from, to] :
              {std::pair<std::string, std::string>{"pngCompression", "png_compression"},
               {"exrCompression", "exr_compression"}})
-            for (size_t at = message.find(from); at != std::string::npos; at = message.find(from, at))
+            for (size_t at = message.find(from); at != std::string::npos;
+                 at = message.find(from, at + to.size()))
                 message.replace(at, from.size(), to);
         throw RasterError(message);
     };

@@ -384,7 +384,7 @@ TEST(Api, BadInputIsOneLineErrors)
     auto bad = raster::render(*device, *builtin, raster::Camera::fromSpec("orbit:1"), raster::Settings());
     ASSERT_FALSE(bad.ok());
     EXPECT_EQ(bad.error().kind, raster::ErrorKind::Usage);
-    EXPECT_EQ(bad.error().message.rfind("invalid --camera 'orbit:1'", 0), 0u) << bad.error().message;
+    EXPECT_EQ(bad.error().message.rfind("invalid camera 'orbit:1'", 0), 0u) << bad.error().message;
 }
 
 }  // namespace

@@ -41,6 +41,9 @@ struct raster::Scene::Impl {
 
 struct raster::Settings::Impl {
     sr::RenderOptions options;
+    // Settings the command line made (Internal::makeSettings): errors name the camera and the model as
+    // its options do (--camera, --model); the API's own name them by their keys (camera, model).
+    bool commandLine = false;
 };
 
 struct raster::Session::Impl {

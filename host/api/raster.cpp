@@ -196,6 +196,7 @@ Settings Internal::makeSettings(const sr::RenderOptions& options)
 {
     Settings settings;
     settings.impl_->options = options;
+    settings.impl_->commandLine = true;
     return settings;
 }
 
@@ -532,8 +533,8 @@ bool usesOwnCamera(const Camera& camera, const sr::RenderOptions& options, const
 // The matrices of `camera` for this scene and image, looking at the scene moved by the model setting: a
 // spec resolved as `raster render --camera --model` does, or explicit matrices with the depth range they
 // encode (perspective: the last column is (0, 0, -1, 0); otherwise orthographic) times the model matrix.
-Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::RenderOptions& options,
-                                          const sr::Scene& scene, const Scene::Impl& record)
+Result<sr::CameraMatrices> resolvedMatrices(const Camera& camera, const sr::RenderOptions& options,
+                                            const sr::Scene& scene, const Scene::Impl& record)
 {
     const sr::RenderSettings& s = options.settings;
     auto model = sr::parseModelSpec(options.model);
@@ -566,6 +567,22 @@ Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const sr::Render
         m.zfar = m.znear - 1.0f / p[2][2];
     }
     return sr::withModel(m, *model, sr::boundingSphere(scene).center);
+}
+
+// resolvedMatrices, its errors naming the camera and the model as the caller does: by the settings' keys
+// for the API (and Python), by the options for the command line's own settings.
+Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const Settings::Impl& settings,
+                                          const sr::Scene& scene, const Scene::Impl& record)
+{
+    auto m = resolvedMatrices(camera, settings.options, scene, record);
+    if (m || settings.commandLine) return m;
+    Error error = m.error();
+    for (const auto& [option, key] :
+         {std::pair<std::string, std::string>{"--camera", "camera"}, {"--model", "model"}})
+        for (size_t at = error.message.find(option); at != std::string::npos;
+             at = error.message.find(option, at + key.size()))
+            error.message.replace(at, option.size(), key);
+    return error;
 }
 
 bool littleEndian()
@@ -653,7 +670,7 @@ Result<std::pair<sr::Scene, sr::CameraMatrices>> Internal::view(const Scene& sce
     const sr::RenderOptions& options = settings.impl_->options;
     const Scene::Impl& record = *scene.impl_;
     sr::Scene drawn = sr::displayScene(record.scene, options.primitiveMode, options.wireframe);
-    auto matrices = cameraMatrices(camera, options, drawn, record);
+    auto matrices = cameraMatrices(camera, *settings.impl_, drawn, record);
     if (!matrices) return matrices.error();
     return std::pair<sr::Scene, sr::CameraMatrices>(std::move(drawn), *matrices);
 }
@@ -714,7 +731,7 @@ Result<Frame> Internal::render(Session& session, const Camera& camera, const Set
         if (!session) return toPublic(session.error());
         self.session.emplace(std::move(*session));
     }
-    auto matrices = cameraMatrices(camera, options, scene, *self.scene);
+    auto matrices = cameraMatrices(camera, Internal::of(settings), scene, *self.scene);
     if (!matrices) return matrices.error();
     sr::RenderSettings s = options.resolved();
     s.download = download;
@@ -851,7 +868,7 @@ Result<ViewsReport> Session::renderViews(const Camera& camera, const Settings& s
         return usage("views: positions on the device need 4 components per vertex");
     auto targets = batchSession(self, options, request, "views");
     if (!targets) return targets.error();
-    auto matrices = cameraMatrices(camera, options, scene.scene, scene);
+    auto matrices = cameraMatrices(camera, Internal::of(settings), scene.scene, scene);
     if (!matrices) return matrices.error();
     // The device holds a vec4 per vertex: three components are widened on the host first.
     const size_t vertices = scene.sourceVertexCount;
@@ -885,7 +902,7 @@ Result<ViewsReport> Session::renderMany(const std::vector<Camera>& cameras, cons
     if (!targets) return targets.error();
     std::vector<sr::CameraMatrices> matrices;
     for (const Camera& camera : cameras) {
-        auto m = cameraMatrices(camera, options, self.scene->scene, *self.scene);
+        auto m = cameraMatrices(camera, Internal::of(settings), self.scene->scene, *self.scene);
         if (!m) return m.error();
         matrices.push_back(*m);
     }

@@ -342,6 +342,20 @@ const Setting& setting(const std::string& name)
     return *s;
 }
 
+namespace {
+
+// The camera and model parsers name their setting as the command line does (--camera, --model): each
+// front end's error names it its own way (`label`: the option, the manifest key, the API's name).
+Error relabelled(Error error, const std::string& option, const std::string& label)
+{
+    for (size_t at = error.message.find(option); at != std::string::npos;
+         at = error.message.find(option, at + label.size()))
+        error.message.replace(at, option.size(), label);
+    return error;
+}
+
+}  // namespace
+
 Result<json> checkSettingValue(const Setting& s, const json& value, const std::string& label)
 {
     switch (s.type) {
@@ -403,14 +417,14 @@ Result<json> checkSettingValue(const Setting& s, const json& value, const std::s
         if (!value.is_string())
             return makeError(ExitCode::Usage, "{} must be a string, not {}", label, value.dump());
         auto spec = parseCameraSpec(value.get<std::string>());
-        if (!spec) return spec.error();
+        if (!spec) return relabelled(spec.error(), "--camera", label);
         return value;
     }
     case SettingType::Model: {
         if (!value.is_string())
             return makeError(ExitCode::Usage, "{} must be a string, not {}", label, value.dump());
         auto spec = parseModelSpec(value.get<std::string>());
-        if (!spec) return spec.error();
+        if (!spec) return relabelled(spec.error(), "--model", label);
         return value;
     }
     }

@@ -76,3 +76,20 @@ def test_frame_save_refuses_what_it_cannot_write(tmp_path):
         renderer("vulkan").render(raster.Scene.load("builtin"), 16, 16).save(tmp_path / "x.png",
                                                                               png_compression="tiny")
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("kwargs,expected", [
+    ({"camera": "orbit:bad"}, "invalid camera 'orbit:bad': expected auto, gltf:N or orbit:"),
+    ({"camera": "gltf:5"}, "camera gltf:5: the scene has 0 camera(s)"),
+    ({"model": "spin:3"}, "invalid model 'spin:3': unknown part 'spin'"),
+])
+def test_camera_and_model_errors_name_the_keywords(kwargs, expected):
+    """The library names the camera and the model as the caller did: keywords here, not the command
+    line's --camera and --model (which `raster render` keeps)."""
+    with pytest.raises(raster.Error) as caught:
+        renderer("vulkan").render(raster.Scene.load("builtin"), 16, 16, **kwargs)
+    assert str(caught.value).startswith(expected) and "--" not in str(caught.value)
+    option, value = next(iter(kwargs.items()))
+    code, _, err = run_cli("render", "--backend", "vulkan", "-q", "-o", "/dev/null.png", f"--{option}", value,
+                           check=False)
+    assert code == 2 and f"--{option}" in err

@@ -185,7 +185,7 @@ def test_model_moves_the_scene_as_the_camera_moved_the_other_way(vulkan):
     assert (turned.ids != vulkan.render(scene, W, H, "orbit:-60,20,6", msaa=1).ids).sum() <= 1
     with pytest.raises(raster.Error) as error:
         vulkan.render(scene, 8, 8, model="scale:0")
-    assert str(error.value) == "invalid --model 'scale:0': scale takes one number S above 0"
+    assert str(error.value) == "invalid model 'scale:0': scale takes one number S above 0"
 
 
 def test_render_docstring_and_stubs_list_every_setting():
@@ -228,8 +228,8 @@ def test_errors_carry_the_cli_message(vulkan, tmp_path):
 
     with pytest.raises(raster.Error) as error:
         vulkan.render(raster.Scene.load("builtin"), 8, 8, camera="orbit:1,2")
-    assert "raster: error: " + str(error.value) == cli_error("render", "builtin", "--camera", "orbit:1,2", "-o",
-                                                             tmp_path / "x.png")
+    assert "raster: error: " + str(error.value).replace("camera", "--camera", 1) == cli_error(
+        "render", "builtin", "--camera", "orbit:1,2", "-o", tmp_path / "x.png")
 
 
 def test_bad_input_raises_one_line_errors(vulkan):
