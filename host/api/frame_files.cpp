@@ -4,11 +4,17 @@
 #include <chrono>
 #include <cstring>
 
-#include "api/front_end.h"
-#include "api/stats_json.h"
 #include "render/aov.h"
 
 namespace sr {
+
+bool littleEndianHost()
+{
+    const uint32_t word = 1;
+    uint8_t first = 0;
+    std::memcpy(&first, &word, 1);
+    return first == 1;
+}
 
 RgbaImage colorImage(const raster::Frame& f)
 {
@@ -17,10 +23,7 @@ RgbaImage colorImage(const raster::Frame& f)
     image.height = f.height;
     image.pixels.assign(f.color.size() / 4, 0u);
     // A word holds R in its low byte: on a little-endian host the bytes are the words' memory already.
-    const uint32_t one = 1;
-    uint8_t low = 0;
-    std::memcpy(&low, &one, 1);
-    if (low == 1 && !image.pixels.empty()) {
+    if (littleEndianHost() && !image.pixels.empty()) {
         std::memcpy(image.pixels.data(), f.color.data(), image.pixels.size() * 4);
         return image;
     }
@@ -70,11 +73,6 @@ ImageOrigin outputOrigin(const raster::Frame& frame)
     return {raster::backendName(frame.device.backend), frame.device.name};
 }
 
-ImageOrigin outputOrigin(const RenderOutput& out)
-{
-    return {out.device.backend, out.device.name};
-}
-
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -116,48 +114,6 @@ Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPath
     }
     if (!paths.stats.empty()) {
         const std::string text = frame.statsJson + "\n";
-        SR_TRY(stage(paths.stats, std::vector<unsigned char>(text.begin(), text.end())));
-    }
-    if (times) *times = spent;
-    return okStatus();
-}
-
-Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
-                    const OutputPaths& paths, const std::string& sceneName, const ImageEncoding& encoding,
-                    OutputTimes* times)
-{
-    OutputTimes spent;
-    auto stage = [&](const std::string& path, const std::vector<unsigned char>& bytes) {
-        const auto start = Clock::now();
-        Status staged = files.stage(path, bytes.data(), bytes.size());
-        spent.write += since(start);
-        return staged;
-    };
-    const RenderSettings settings = options.resolved();
-    const ImageOrigin origin = outputOrigin(out);
-    if (!paths.png.empty()) {
-        const auto start = Clock::now();
-        auto png = isNpyPath(paths.png) ? encodeNpy(out.color) : encodePng(out.color, origin, encoding.png);
-        if (!png) return png.error();
-        spent.encode = since(start);
-        SR_TRY(stage(paths.png, *png));
-    }
-    if (!paths.aov.empty()) {
-        const auto start = Clock::now();
-        if (!out.aov.hasBary()) fillSurfaceAovs(scene, out.params, out.aov);
-        if (settings.aovSamples && out.aov.sampleId.empty())
-            fillSampleAovs(out.samples, settings.ssaa, out.aov);
-        if (!out.aov.hasColor()) linearColorAov(out.color, out.aov);
-        auto exr = encodeAovExr(out.aov, origin, paths.aov, encoding.exr);
-        if (!exr) return exr.error();
-        spent.aux += since(start);
-        SR_TRY(stage(paths.aov, *exr));
-    }
-    if (!paths.stats.empty()) {
-        const auto start = Clock::now();
-        const std::string text =
-            statsJson(out, options, sceneName, absoluteCamera(options, scene, sceneName)).dump(2) + "\n";
-        spent.aux += since(start);
         SR_TRY(stage(paths.stats, std::vector<unsigned char>(text.begin(), text.end())));
     }
     if (times) *times = spent;

@@ -11,9 +11,6 @@
 #include "base/result.h"
 #include "io/file_write.h"
 #include "io/image_io.h"
-#include "render/renderer.h"
-#include "scene/scene.h"
-#include "settings/render_settings.h"
 
 namespace sr {
 
@@ -29,6 +26,9 @@ struct OutputTimes {
     double encode = 0.0, aux = 0.0, write = 0.0;
 };
 
+// Whether the host stores a word's low byte first (a frame's RGBA bytes are then its pixel words).
+bool littleEndianHost();
+
 // A public frame's colour as the encoders take it (a word per pixel, R in the low byte), and its AOVs in
 // the layout of the EXR (planes; every sample's id and depth spread per pixel; the linear colour decoded
 // from the sRGB codes when withColor).
@@ -36,7 +36,6 @@ RgbaImage colorImage(const raster::Frame& frame);
 AovImage aovImage(const raster::Frame& frame, bool withColor = false);
 // Who drew the frame, as its PNG and EXR record it (ImageOrigin: the backend and the device's name).
 ImageOrigin outputOrigin(const raster::Frame& frame);
-ImageOrigin outputOrigin(const RenderOutput& out);
 
 // Encodes the frame's colour image (PNG or NPY, by its extension), its EXR (what aovImage holds) and its
 // statistics (Frame::statsJson) where `paths` names them (an empty path: none), the images tagged with
@@ -44,14 +43,6 @@ ImageOrigin outputOrigin(const RenderOutput& out);
 // when given, receives what each part took.
 Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPaths& paths,
                   const ImageEncoding& encoding, OutputTimes* times = nullptr);
-
-// The same files of a frame rendered below the API (the batch runner and the viewer): the EXR gains the
-// surface channels (computed here from the ids when the frame was rendered without
-// RenderSettings::surfaceAovs) and every sample with aovSamples; the JSON is statsJson of the frame of
-// `scene` rendered with `options`.
-Status stageOutputs(FileGroup& files, RenderOutput& out, const Scene& scene, const RenderOptions& options,
-                    const OutputPaths& paths, const std::string& sceneName, const ImageEncoding& encoding,
-                    OutputTimes* times = nullptr);
 
 }  // namespace sr
 

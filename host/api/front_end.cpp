@@ -1,18 +1,9 @@
-// front_end.cpp - a view's warnings and the camera its statistics name.
+// front_end.cpp - a view's warnings.
 #include "api/front_end.h"
 
 #include "settings/schema.h"
-#include "study/scenes.h"
 
 namespace sr {
-
-std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName)
-{
-    auto spec = parseCameraSpec(options.camera);
-    if (!spec) return "";
-    if (spec->kind == CameraSpec::Kind::Auto && sceneName.rfind(kStudyScenePrefix, 0) == 0) return "";
-    return resolvedCameraSpec(*spec, scene, options.settings.width, options.settings.height);
-}
 
 std::vector<std::string> viewWarnings(const Scene& scene, const CameraMatrices& camera,
                                       const RenderSettings& settings)

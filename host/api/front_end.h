@@ -1,6 +1,5 @@
-// front_end.h - what a frame's front ends share above the pipeline: the warnings a view earns before it is
-// drawn, and the camera its statistics name. The library's Session uses them for every frame, and so
-// does the batch runner. Not installed.
+// front_end.h - the warnings a view earns before it is drawn (a texture view of an untextured scene, an
+// eye inside the geometry), which the library's Session gives with every frame. Not installed.
 #ifndef RASTER_FRONT_END_H
 #define RASTER_FRONT_END_H
 
@@ -18,10 +17,6 @@ namespace sr {
 // or mip) of a scene without textures, and an eye inside the scene's geometry (eyeInsideScene).
 std::vector<std::string> viewWarnings(const Scene& scene, const CameraMatrices& camera,
                                       const RenderSettings& settings);
-
-// The frame's camera spec in absolute scene units for its statistics (resolvedCameraSpec); "" for a
-// study scene under the auto camera, which renders with the study's own camera (the matrices say which).
-std::string absoluteCamera(const RenderOptions& options, const Scene& scene, const std::string& sceneName);
 
 }  // namespace sr
 

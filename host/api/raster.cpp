@@ -576,21 +576,10 @@ Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const Settings::
 {
     auto m = resolvedMatrices(camera, settings.options, scene, record);
     if (m || settings.commandLine) return m;
-    Error error = m.error();
-    for (const auto& [option, key] :
-         {std::pair<std::string, std::string>{"--camera", "camera"}, {"--model", "model"}})
-        for (size_t at = error.message.find(option); at != std::string::npos;
-             at = error.message.find(option, at + key.size()))
-            error.message.replace(at, option.size(), key);
-    return error;
-}
-
-bool littleEndian()
-{
-    const uint32_t word = 1;
-    uint8_t first = 0;
-    std::memcpy(&first, &word, 1);
-    return first == 1;
+    sr::Error error = fromPublic(m.error());
+    for (const char* name : {"camera", "model"})
+        error = sr::relabelled(error, std::string("--") + name, name);
+    return toPublic(error);
 }
 
 Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,
@@ -602,7 +591,7 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.height = out.color.height;
     // Each pixel's word holds R in its low byte: the bytes of a little-endian word in memory order.
     f.color.resize(out.color.pixels.size() * 4);
-    if (littleEndian() && !f.color.empty())
+    if (sr::littleEndianHost() && !f.color.empty())
         std::memcpy(f.color.data(), out.color.pixels.data(), f.color.size());
     else
         for (size_t i = 0; i < out.color.pixels.size(); ++i)

@@ -342,10 +342,6 @@ const Setting& setting(const std::string& name)
     return *s;
 }
 
-namespace {
-
-// The camera and model parsers name their setting as the command line does (--camera, --model): each
-// front end's error names it its own way (`label`: the option, the manifest key, the API's name).
 Error relabelled(Error error, const std::string& option, const std::string& label)
 {
     for (size_t at = error.message.find(option); at != std::string::npos;
@@ -353,8 +349,6 @@ Error relabelled(Error error, const std::string& option, const std::string& labe
         error.message.replace(at, option.size(), label);
     return error;
 }
-
-}  // namespace
 
 Result<json> checkSettingValue(const Setting& s, const json& value, const std::string& label)
 {

@@ -73,6 +73,9 @@ const Setting& setting(const std::string& name);
 // the one-line error ("--msaa" on the command line, "msaa" in a manifest).
 Result<nlohmann::json> checkSettingValue(const Setting& setting, const nlohmann::json& value,
                                          const std::string& label);
+// `error` with every `option` in its message (the camera and model parsers write --camera and --model)
+// named `label` instead: each front end names a setting its own way.
+Error relabelled(Error error, const std::string& option, const std::string& label);
 // The same from command-line text ("4", "0.5", "1,0,0", "lambert"; a Bool takes true/false/1/0).
 Result<nlohmann::json> parseSettingText(const Setting& setting, const std::string& text,
                                         const std::string& label);
