@@ -73,10 +73,33 @@ struct Internal {
     static Settings makeSettings(const sr::RenderOptions& options);
     // A device the front end opened itself (the viewer's Vulkan device made on its window).
     static Device makeDevice(std::unique_ptr<sr::ComputeDevice> compute);
-    // What Session::render is a face of: the frame with `download` of its images (the viewer presents
-    // from the device and downloads nothing, or the colour alone; Session::render downloads all).
+    // What the front ends inside the project ask of a render beyond the public request.
+    struct RenderControl {
+        // Which images come back to the host (the viewer presents from the device and downloads nothing,
+        // or the colour alone; Session::render downloads all).
+        sr::ImageDownload download = sr::ImageDownload::All;
+        // vulkan-graphics: depth and ids with the cheapest fragment shader, rasterization and the depth
+        // test alone (`raster bench`'s hardware baseline for the compute backends' visibility stages).
+        bool visibilityOnly = false;
+        // The view as the front end computed it (the bench's and the study's scenes come with theirs),
+        // taken as it is in place of the camera's; the model setting is not applied to it.
+        const sr::CameraMatrices* matrices = nullptr;
+        // Receives the backend's output whole (images, counts, timings, peak memory; the bench and the
+        // study measure those); the Frame then holds the statistics JSON, the stage times and the device
+        // but no images.
+        sr::RenderOutput* output = nullptr;
+        // Receives the frame's AOVs as planes, the layout of the EXR (batch writes them): the Frame's
+        // interleaved surface AOVs stay empty, so no frame is interleaved only to be split again.
+        sr::AovImage* aovPlanes = nullptr;
+    };
+    // What Session::render is a face of (with the default control): the frame as `control` asks.
     static Result<Frame> render(Session& session, const Camera& camera, const Settings& settings,
-                                const RenderRequest& request, sr::ImageDownload download);
+                                const RenderRequest& request, const RenderControl& control);
+    // The backend's whole output of a frame of `session` seen through `camera` with `settings` as they
+    // are (visibilityOnly, outputs, surfaceAovs and download included): what `raster bench` and
+    // `raster study` measure (times, counts, peak memory, the images). The frame's warnings go to stderr.
+    static sr::Result<sr::RenderOutput> renderOutput(Session& session, const sr::CameraMatrices& camera,
+                                                     const sr::RenderSettings& settings);
     // The scene as a frame with `settings` draws it (its lines, points or overlay) and the camera's
     // matrices there, as Session::render resolves them: for --quality, which measures that view.
     static Result<std::pair<sr::Scene, sr::CameraMatrices>> view(const Scene& scene, const Camera& camera,

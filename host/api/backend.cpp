@@ -1,9 +1,12 @@
 // backend.cpp - the one place where the backend is chosen at run time.
 #include "api/backend.h"
 
+#include <optional>
+
 #include "render/tessellate.h"
 #include "scene/lod.h"
 #include "vulkan/vulkan_graphics.h"
+#include "vulkan/vulkan_present_source.h"
 
 namespace sr {
 
@@ -21,6 +24,34 @@ Result<std::unique_ptr<ComputeDevice>> makeComputeDevice(BackendKind kind, int i
     if (vulkan.ok()) return vulkan;
     return makeError(vulkan.error().code, "no device opened: {}; {}", cuda.error().message,
                      vulkan.error().message);
+}
+
+Result<std::vector<std::unique_ptr<ComputeDevice>>> makeSwitchableDevices(BackendKind preferred, int index,
+                                                                          const PresentTarget* window)
+{
+    const std::vector<BackendKind> order =
+        preferred == BackendKind::Vulkan ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
+                                         : std::vector<BackendKind>{BackendKind::Cuda, BackendKind::Vulkan};
+    std::vector<std::unique_ptr<ComputeDevice>> devices;
+    std::optional<Error> first;
+    for (BackendKind kind : order) {
+        auto d = kind == BackendKind::Vulkan && window != nullptr ? makeVulkanPresentingDevice(index, *window)
+                                                                  : makeComputeDevice(kind, index);
+        if (!d && kind == BackendKind::Vulkan && window != nullptr) d = makeComputeDevice(kind, index);
+        if (d) {
+            devices.push_back(std::move(*d));
+        } else if (!first) {
+            first = d.error();
+        }
+    }
+    const char* named = preferred == BackendKind::Cuda     ? "cuda"
+                        : preferred == BackendKind::Vulkan ? "vulkan"
+                                                           : "";
+    if (devices.empty() || (*named != '\0' && devices.front()->info().backend != named)) {
+        if (first) return *first;
+        return makeError(ExitCode::Usage, "no compute backend opened");
+    }
+    return devices;
 }
 
 namespace {

@@ -32,7 +32,7 @@ RgbaImage colorImage(const raster::Frame& f)
     return image;
 }
 
-AovImage aovImage(const raster::Frame& f, bool withColor)
+AovImage aovImage(const raster::Frame& f, bool withColor, AovImage* surfacePlanes)
 {
     AovImage aov;
     aov.width = f.width;
@@ -41,7 +41,15 @@ AovImage aovImage(const raster::Frame& f, bool withColor)
     aov.depth = f.depth;
     const size_t n = size_t(f.width) * f.height;
     if (f.ao.size() == n) aov.ao = f.ao;
-    if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
+    if (surfacePlanes && surfacePlanes->baryU.size() == n) {
+        aov.baryU = std::move(surfacePlanes->baryU);
+        aov.baryV = std::move(surfacePlanes->baryV);
+        aov.uvU = std::move(surfacePlanes->uvU);
+        aov.uvV = std::move(surfacePlanes->uvV);
+        aov.normalX = std::move(surfacePlanes->normalX);
+        aov.normalY = std::move(surfacePlanes->normalY);
+        aov.normalZ = std::move(surfacePlanes->normalZ);
+    } else if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
         for (auto* plane :
              {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
             plane->resize(n);
@@ -85,7 +93,7 @@ double since(Clock::time_point start)
 }  // namespace
 
 Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPaths& paths,
-                  const ImageEncoding& encoding, OutputTimes* times)
+                  const ImageEncoding& encoding, OutputTimes* times, AovImage* surfacePlanes)
 {
     OutputTimes spent;
     // Each file is staged as soon as it is encoded, so that its bytes are freed before the next one.
@@ -107,7 +115,7 @@ Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPath
     }
     if (!paths.aov.empty()) {
         const auto start = Clock::now();
-        auto exr = encodeAovExr(aovImage(frame, true), origin, paths.aov, encoding.exr);
+        auto exr = encodeAovExr(aovImage(frame, true, surfacePlanes), origin, paths.aov, encoding.exr);
         if (!exr) return exr.error();
         spent.aux += since(start);
         SR_TRY(stage(paths.aov, *exr));

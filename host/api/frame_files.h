@@ -31,18 +31,20 @@ bool littleEndianHost();
 
 // A public frame's colour as the encoders take it (a word per pixel, R in the low byte), and its AOVs in
 // the layout of the EXR (planes; every sample's id and depth spread per pixel; the linear colour decoded
-// from the sRGB codes when withColor).
+// from the sRGB codes when withColor). The surface AOVs come from `surfacePlanes` when given (taken out of
+// it: a render that kept them as planes, RenderControl::aovPlanes), else from the frame's arrays.
 RgbaImage colorImage(const raster::Frame& frame);
-AovImage aovImage(const raster::Frame& frame, bool withColor = false);
+AovImage aovImage(const raster::Frame& frame, bool withColor = false, AovImage* surfacePlanes = nullptr);
 // Who drew the frame, as its PNG and EXR record it (ImageOrigin: the backend and the device's name).
 ImageOrigin outputOrigin(const raster::Frame& frame);
 
 // Encodes the frame's colour image (PNG or NPY, by its extension), its EXR (what aovImage holds) and its
 // statistics (Frame::statsJson) where `paths` names them (an empty path: none), the images tagged with
 // outputOrigin, and stages them in `files` (files.commit() puts them in place: every file or none). `times`,
-// when given, receives what each part took.
+// when given, receives what each part took; `surfacePlanes` as aovImage takes it.
 Status stageFrame(FileGroup& files, const raster::Frame& frame, const OutputPaths& paths,
-                  const ImageEncoding& encoding, OutputTimes* times = nullptr);
+                  const ImageEncoding& encoding, OutputTimes* times = nullptr,
+                  AovImage* surfacePlanes = nullptr);
 
 }  // namespace sr
 

@@ -582,13 +582,22 @@ Result<sr::CameraMatrices> cameraMatrices(const Camera& camera, const Settings::
     return toPublic(error);
 }
 
+// The public frame of a backend's output: its images taken out of `out` unless `timingsOnly` (then the
+// frame has the size, the times, the statistics and the device), the surface AOVs as planes into
+// `surfacePlanes` when given, else interleaved into the frame.
 Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const DeviceInfo& device,
               const std::string& sceneName, const std::string& resolvedCamera, const sr::Scene& scene,
-              const RenderRequest& request)
+              const RenderRequest& request, bool timingsOnly, sr::AovImage* surfacePlanes)
 {
     Frame f;
     f.width = out.color.width;
     f.height = out.color.height;
+    f.gpuMs = out.total.medianMs;
+    for (const sr::StageTiming& t : out.stages) f.stages.push_back({t.name, t.minMs, t.medianMs, t.maxMs});
+    f.stages.push_back({"total", out.total.minMs, out.total.medianMs, out.total.maxMs});
+    if (request.stats) f.statsJson = sr::statsJson(out, options, sceneName, resolvedCamera).dump(2);
+    f.device = device;
+    if (timingsOnly) return f;
     // Each pixel's word holds R in its low byte: the bytes of a little-endian word in memory order.
     f.color.resize(out.color.pixels.size() * 4);
     if (sr::littleEndianHost() && !f.color.empty())
@@ -599,7 +608,17 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     if (request.surfaceAovs && !out.aov.hasBary()) sr::fillSurfaceAovs(scene, out.params, out.aov);
     f.id = std::move(out.aov.id);
     f.depth = std::move(out.aov.depth);
-    if (out.aov.hasBary()) {
+    if (out.aov.hasBary() && surfacePlanes) {
+        surfacePlanes->width = f.width;
+        surfacePlanes->height = f.height;
+        surfacePlanes->baryU = std::move(out.aov.baryU);
+        surfacePlanes->baryV = std::move(out.aov.baryV);
+        surfacePlanes->uvU = std::move(out.aov.uvU);
+        surfacePlanes->uvV = std::move(out.aov.uvV);
+        surfacePlanes->normalX = std::move(out.aov.normalX);
+        surfacePlanes->normalY = std::move(out.aov.normalY);
+        surfacePlanes->normalZ = std::move(out.aov.normalZ);
+    } else if (out.aov.hasBary()) {
         const size_t n = size_t(f.width) * f.height;
         f.bary.resize(2 * n);
         f.uv.resize(2 * n);
@@ -620,11 +639,6 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     f.samples = out.samples.samples;
     f.sampleId = std::move(out.samples.id);
     f.sampleDepth = std::move(out.samples.depth);
-    f.gpuMs = out.total.medianMs;
-    for (const sr::StageTiming& t : out.stages) f.stages.push_back({t.name, t.minMs, t.medianMs, t.maxMs});
-    f.stages.push_back({"total", out.total.minMs, out.total.medianMs, out.total.maxMs});
-    if (request.stats) f.statsJson = sr::statsJson(out, options, sceneName, resolvedCamera).dump(2);
-    f.device = device;
     return f;
 }
 
@@ -666,7 +680,7 @@ Result<std::pair<sr::Scene, sr::CameraMatrices>> Internal::view(const Scene& sce
 
 Result<Frame> Session::render(const Camera& camera, const Settings& settings, const RenderRequest& request)
 {
-    return Internal::render(*this, camera, settings, request, sr::ImageDownload::All);
+    return Internal::render(*this, camera, settings, request, Internal::RenderControl{});
 }
 
 Device Internal::makeDevice(std::unique_ptr<sr::ComputeDevice> compute)
@@ -682,7 +696,7 @@ Device Internal::makeDevice(std::unique_ptr<sr::ComputeDevice> compute)
 }
 
 Result<Frame> Internal::render(Session& session, const Camera& camera, const Settings& settings,
-                               const RenderRequest& request, sr::ImageDownload download)
+                               const RenderRequest& request, const RenderControl& control)
 {
     sr::WarningCapture capture;  // the frame's warnings go to Frame::warnings, not to stderr
     Session::Impl& self = *session.impl_;
@@ -720,13 +734,15 @@ Result<Frame> Internal::render(Session& session, const Camera& camera, const Set
         if (!session) return toPublic(session.error());
         self.session.emplace(std::move(*session));
     }
-    auto matrices = cameraMatrices(camera, Internal::of(settings), scene, *self.scene);
+    auto matrices = control.matrices ? Result<sr::CameraMatrices>(*control.matrices)
+                                     : cameraMatrices(camera, Internal::of(settings), scene, *self.scene);
     if (!matrices) return matrices.error();
     sr::RenderSettings s = options.resolved();
-    s.download = download;
+    s.download = control.download;
+    s.visibilityOnly = control.visibilityOnly;
     // What would make the image plain without the caller knowing why, for cameras given as specs (the
     // command line's, a viewer's): once per camera and shading, as the eye test may walk every triangle.
-    if (!camera.explicitMatrices) {
+    if (!camera.explicitMatrices && !control.matrices) {
         const std::string key = cameraSpecText(camera, options) + "|" + options.model + "|" +
                                 std::to_string(s.shadingMode) + "|" + std::to_string(s.width) + "x" +
                                 std::to_string(s.height);
@@ -787,15 +803,48 @@ Result<Frame> Internal::render(Session& session, const Camera& camera, const Set
     // name it in absolute scene units; explicit matrices and a scene's own camera are in the matrices.
     sr::RenderOptions echoed = options;
     std::string resolved;
-    if (!camera.explicitMatrices) {
+    if (!camera.explicitMatrices && !control.matrices) {
         echoed.camera = cameraSpecText(camera, options);
         auto spec = sr::parseCameraSpec(echoed.camera);
         if (spec && !usesOwnCamera(camera, options, *self.scene))
             resolved = sr::resolvedCameraSpec(*spec, scene, s.width, s.height);
     }
-    auto frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request);
+    Frame frame;
+    if (control.output) {
+        // The images stay in the backend's output, for the caller that measures them.
+        frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request, true,
+                        nullptr);
+        *control.output = std::move(*out);
+    } else {
+        frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request, false,
+                        control.aovPlanes);
+    }
     frame.warnings = capture.take();
     return frame;
+}
+
+sr::Result<sr::RenderOutput> Internal::renderOutput(Session& session, const sr::CameraMatrices& camera,
+                                                    const sr::RenderSettings& settings)
+{
+    sr::RenderOptions options;
+    options.settings = settings;
+    options.tessMaxLevel = settings.tessMaxLevel;
+    RenderRequest request;
+    request.outputs = ((settings.outputs & sr::OUTPUT_COLOR) ? OutputColor : 0u) |
+                      ((settings.outputs & sr::OUTPUT_ID) ? OutputId : 0u) |
+                      ((settings.outputs & sr::OUTPUT_DEPTH) ? OutputDepth : 0u);
+    request.surfaceAovs = settings.surfaceAovs;
+    request.stats = false;
+    sr::RenderOutput out;
+    RenderControl control;
+    control.download = settings.download;
+    control.visibilityOnly = settings.visibilityOnly;
+    control.matrices = &camera;
+    control.output = &out;
+    auto frame = render(session, Camera::fromSpec("auto"), makeSettings(options), request, control);
+    if (!frame) return fromPublic(frame.error());
+    for (std::string& warning : frame->warnings) sr::warnLine(std::move(warning));
+    return out;
 }
 
 namespace {

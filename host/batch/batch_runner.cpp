@@ -25,7 +25,6 @@
 #include "batch/outputs.h"
 #include "batch/shard.h"
 #include "api/api_internal.h"
-#include "api/backend.h"
 #include "api/frame_files.h"
 #include "base/warnings.h"
 #include "batch/turntable.h"
@@ -160,6 +159,7 @@ private:
 struct Finished {
     size_t frame = 0;  // index into the expanded frames
     raster::Frame image;
+    sr::AovImage surface;  // the frame's surface AOVs as planes, for its EXR
     std::optional<raster::Memory> color;
     std::shared_ptr<ColorPool> pool;
     double gpuMs = 0.0, renderMs = 0.0;
@@ -300,33 +300,36 @@ private:
     double loadMs_ = 0.0;
 };
 
-const std::map<std::string, BackendKind> kBackends = {
-    {"auto", BackendKind::Auto}, {"cuda", BackendKind::Cuda}, {"vulkan", BackendKind::Vulkan}};
+const std::map<std::string, raster::Backend> kBackends = {
+    {"auto", raster::Backend::Auto}, {"cuda", raster::Backend::Cuda}, {"vulkan", raster::Backend::Vulkan}};
 
-// The backend and the device indices the workers open: the backend's first device without --devices;
-// with it, auto becomes whichever backend has the first listed device (so that the workers never mix
-// backends), and `all` is every device that is not a CPU implementation (lavapipe), or device 0 when
-// there is no other.
-Result<std::vector<int>> resolveDevices(BackendKind& kind, const std::string& text)
+// The backend and the device indices the workers open, from the devices the library offers
+// (raster::devices): the backend's first device without --devices; with it, auto becomes whichever
+// backend has the first listed device (so that the workers never mix backends), and `all` is every
+// device that is not a CPU implementation (lavapipe), or device 0 when there is no other.
+Result<std::vector<int>> resolveDevices(raster::Backend& kind, const std::string& text)
 {
     if (text.empty()) return std::vector<int>{-1};
     auto list = parseDeviceList(text);
     if (!list) return list.error();
-    if (kind == BackendKind::Auto) {
-        auto cuda = makeComputeDevice(BackendKind::Cuda, list->all ? 0 : list->indices.front());
-        kind = cuda.ok() ? BackendKind::Cuda : BackendKind::Vulkan;
+    const std::vector<raster::DeviceInfo> offered = raster::devices();
+    if (kind == raster::Backend::Auto) {
+        const int first = list->all ? 0 : list->indices.front();
+        const bool cuda = std::any_of(offered.begin(), offered.end(), [&](const raster::DeviceInfo& d) {
+            return d.backend == raster::Backend::Cuda && d.index == first;
+        });
+        kind = cuda ? raster::Backend::Cuda : raster::Backend::Vulkan;
     }
     if (!list->all) return list->indices;
     std::vector<int> devices;
-    for (int i = 0; i < 64; ++i) {
-        auto device = makeComputeDevice(kind, i);
-        if (!device) {
-            if (i == 0) return device.error();
-            break;
-        }
-        if (!(*device)->info().isCpu) devices.push_back(i);
+    for (const raster::DeviceInfo& d : offered)
+        if (d.backend == kind && !d.cpu) devices.push_back(d.index);
+    if (devices.empty()) {
+        // No GPU of the backend: its first device (lavapipe), or the reason it has none.
+        auto first = raster::Device::open(kind, 0);
+        if (!first) return raster::fromPublic(first.error());
+        devices.push_back(0);
     }
-    if (devices.empty()) devices.push_back(0);
     return devices;
 }
 
@@ -369,7 +372,7 @@ public:
     }
 
     // Renders every pending frame on `devices` of `kind`; an error only when a device cannot be opened.
-    Status run(BackendKind kind, const std::vector<int>& devices)
+    Status run(raster::Backend kind, const std::vector<int>& devices)
     {
         reports_.resize(devices.size());
         std::vector<std::promise<Status>> opened(devices.size());
@@ -471,7 +474,7 @@ private:
     }
 
     // A worker: opens its device, then takes the next pending frame until none is left.
-    void work(BackendKind kind, int index, WorkerReport& report, std::promise<Status>& opened,
+    void work(raster::Backend kind, int index, WorkerReport& report, std::promise<Status>& opened,
               std::shared_future<bool> start)
     {
         // The workers' devices are released one at a time (taken when this worker's frames are done,
@@ -479,10 +482,7 @@ private:
         // of two H200s hanging after its last frame, in the driver, in about one run of three.
         std::unique_lock<std::mutex> teardown(teardownMutex_, std::defer_lock);
         // Opened on this thread: a CUDA device is current per thread.
-        auto device = raster::Device::open(kind == BackendKind::Cuda     ? raster::Backend::Cuda
-                                           : kind == BackendKind::Vulkan ? raster::Backend::Vulkan
-                                                                         : raster::Backend::Auto,
-                                           index);
+        auto device = raster::Device::open(kind, index);
         report.index = index < 0 ? 0 : index;
         if (device) report.device = device->info();
         opened.set_value(device ? okStatus() : Status(raster::fromPublic(device.error())));
@@ -539,13 +539,17 @@ private:
                 fail(frameIndex, camera.error().message);
                 continue;
             }
-            auto frame = session->render(*camera, raster::Internal::makeSettings(job.options), request);
+            // The surface AOVs as the EXR's planes (the frame's interleaved arrays are for API callers).
+            Finished finished;
+            raster::Internal::RenderControl control;
+            control.aovPlanes = &finished.surface;
+            auto frame = raster::Internal::render(
+                *session, *camera, raster::Internal::makeSettings(job.options), request, control);
             if (!frame) {
                 fail(frameIndex, frame.error().message);
                 continue;
             }
             warnOnce(f, frame->warnings);
-            Finished finished;
             finished.frame = frameIndex;
             finished.renderMs = msSince(renderStart);
             finished.gpuMs = frame->gpuMs;
@@ -626,7 +630,8 @@ private:
             item.pool->give(std::move(*item.color));
             item.color.reset();
         }
-        SR_TRY(stageFrame(files, item.image, OutputPaths{f.png, f.aov, f.stats}, f.job->encoding, &spent));
+        SR_TRY(stageFrame(files, item.image, OutputPaths{f.png, f.aov, f.stats}, f.job->encoding, &spent,
+                          &item.surface));
         times.encode = spent.encode;
         times.aux = spent.aux;
         auto start = Clock::now();
@@ -686,7 +691,7 @@ Result<bool> runBatch(const BatchOptions& options)
     if (!manifest) return manifest.error();
     auto frames = expandJobs(*manifest);
     if (!frames) return frames.error();
-    BackendKind kind = kBackends.at(options.backend);
+    raster::Backend kind = kBackends.at(options.backend);
     if (!options.devices.empty()) {
         auto list = parseDeviceList(options.devices);
         if (!list) return list.error();

@@ -12,12 +12,11 @@
 
 #include <fmt/format.h>
 
+#include "api/api_internal.h"
+#include "api/stats_json.h"
 #include "camera/camera.h"
 #include "scene/texture.h"
 #include "settings/schema.h"
-#include "render/compute_device.h"
-#include "api/stats_json.h"
-#include "api/backend.h"
 
 namespace sr {
 namespace {
@@ -295,23 +294,28 @@ size_t sceneBytes(const Scene& s)
            s.materials.size() * sizeof(GpuMaterial);
 }
 
-// One run of scene s on `backend`. For vulkan-graphics `shaded` picks the whole shaded frame (the same
-// shading as the compute backends' shade stage) over the visibility pass.
-Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
-                              const RenderSettings& r, bool shaded = false)
+raster::Backend backendNamed(const std::string& backend)
 {
-    if (backend == "vulkan-graphics" && shaded) return renderGraphics(s.scene, s.camera, r, device);
-    if (backend == "vulkan-graphics") {
-        // The hardware baseline: depth + id with the cheapest fragment shader, i.e. rasterization and
-        // the depth test, which is what the compute pipeline's stages before `shade` do.
-        RenderSettings visibility = r;
-        visibility.visibilityOnly = true;
-        return renderGraphics(s.scene, s.camera, visibility, device);
-    }
-    // A fresh device per run, so its peak memory is this run's alone.
-    auto dev = makeComputeDevice(backend == "cuda" ? BackendKind::Cuda : BackendKind::Vulkan, device);
-    if (!dev) return dev.error();
-    return renderScene(**dev, s.scene, s.camera, r);
+    return backend == "cuda"     ? raster::Backend::Cuda
+           : backend == "vulkan" ? raster::Backend::Vulkan
+                                 : raster::Backend::VulkanGraphics;
+}
+
+// One run of scene s on `backend` through the library, as every front end renders, on a device opened for it
+// alone, so that its peak memory is this run's. For vulkan-graphics `shaded` picks the whole shaded frame
+// (the same shading as the compute backends' shade stage) over the visibility pass: the hardware baseline,
+// depth + id with the cheapest fragment shader, i.e. rasterization and the depth test, which is what the
+// compute pipeline's stages before `shade` do.
+Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
+                              const raster::Scene& scene, const RenderSettings& r, bool shaded = false)
+{
+    auto dev = raster::Device::open(backendNamed(backend), device);
+    if (!dev) return raster::fromPublic(dev.error());
+    auto session = raster::Session::create(*dev, scene);
+    if (!session) return raster::fromPublic(session.error());
+    RenderSettings settings = r;
+    settings.visibilityOnly = backend == "vulkan-graphics" && !shaded;
+    return raster::Internal::renderOutput(*session, s.camera, settings);
 }
 
 }  // namespace
@@ -327,12 +331,16 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
     for (auto [w, h] : o.resolutions) {
         auto scenes = buildScenes(o, w, h);
         if (!scenes) return scenes.error();
-        for (const BenchScene& s : *scenes) {
+        for (BenchScene& s : *scenes) {
+            const size_t bytes = sceneBytes(s.scene);
+            const uint64_t primitives = s.scene.primitiveCount();
+            // The library's scene takes the bench's (a 100M-triangle sphere is not copied).
+            const raster::Scene scene = raster::Internal::makeScene(std::move(s.scene), s.name, s.camera);
             for (uint32_t msaa : o.msaa) {
                 for (const std::string& backend : o.backends) {
                     // The session the level-of-detail runs of this scene and backend share.
-                    std::unique_ptr<ComputeDevice> lodDevice;
-                    std::optional<RenderSession> lodSession;
+                    std::optional<raster::Device> lodDevice;
+                    std::optional<raster::Session> lodSession;
                     for (uint32_t clusters : o.clusters)
                         for (float lodError : o.lod)
                             for (uint32_t aoMode : o.ao) {
@@ -346,7 +354,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                         "triangles)",
                                         s.name, w, h, msaa, backend, clusterMode,
                                         lodError > 0.0f ? fmt::format("{} px", lodError) : std::string("off"),
-                                        s.scene.primitiveCount());
+                                        primitives);
                                 RenderSettings r;
                                 r.msaa = msaa;
                                 r.width = w;
@@ -366,18 +374,16 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                     r.lod = LOD_ON;
                                     r.lodErrorPx = lodError;
                                     if (!lodSession) {
-                                        auto dev = makeComputeDevice(
-                                            backend == "cuda" ? BackendKind::Cuda : BackendKind::Vulkan,
-                                            o.device);
-                                        if (!dev) return dev.error();
-                                        lodDevice = std::move(*dev);
-                                        auto session = RenderSession::create(*lodDevice, s.scene);
-                                        if (!session) return session.error();
+                                        auto dev = raster::Device::open(backendNamed(backend), o.device);
+                                        if (!dev) return raster::fromPublic(dev.error());
+                                        lodDevice.emplace(std::move(*dev));
+                                        auto session = raster::Session::create(*lodDevice, scene);
+                                        if (!session) return raster::fromPublic(session.error());
                                         lodSession.emplace(std::move(*session));
                                     }
-                                    out = lodSession->render(s.camera, r);
+                                    out = raster::Internal::renderOutput(*lodSession, s.camera, r);
                                 } else {
-                                    out = renderOn(backend, o.device, s, r);
+                                    out = renderOn(backend, o.device, s, scene, r);
                                 }
                                 if (!out) return out.error();
                                 double ms = out->total.medianMs;
@@ -392,14 +398,13 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 // gets).
                                 double frameMs = ms;
                                 if (backend == "vulkan-graphics") {
-                                    auto frame = renderOn(backend, o.device, s, r, true);
+                                    auto frame = renderOn(backend, o.device, s, scene, r, true);
                                     if (!frame) return frame.error();
                                     frameMs = frame->total.medianMs;
                                 }
                                 double pixels = double(w) * h;
-                                size_t working = out->peakDeviceBytes > sceneBytes(s.scene)
-                                                     ? out->peakDeviceBytes - sceneBytes(s.scene)
-                                                     : 0;
+                                size_t working =
+                                    out->peakDeviceBytes > bytes ? out->peakDeviceBytes - bytes : 0;
                                 runs.push_back(
                                     {{"scene", s.name},
                                      {"resolution", {w, h}},
@@ -407,7 +412,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                      {"backend", backend},
                                      {"device", out->device.name},
                                      {"driver", out->device.driver},
-                                     {"triangles", s.scene.primitiveCount()},
+                                     {"triangles", primitives},
                                      {"triangle_area_px", s.triangleArea},
                                      // null where the backend does not count it (vulkan-graphics)
                                      {"rasterized", out->stats.pipelineCounts
@@ -417,14 +422,13 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                      {"gpu_total_ms", timingJson(out->total)},
                                      {"visibility_ms", ms - shadeMs},
                                      {"frame_ms", frameMs},
-                                     {"triangles_per_s",
-                                      ms > 0 ? double(s.scene.primitiveCount()) / (ms * 1e-3) : 0.0},
+                                     {"triangles_per_s", ms > 0 ? double(primitives) / (ms * 1e-3) : 0.0},
                                      {"pixels_per_s", ms > 0 ? pixels / (ms * 1e-3) : 0.0},
                                      {"peak_device_bytes", out->peakDeviceBytes},
-                                     {"scene_bytes", sceneBytes(s.scene)},
+                                     {"scene_bytes", bytes},
                                      {"working_bytes", working},
-                                     {"working_budget_bytes", 40.0 * double(s.scene.primitiveCount()) +
-                                                                  8.0 * pixels + 8.0 * pixels * msaa},
+                                     {"working_budget_bytes",
+                                      40.0 * double(primitives) + 8.0 * pixels + 8.0 * pixels * msaa},
                                      {"redraws", out->stats.redraws},
                                      {"clusters", clusterMode},
                                      {"cluster_count", out->stats.clusters},

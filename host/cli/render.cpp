@@ -215,8 +215,7 @@ Status runRender(RenderCommand& cmd)
         study.scene = std::move(view->first);
         study.camera = view->second;
         study.textured = !study.scene.textures.empty();
-        auto choice =
-            chooseQuality(cmd.quality, cmd.studyPath, *raster::Internal::of(*device).compute, study, s);
+        auto choice = chooseQuality(cmd.quality, cmd.studyPath, *device, study, s);
         if (!choice) return choice.error();
         // What was chosen is what the frames and the statistics' echo use.
         cmd.options.settings = withSetting(cmd.options.settings, choice->setting);

@@ -14,16 +14,36 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include "api/backend.h"
+#include "api/api_internal.h"
 #include "study/quality.h"
 #include "study/stress.h"
 
 namespace sr {
 namespace {
 
-Result<std::unique_ptr<ComputeDevice>> openDevice(const std::string& backend, int device)
+Result<raster::Device> openDevice(const std::string& backend, int device)
 {
-    return makeComputeDevice(backend == "cuda" ? BackendKind::Cuda : BackendKind::Vulkan, device);
+    auto opened =
+        raster::Device::open(backend == "cuda" ? raster::Backend::Cuda : raster::Backend::Vulkan, device);
+    if (!opened) return raster::fromPublic(opened.error());
+    return std::move(*opened);
+}
+
+std::string backendOf(const raster::Device& device)
+{
+    return raster::backendName(device.info().backend);
+}
+
+// The study renders through the library as every front end does: `scene` handed to it (a copy, the
+// study keeps its own for the measurements) in a session of its own, as `renderScene` would draw it on a
+// fresh session, with the study's own matrices and the backend's whole output kept.
+Result<RenderOutput> renderOnce(raster::Device& device, const Scene& scene, const CameraMatrices& camera,
+                                const RenderSettings& settings)
+{
+    const raster::Scene handed = raster::Internal::makeScene(scene, "study", std::nullopt);
+    auto session = raster::Session::create(device, handed);
+    if (!session) return raster::fromPublic(session.error());
+    return raster::Internal::renderOutput(*session, camera, settings);
 }
 
 std::string today()
@@ -56,7 +76,7 @@ Status checkNames(const std::vector<std::string>& names, const std::vector<std::
 // later failure is an error like any other.
 class Oracle {
 public:
-    explicit Oracle(int device) : device_(device) {}
+    explicit Oracle(int device) : index_(device) {}
 
     // The oracle's render of case `index` of axis `axis`, nullptr when vulkan-graphics is unavailable.
     Result<const RenderOutput*> render(size_t axis, size_t index, const StressCase& c)
@@ -64,7 +84,17 @@ public:
         if (!available_) return static_cast<const RenderOutput*>(nullptr);
         auto it = outputs_.find({axis, index});
         if (it != outputs_.end()) return &it->second;
-        auto out = renderGraphics(c.scene, c.camera, c.settings, device_);
+        if (!device_) {
+            auto opened = raster::Device::open(raster::Backend::VulkanGraphics, index_);
+            if (!opened) {
+                fmt::print(stderr, "study: vulkan-graphics unavailable, oracle_mismatches left null: {}\n",
+                           opened.error().message);
+                available_ = false;
+                return static_cast<const RenderOutput*>(nullptr);
+            }
+            device_.emplace(std::move(*opened));
+        }
+        auto out = renderOnce(*device_, c.scene, c.camera, c.settings);
         if (!out) {
             if (!outputs_.empty()) return out.error();
             fmt::print(stderr, "study: vulkan-graphics unavailable, oracle_mismatches left null: {}\n",
@@ -76,7 +106,8 @@ public:
     }
 
 private:
-    int device_;
+    int index_;
+    std::optional<raster::Device> device_;
     bool available_ = true;
     std::map<std::pair<size_t, size_t>, RenderOutput> outputs_;
 };
@@ -84,10 +115,11 @@ private:
 // Device memory of the frame just rendered: the sum of its buffers' sizes, as the renderer sized them
 // for this scene and setting. Not peakAllocatedBytes: a device keeps its buffers at the largest size
 // any frame needed (the reference's, rendered first), so its peak would give every setting that.
-double frameMib(const ComputeDevice& device)
+double frameMib(const raster::Device& device)
 {
+    const ComputeDevice& compute = *raster::Internal::of(device).compute;
     size_t bytes = 0;
-    for (uint32_t buffer = BUF_PARAMS + 1; buffer < BUF_COUNT; ++buffer) bytes += device.size(buffer);
+    for (uint32_t buffer = BUF_PARAMS + 1; buffer < BUF_COUNT; ++buffer) bytes += compute.size(buffer);
     return double(bytes) / (1 << 20);
 }
 
@@ -200,22 +232,22 @@ ImageError imageError(const RgbaImage& image, const RgbaImage& reference)
     return e;
 }
 
-Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& s, const RenderSettings& base,
-                                       const std::vector<std::string>& methods,
+Result<nlohmann::json> measureAccuracy(raster::Device& device, const StudyScene& s,
+                                       const RenderSettings& base, const std::vector<std::string>& methods,
                                        const std::function<void(const std::string&)>& progress)
 {
-    const std::string backend = device.info().backend;
+    const std::string backend = backendOf(device);
     auto tell = [&](const std::string& what) {
         if (progress) progress(fmt::format("{} {} on {}", s.name, what, backend));
     };
     tell("reference");
-    auto reference = renderScene(device, s.referenceScene ? *s.referenceScene : s.scene, s.camera,
-                                 referenceSettings(base));
+    auto reference =
+        renderOnce(device, s.referenceScene ? *s.referenceScene : s.scene, s.camera, referenceSettings(base));
     if (!reference) return reference.error();
     nlohmann::json rows = nlohmann::json::array();
     for (const StudySetting& setting : studySettings(s.textured, methods, s.tessellation)) {
         tell(setting.label);
-        auto out = renderScene(device, s.scene, s.camera, withSetting(base, setting));
+        auto out = renderOnce(device, s.scene, s.camera, withSetting(base, setting));
         if (!out) return out.error();
         ImageError e = imageError(out->color, reference->color);
         // Silhouette error: pixels covered in one image and not in the other (ids at sample 0).
@@ -243,16 +275,18 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
     return rows;
 }
 
-Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name, const Scene& scene,
-                                  const RenderSettings& base, const std::vector<float>& errors,
+Result<nlohmann::json> measureLod(raster::Device& device, const std::string& name,
+                                  const raster::Scene& handed, const RenderSettings& base,
+                                  const std::vector<float>& errors,
                                   const std::function<void(const std::string&)>& progress)
 {
-    const std::string backend = device.info().backend;
+    const std::string backend = backendOf(device);
+    const Scene& scene = raster::Internal::of(handed).scene;
     auto tell = [&](const std::string& camera, const std::string& what) {
         if (progress) progress(fmt::format("lod {} {} {} on {}", name, camera, what, backend));
     };
-    auto session = RenderSession::create(device, scene);
-    if (!session) return session.error();
+    auto session = raster::Session::create(device, handed);
+    if (!session) return raster::fromPublic(session.error());
     const std::vector<LodCamera> cameras = lodCameras(scene, base.width, base.height);
     RenderSettings off = base;
     off.lod = LOD_OFF;
@@ -263,10 +297,10 @@ Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name
     std::vector<RgbaImage> references;
     for (const LodCamera& c : cameras) {
         tell(c.name, "off");
-        auto out = session->render(c.camera, off);
+        auto out = raster::Internal::renderOutput(*session, c.camera, off);
         if (!out) return out.error();
         tell(c.name, "reference");
-        auto reference = session->render(c.camera, referenceSettings(off));
+        auto reference = raster::Internal::renderOutput(*session, c.camera, referenceSettings(off));
         if (!reference) return reference.error();
         baselines.push_back(std::move(*out));
         references.push_back(std::move(reference->color));
@@ -304,7 +338,7 @@ Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name
             RenderSettings on = off;
             on.lod = LOD_ON;
             on.lodErrorPx = error;
-            auto out = session->render(cameras[c].camera, on);
+            auto out = raster::Internal::renderOutput(*session, cameras[c].camera, on);
             if (!out) return out.error();
             perCamera[c].push_back(row(c, *out, error));
         }
@@ -314,12 +348,14 @@ Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name
     return rows;
 }
 
-Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scene, const RenderSettings& base,
+Result<nlohmann::json> measureAo(raster::Device& device, const AoStudyScene& scene,
+                                 const RenderSettings& base,
                                  const std::function<void(const std::string&)>& progress)
 {
-    const std::string backend = device.info().backend;
-    auto session = RenderSession::create(device, scene.scene);
-    if (!session) return session.error();
+    const std::string backend = backendOf(device);
+    const raster::Scene handed = raster::Internal::makeScene(scene.scene, scene.name, std::nullopt);
+    auto session = raster::Session::create(device, handed);
+    if (!session) return raster::fromPublic(session.error());
     RenderSettings settings = base;
     settings.shadingMode = SHADING_AO;
     const double defaultRadius = aoWorldRadius(scene.scene, base);
@@ -334,7 +370,7 @@ Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scen
         r.aoRadius = float(defaultRadius * a.radiusScale);
         r.warmup = 0;
         r.repeat = 1;
-        auto out = session->render(scene.camera, r);
+        auto out = raster::Internal::renderOutput(*session, scene.camera, r);
         if (!out) return out.error();
         references.emplace(a.radiusScale, std::move(*out));
     }
@@ -349,7 +385,7 @@ Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scen
         g.aoSteps = a.steps;
         g.aoDenoise = a.denoise ? AO_DENOISE_ON : AO_DENOISE_OFF;
         g.aoRadius = float(defaultRadius * a.radiusScale);
-        auto out = session->render(scene.camera, g);
+        auto out = raster::Internal::renderOutput(*session, scene.camera, g);
         if (!out) return out.error();
         double shadeMs = 0.0;
         for (const StageTiming& t : out->stages)
@@ -402,7 +438,7 @@ std::string aoTable(const nlohmann::json& ao)
 }
 
 Result<QualityChoice> chooseQuality(const std::string& quality, const std::string& studyPath,
-                                    ComputeDevice& device, const StudyScene& scene, RenderSettings base)
+                                    raster::Device& device, const StudyScene& scene, RenderSettings base)
 {
     auto target = parseQualityTarget(quality);
     if (!target) return target.error();
@@ -413,7 +449,7 @@ Result<QualityChoice> chooseQuality(const std::string& quality, const std::strin
         nlohmann::json study = nlohmann::json::parse(in, nullptr, false);
         if (study.is_discarded())
             return makeError(ExitCode::Usage, "--study '{}' is not valid JSON", studyPath);
-        rows = accuracyRowsFor(study, scene.name, device.info().backend);
+        rows = accuracyRowsFor(study, scene.name, backendOf(device));
         if (!rows) return makeError(ExitCode::Usage, "--study '{}': {}", studyPath, rows.error().message);
     } else {
         // The measurement's own renders need no AOVs, and the reference's 256 samples per pixel would
@@ -452,13 +488,13 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
         scenes.push_back(std::move(*scene));
     }
     // The LOD scenes, built once for every backend (bunny-fine's subdivision, the 100M sphere).
-    std::vector<std::pair<std::string, Scene>> lodScenes;
+    std::vector<std::pair<std::string, raster::Scene>> lodScenes;
     for (const std::string& name : o.lodScenes) {
         if (name != "sphere" && !std::filesystem::exists(o.bunnyPath)) continue;
         progress(fmt::format("lod {} (building)", name));
         auto scene = makeLodScene(name, o.lodRings, o.bunnyPath);
         if (!scene) return scene.error();
-        lodScenes.emplace_back(name, std::move(*scene));
+        lodScenes.emplace_back(name, raster::Internal::makeScene(std::move(*scene), name, std::nullopt));
     }
     std::vector<AoStudyScene> aoScenes;
     for (const std::string& name : o.aoScenes) {
@@ -491,19 +527,19 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     for (const std::string& backend : o.backends) {
         auto device = openDevice(backend, o.device);
         if (!device) return device.error();
-        devices[backend] = (*device)->info().name;
+        devices[backend] = device->info().name;
         for (const StudyScene& s : scenes) {
-            auto rows = measureAccuracy(**device, s, base, o.methods, progress);
+            auto rows = measureAccuracy(*device, s, base, o.methods, progress);
             if (!rows) return rows.error();
             for (auto& row : *rows) accuracy.push_back(std::move(row));
         }
         for (const auto& [name, scene] : lodScenes) {
-            auto rows = measureLod(**device, name, scene, base, o.lodErrors, progress);
+            auto rows = measureLod(*device, name, scene, base, o.lodErrors, progress);
             if (!rows) return rows.error();
             for (auto& row : *rows) lod.push_back(std::move(row));
         }
         for (const AoStudyScene& scene : aoScenes) {
-            auto rows = measureAo(**device, scene, base, progress);
+            auto rows = measureAo(*device, scene, base, progress);
             if (!rows) return rows.error();
             for (auto& row : *rows) ao.push_back(std::move(row));
         }
@@ -517,7 +553,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
                     progress(fmt::format("{} {:g} {} on {}", c.axis, c.x, method, backend));
                     RenderSettings settings = c.settings;
                     settings.rasterMethod = *rasterMethodFromName(method);
-                    auto out = renderScene(**device, c.scene, c.camera, settings);
+                    auto out = renderOnce(*device, c.scene, c.camera, settings);
                     if (!out) return out.error();
                     StressFailures f = countFailures(c, *out);
                     stability.push_back({{"axis", c.axis},

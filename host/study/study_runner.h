@@ -33,6 +33,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "raster/raster.h"
+
 #include "base/result.h"
 #include "render/renderer.h"
 #include "study/lod_study.h"
@@ -77,7 +79,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& options);
 // The accuracy rows (study/quality.h's format) of one scene on `device`: the reference and every
 // setting of studySettings(scene.textured, methods), each rendered with `base` (size, shading, lights,
 // warmup and repeat) changed by the setting. `progress` hears the label of each render.
-Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& scene,
+Result<nlohmann::json> measureAccuracy(raster::Device& device, const StudyScene& scene,
                                        const RenderSettings& base, const std::vector<std::string>& methods,
                                        const std::function<void(const std::string&)>& progress = {});
 
@@ -96,10 +98,11 @@ Result<nlohmann::json> measureAccuracy(ComputeDevice& device, const StudyScene& 
 // --shading ao, with `base`'s size, warmup and repeat: {"scene", "camera_spec", "backend", "slices",
 // "steps", "radius_scale", "radius", "denoise", "ao_ms" (the AO stages' median GPU time), "shade_ms",
 // "pixels", "mean_error", "max_error", "psnr"} (aoImageError against the reference at its radius).
-Result<nlohmann::json> measureAo(ComputeDevice& device, const AoStudyScene& scene, const RenderSettings& base,
+Result<nlohmann::json> measureAo(raster::Device& device, const AoStudyScene& scene,
+                                 const RenderSettings& base,
                                  const std::function<void(const std::string&)>& progress = {});
 
-Result<nlohmann::json> measureLod(ComputeDevice& device, const std::string& name, const Scene& scene,
+Result<nlohmann::json> measureLod(raster::Device& device, const std::string& name, const raster::Scene& scene,
                                   const RenderSettings& base, const std::vector<float>& errors,
                                   const std::function<void(const std::string&)>& progress = {});
 
@@ -113,7 +116,7 @@ struct QualityChoice {
     std::string line;
 };
 Result<QualityChoice> chooseQuality(const std::string& target, const std::string& studyPath,
-                                    ComputeDevice& device, const StudyScene& scene, RenderSettings base);
+                                    raster::Device& device, const StudyScene& scene, RenderSettings base);
 
 // PSNR in dB of `image` against `reference` (same size, RGBA8 words, R G B compared, alpha ignored) and
 // the largest channel difference; PSNR is infinite for identical images.

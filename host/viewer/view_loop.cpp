@@ -34,38 +34,19 @@ double msSince(Clock::time_point start)
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// The compute backends the window can switch between (`b`): the one asked for first, then the other
-// where it opens; with `auto`, CUDA first as `raster render` does. Each is a raster::Device, as the
-// library's sessions take them.
+// The compute backends the window can switch between (`b`), chosen where every backend is
+// (makeSwitchableDevices): the one asked for first, then the other where it opens; with `auto`, CUDA
+// first as `raster render` does. Each is a raster::Device, as the library's sessions take them.
 Result<std::vector<raster::Device>> openBackends(const std::string& backend, int device,
                                                  const PresentTarget* window)
 {
-    std::vector<BackendKind> order = backend == "vulkan"
-                                         ? std::vector<BackendKind>{BackendKind::Vulkan, BackendKind::Cuda}
-                                         : std::vector<BackendKind>{BackendKind::Cuda, BackendKind::Vulkan};
-    std::vector<std::unique_ptr<ComputeDevice>> devices;
-    std::optional<Error> first;
-    for (BackendKind kind : order) {
-        // The Vulkan device made on the window presents its own framebuffer (vulkan_present_source.h).
-        // A device that cannot present to this window (a GPU under Xvfb) still renders; the host presents.
-        auto d = kind == BackendKind::Vulkan && window != nullptr
-                     ? makeVulkanPresentingDevice(device, *window)
-                     : makeComputeDevice(kind, device);
-        if (!d && kind == BackendKind::Vulkan && window != nullptr) d = makeComputeDevice(kind, device);
-        if (d) {
-            devices.push_back(std::move(*d));
-        } else if (!first) {
-            first = d.error();
-        }
-    }
-    // The backend named on the command line must open; the other is a bonus.
-    bool named = backend != "auto";
-    if (devices.empty() || (named && devices.front()->info().backend != backend)) {
-        if (first) return *first;
-        return makeError(ExitCode::Usage, "view: no compute backend opened");
-    }
+    const BackendKind preferred = backend == "vulkan" ? BackendKind::Vulkan
+                                  : backend == "cuda" ? BackendKind::Cuda
+                                                      : BackendKind::Auto;
+    auto devices = makeSwitchableDevices(preferred, device, window);
+    if (!devices) return devices.error();
     std::vector<raster::Device> opened;
-    for (auto& d : devices) opened.push_back(raster::Internal::makeDevice(std::move(d)));
+    for (auto& d : *devices) opened.push_back(raster::Internal::makeDevice(std::move(d)));
     return opened;
 }
 
@@ -246,9 +227,9 @@ Status runView(const ViewOptions& o)
         request.surfaceAovs = state.saveRequested;
         request.outputs = state.saveRequested ? raster::OutputImages : raster::OutputColor;
         request.stats = state.saveRequested;
-        auto out =
-            raster::Internal::render(*session, raster::Camera::fromSpec("auto"),
-                                     raster::Internal::makeSettings(viewOptions(state)), request, download);
+        auto out = raster::Internal::render(*session, raster::Camera::fromSpec("auto"),
+                                            raster::Internal::makeSettings(viewOptions(state)), request,
+                                            raster::Internal::RenderControl{download});
         if (!out) return raster::fromPublic(out.error());
         for (const std::string& warning : out->warnings)
             if (warned.insert(warning).second) warnLine(warning);
