@@ -189,5 +189,39 @@ TEST(BenchFrames, WholeShadedFramesBesideTheGraphicsPipeline)
     EXPECT_NE(run.stdoutText.find("| builtin | 64x48 | 1 | vulkan-graphics |"), std::string::npos);
 }
 
+// `--warmup-ms` draws untimed frames of each run's scene until that much wall time has passed before the
+// timed ones, and says how many; without it there are none.
+TEST(BenchFrames, WarmupByTimeDrawsFramesUntilItsTimeHasPassed)
+{
+    bool skip = false;
+    if (!openBackend("vulkan", skip)) {
+        if (skip) GTEST_SKIP() << "vulkan absent and allowed to be (SR_ALLOW_MISSING_BACKENDS)";
+        FAIL() << "no Vulkan device";
+    }
+    for (double ms : {0.0, 60.0}) {
+        std::string json = ::testing::TempDir() + "bench_prewarm.json";
+        ToolRun run = runTool(
+            "bench --backends vulkan --resolutions 32x24 --scenes builtin,layers-16 --warmup 0 "
+            "--repeat 1 --warmup-ms " +
+            std::to_string(ms) + " --json " + json);
+        ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+        std::ifstream in(json);
+        nlohmann::json bench = nlohmann::json::parse(in);
+        EXPECT_EQ(bench["warmup_ms"].get<double>(), ms);
+        ASSERT_EQ(bench["runs"].size(), 2u);
+        for (const auto& r : bench["runs"]) {
+            if (ms == 0.0) {
+                EXPECT_EQ(r["prewarm_frames"].get<uint32_t>(), 0u) << r["scene"];
+                EXPECT_EQ(r["prewarm_ms"].get<double>(), 0.0) << r["scene"];
+            } else {
+                EXPECT_GE(r["prewarm_frames"].get<uint32_t>(), 1u) << r["scene"];
+                EXPECT_GE(r["prewarm_ms"].get<double>(), ms) << r["scene"];
+            }
+        }
+    }
+    // Refused where it cannot take effect as asked.
+    EXPECT_NE(runTool("bench --warmup-ms -1").exitCode, 0);
+}
+
 }  // namespace
 }  // namespace sr::test

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -294,6 +295,33 @@ size_t sceneBytes(const Scene& s)
            s.materials.size() * sizeof(GpuMaterial);
 }
 
+// What a run's warm-up by time (BenchOptions::warmupMs) drew before its frames.
+struct Prewarm {
+    uint32_t frames = 0;
+    double ms = 0.0;
+};
+
+// Untimed frames of `session` with `settings` (one each, no warm-up of their own) until `ms` of wall time
+// have passed.
+Result<Prewarm> prewarm(raster::Session& session, const CameraMatrices& camera,
+                        const RenderSettings& settings, double ms)
+{
+    using Clock = std::chrono::steady_clock;
+    Prewarm done;
+    if (ms <= 0.0) return done;
+    RenderSettings once = settings;
+    once.warmup = 0;
+    once.repeat = 1;
+    const auto start = Clock::now();
+    do {
+        auto out = raster::Internal::renderOutput(session, camera, once);
+        if (!out) return out.error();
+        ++done.frames;
+        done.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    } while (done.ms < ms);
+    return done;
+}
+
 raster::Backend backendNamed(const std::string& backend)
 {
     return backend == "cuda"     ? raster::Backend::Cuda
@@ -307,7 +335,8 @@ raster::Backend backendNamed(const std::string& backend)
 // depth + id with the cheapest fragment shader, i.e. rasterization and the depth test, which is what the
 // compute pipeline's stages before `shade` do.
 Result<RenderOutput> renderOn(const std::string& backend, int device, const BenchScene& s,
-                              const raster::Scene& scene, const RenderSettings& r, bool shaded = false)
+                              const raster::Scene& scene, const RenderSettings& r, double warmupMs,
+                              Prewarm& warmed, bool shaded = false)
 {
     auto dev = raster::Device::open(backendNamed(backend), device);
     if (!dev) return raster::fromPublic(dev.error());
@@ -315,6 +344,9 @@ Result<RenderOutput> renderOn(const std::string& backend, int device, const Benc
     if (!session) return raster::fromPublic(session.error());
     RenderSettings settings = r;
     settings.visibilityOnly = backend == "vulkan-graphics" && !shaded;
+    auto warm = prewarm(*session, s.camera, settings, warmupMs);
+    if (!warm) return warm.error();
+    warmed = *warm;
     return raster::Internal::renderOutput(*session, s.camera, settings);
 }
 
@@ -370,6 +402,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 // unpacked for the host in the timed frame.
                                 r.outputs = OUTPUT_COLOR;
                                 Result<RenderOutput> out = makeError(ExitCode::Runtime, "not rendered");
+                                Prewarm warmed;
                                 if (lodError > 0.0f) {
                                     r.lod = LOD_ON;
                                     r.lodErrorPx = lodError;
@@ -381,9 +414,12 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                         if (!session) return raster::fromPublic(session.error());
                                         lodSession.emplace(std::move(*session));
                                     }
+                                    auto warm = prewarm(*lodSession, s.camera, r, o.warmupMs);
+                                    if (!warm) return warm.error();
+                                    warmed = *warm;
                                     out = raster::Internal::renderOutput(*lodSession, s.camera, r);
                                 } else {
-                                    out = renderOn(backend, o.device, s, scene, r);
+                                    out = renderOn(backend, o.device, s, scene, r, o.warmupMs, warmed);
                                 }
                                 if (!out) return out.error();
                                 double ms = out->total.medianMs;
@@ -398,7 +434,9 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 // gets).
                                 double frameMs = ms;
                                 if (backend == "vulkan-graphics") {
-                                    auto frame = renderOn(backend, o.device, s, scene, r, true);
+                                    Prewarm shadedWarm;
+                                    auto frame = renderOn(backend, o.device, s, scene, r, o.warmupMs,
+                                                          shadedWarm, true);
                                     if (!frame) return frame.error();
                                     frameMs = frame->total.medianMs;
                                 }
@@ -439,14 +477,17 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                      {"lod_build_ms", out->stats.lodBuildMs},
                                      {"cluster_build_ms", out->stats.clusterBuildMs},
                                      {"ao", choiceName(setting("ao"), aoMode)},
-                                     {"ao_ms", aoMs}});
+                                     {"ao_ms", aoMs},
+                                     {"prewarm_frames", warmed.frames},
+                                     {"prewarm_ms", warmed.ms}});
                             }
                 }
             }
         }
     }
     if (tty) fmt::print(stderr, "\r\033[K");
-    return nlohmann::json{{"runs", runs}, {"warmup", o.warmup}, {"repeat", o.repeat}};
+    return nlohmann::json{
+        {"runs", runs}, {"warmup", o.warmup}, {"repeat", o.repeat}, {"warmup_ms", o.warmupMs}};
 }
 
 std::string benchMarkdown(const nlohmann::json& bench)

@@ -12,7 +12,7 @@
 // pass, the hardware baseline), frame ms (the whole shaded frame: the compute backends' total, and for
 // vulkan-graphics a second run that shades in its fragment shader, so that both sides shade alike),
 // triangles/s, pixels/s, peak and working device memory (peak less the scene's own buffers) against
-// 40 B/triangle + 8 B/pixel + 8 B/sample.
+// 40 B/triangle + 8 B/pixel + 8 B/sample. `--warmup-ms` warms each run's GPU up by time first.
 #ifndef RASTER_BENCH_RUNNER_H
 #define RASTER_BENCH_RUNNER_H
 
@@ -44,6 +44,12 @@ struct BenchOptions {
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
     uint32_t warmup = 3;
     uint32_t repeat = 20;
+    // Before each run's frames (its `warmup` and `repeat`), untimed frames of the same session until this
+    // much wall time has passed, so that a GPU that idled through the scene's generation has its clock up
+    // again when the timed frames start (a few warm-up frames of a tenth of a millisecond may not be
+    // enough); 0: none. Each run reports the frames and the time it took ("prewarm_frames",
+    // "prewarm_ms").
+    double warmupMs = 0.0;
     int device = -1;
 };
 

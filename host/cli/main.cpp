@@ -321,6 +321,11 @@ int main(int argc, char** argv)
     benchApp->add_option("--bunny", bench.options.bunnyPath,
                          "the Stanford bunny OBJ (Debian's glmark2-data)");
     benchApp->add_option("--warmup", bench.options.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
+    benchApp
+        ->add_option("--warmup-ms", bench.options.warmupMs,
+                     "before each run, untimed frames until this many ms have passed, so that the GPU's "
+                     "clock is up (default 0: none)")
+        ->check(CLI::Range(0.0, 60000.0));
     benchApp->add_option("--repeat", bench.options.repeat, "timed runs")->check(CLI::Range(1, 100000));
     benchApp->add_option("--device", bench.options.device, "device index within each backend");
     benchApp->add_option("--json", bench.jsonPath, "all results as JSON");
