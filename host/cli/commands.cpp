@@ -14,8 +14,10 @@ const std::vector<CommandInfo>& commands()
          "render a scene (built-in when SCENE is omitted); --frames N --orbit AZ0:AZ1 renders a turntable"},
         {"compare", "raster compare A B [-o diff.png] [--tolerance LSB]",
          "compare two PNG images or two EXR AOVs (idiff-style report)"},
-        {"bench", "raster bench [--backends cuda,vulkan,vulkan-graphics] [--scenes ...] [--json F]",
-         "the benchmark suite on several backends in one run"},
+        {"bench",
+         "raster bench [--backends cuda,vulkan,vulkan-graphics] [--scenes ...] [--warmup-ms MS] [--json F]",
+         "the benchmark suite on several backends in one run; --warmup-ms MS draws untimed frames of each "
+         "run for MS ms first, so that the GPU's clock is up when timing starts"},
         {"study", "raster study [--backends vulkan,cuda] [--json F]",
          "speed against accuracy per setting and failures per stress axis (ci/study-chart draws them)"},
         {"batch", "raster batch MANIFEST [--devices all|0,1] [--shard i/N] [SETTINGS]",
