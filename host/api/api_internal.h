@@ -71,6 +71,9 @@ struct Internal {
     // camera when it has one.
     static Scene makeScene(sr::Scene scene, std::string name, std::optional<sr::CameraMatrices> ownCamera);
     static Settings makeSettings(const sr::RenderOptions& options);
+    // The device of backend `name` (auto, cuda, vulkan, vulkan-graphics; parseBackend) and `index`, its
+    // errors as the command line's runners return them.
+    static sr::Result<Device> openNamed(const std::string& name, int index);
     // A device the front end opened itself (the viewer's Vulkan device made on its window).
     static Device makeDevice(std::unique_ptr<sr::ComputeDevice> compute);
     // What the front ends inside the project ask of a render beyond the public request.

@@ -683,6 +683,15 @@ Result<Frame> Session::render(const Camera& camera, const Settings& settings, co
     return Internal::render(*this, camera, settings, request, Internal::RenderControl{});
 }
 
+sr::Result<Device> Internal::openNamed(const std::string& name, int index)
+{
+    auto backend = parseBackend(name);
+    if (!backend) return fromPublic(backend.error());
+    auto device = Device::open(*backend, index);
+    if (!device) return fromPublic(device.error());
+    return std::move(*device);
+}
+
 Device Internal::makeDevice(std::unique_ptr<sr::ComputeDevice> compute)
 {
     auto impl = std::make_unique<Device::Impl>();

@@ -300,9 +300,6 @@ private:
     double loadMs_ = 0.0;
 };
 
-const std::map<std::string, raster::Backend> kBackends = {
-    {"auto", raster::Backend::Auto}, {"cuda", raster::Backend::Cuda}, {"vulkan", raster::Backend::Vulkan}};
-
 // The backend and the device indices the workers open, from the devices the library offers
 // (raster::devices): the backend's first device without --devices; with it, auto becomes whichever
 // backend has the first listed device (so that the workers never mix backends), and `all` is every
@@ -691,7 +688,9 @@ Result<bool> runBatch(const BatchOptions& options)
     if (!manifest) return manifest.error();
     auto frames = expandJobs(*manifest);
     if (!frames) return frames.error();
-    raster::Backend kind = kBackends.at(options.backend);
+    auto parsed = raster::parseBackend(options.backend);
+    if (!parsed) return raster::fromPublic(parsed.error());
+    raster::Backend kind = *parsed;
     if (!options.devices.empty()) {
         auto list = parseDeviceList(options.devices);
         if (!list) return list.error();

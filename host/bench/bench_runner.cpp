@@ -322,13 +322,6 @@ Result<Prewarm> prewarm(raster::Session& session, const CameraMatrices& camera,
     return done;
 }
 
-raster::Backend backendNamed(const std::string& backend)
-{
-    return backend == "cuda"     ? raster::Backend::Cuda
-           : backend == "vulkan" ? raster::Backend::Vulkan
-                                 : raster::Backend::VulkanGraphics;
-}
-
 // One run of scene s on `backend` through the library, as every front end renders, on a device opened for it
 // alone, so that its peak memory is this run's. For vulkan-graphics `shaded` picks the whole shaded frame
 // (the same shading as the compute backends' shade stage) over the visibility pass: the hardware baseline,
@@ -338,8 +331,8 @@ Result<RenderOutput> renderOn(const std::string& backend, int device, const Benc
                               const raster::Scene& scene, const RenderSettings& r, double warmupMs,
                               Prewarm& warmed, bool shaded = false)
 {
-    auto dev = raster::Device::open(backendNamed(backend), device);
-    if (!dev) return raster::fromPublic(dev.error());
+    auto dev = raster::Internal::openNamed(backend, device);
+    if (!dev) return dev.error();
     auto session = raster::Session::create(*dev, scene);
     if (!session) return raster::fromPublic(session.error());
     RenderSettings settings = r;
@@ -407,8 +400,8 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                     r.lod = LOD_ON;
                                     r.lodErrorPx = lodError;
                                     if (!lodSession) {
-                                        auto dev = raster::Device::open(backendNamed(backend), o.device);
-                                        if (!dev) return raster::fromPublic(dev.error());
+                                        auto dev = raster::Internal::openNamed(backend, o.device);
+                                        if (!dev) return dev.error();
                                         lodDevice.emplace(std::move(*dev));
                                         auto session = raster::Session::create(*lodDevice, scene);
                                         if (!session) return raster::fromPublic(session.error());
@@ -434,9 +427,9 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                 // gets).
                                 double frameMs = ms;
                                 if (backend == "vulkan-graphics") {
-                                    Prewarm shadedWarm;
-                                    auto frame = renderOn(backend, o.device, s, scene, r, o.warmupMs,
-                                                          shadedWarm, true);
+                                    // Right after the visibility run: the GPU is warm already.
+                                    Prewarm none;
+                                    auto frame = renderOn(backend, o.device, s, scene, r, 0.0, none, true);
                                     if (!frame) return frame.error();
                                     frameMs = frame->total.medianMs;
                                 }

@@ -21,14 +21,6 @@
 namespace sr {
 namespace {
 
-Result<raster::Device> openDevice(const std::string& backend, int device)
-{
-    auto opened =
-        raster::Device::open(backend == "cuda" ? raster::Backend::Cuda : raster::Backend::Vulkan, device);
-    if (!opened) return raster::fromPublic(opened.error());
-    return std::move(*opened);
-}
-
 std::string backendOf(const raster::Device& device)
 {
     return raster::backendName(device.info().backend);
@@ -525,7 +517,7 @@ Result<nlohmann::json> runStudy(const StudyOptions& o)
     nlohmann::json lod = nlohmann::json::array(), ao = nlohmann::json::array();
     nlohmann::json devices = nlohmann::json::object();
     for (const std::string& backend : o.backends) {
-        auto device = openDevice(backend, o.device);
+        auto device = raster::Internal::openNamed(backend, o.device);
         if (!device) return device.error();
         devices[backend] = device->info().name;
         for (const StudyScene& s : scenes) {
