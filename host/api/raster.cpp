@@ -818,16 +818,10 @@ Result<Frame> Internal::render(Session& session, const Camera& camera, const Set
         if (spec && !usesOwnCamera(camera, options, *self.scene))
             resolved = sr::resolvedCameraSpec(*spec, scene, s.width, s.height);
     }
-    Frame frame;
-    if (control.output) {
-        // The images stay in the backend's output, for the caller that measures them.
-        frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request, true,
-                        nullptr);
-        *control.output = std::move(*out);
-    } else {
-        frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request, false,
-                        control.aovPlanes);
-    }
+    // With `output` the images stay in the backend's output, for the caller that measures them.
+    Frame frame = toFrame(*out, echoed, self.device->info, self.scene->name, resolved, scene, request,
+                          control.output != nullptr, control.aovPlanes);
+    if (control.output) *control.output = std::move(*out);
     frame.warnings = capture.take();
     return frame;
 }
