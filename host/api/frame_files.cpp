@@ -34,22 +34,15 @@ RgbaImage colorImage(const raster::Frame& f)
 
 AovImage aovImage(const raster::Frame& f, bool withColor, AovImage* surfacePlanes)
 {
+    const size_t n = size_t(f.width) * f.height;
     AovImage aov;
+    if (surfacePlanes && surfacePlanes->baryU.size() == n) aov = std::move(*surfacePlanes);
     aov.width = f.width;
     aov.height = f.height;
     aov.id = f.id;
     aov.depth = f.depth;
-    const size_t n = size_t(f.width) * f.height;
     if (f.ao.size() == n) aov.ao = f.ao;
-    if (surfacePlanes && surfacePlanes->baryU.size() == n) {
-        aov.baryU = std::move(surfacePlanes->baryU);
-        aov.baryV = std::move(surfacePlanes->baryV);
-        aov.uvU = std::move(surfacePlanes->uvU);
-        aov.uvV = std::move(surfacePlanes->uvV);
-        aov.normalX = std::move(surfacePlanes->normalX);
-        aov.normalY = std::move(surfacePlanes->normalY);
-        aov.normalZ = std::move(surfacePlanes->normalZ);
-    } else if (f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
+    if (!aov.hasBary() && f.bary.size() == 2 * n && f.uv.size() == 2 * n && f.normal.size() == 3 * n) {
         for (auto* plane :
              {&aov.baryU, &aov.baryV, &aov.uvU, &aov.uvV, &aov.normalX, &aov.normalY, &aov.normalZ})
             plane->resize(n);

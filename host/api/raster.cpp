@@ -608,16 +608,9 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
     if (request.surfaceAovs && !out.aov.hasBary()) sr::fillSurfaceAovs(scene, out.params, out.aov);
     f.id = std::move(out.aov.id);
     f.depth = std::move(out.aov.depth);
+    f.ao = std::move(out.aov.ao);
     if (out.aov.hasBary() && surfacePlanes) {
-        surfacePlanes->width = f.width;
-        surfacePlanes->height = f.height;
-        surfacePlanes->baryU = std::move(out.aov.baryU);
-        surfacePlanes->baryV = std::move(out.aov.baryV);
-        surfacePlanes->uvU = std::move(out.aov.uvU);
-        surfacePlanes->uvV = std::move(out.aov.uvV);
-        surfacePlanes->normalX = std::move(out.aov.normalX);
-        surfacePlanes->normalY = std::move(out.aov.normalY);
-        surfacePlanes->normalZ = std::move(out.aov.normalZ);
+        *surfacePlanes = std::move(out.aov);  // what is left of it: the surface planes
     } else if (out.aov.hasBary()) {
         const size_t n = size_t(f.width) * f.height;
         f.bary.resize(2 * n);
@@ -633,7 +626,6 @@ Frame toFrame(sr::RenderOutput& out, const sr::RenderOptions& options, const Dev
             f.normal[3 * i + 2] = out.aov.normalZ[i];
         }
     }
-    f.ao = std::move(out.aov.ao);
     f.rasterWidth = out.samples.rasterWidth;
     f.rasterHeight = out.samples.rasterHeight;
     f.samples = out.samples.samples;
