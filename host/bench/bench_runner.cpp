@@ -312,6 +312,7 @@ Result<Prewarm> prewarm(raster::Session& session, const CameraMatrices& camera,
     RenderSettings once = settings;
     once.warmup = 0;
     once.repeat = 1;
+    once.download = ImageDownload::None;  // only the GPU's work is wanted of them
     const auto start = Clock::now();
     do {
         auto out = raster::Internal::renderOutput(session, camera, once);
