@@ -14,6 +14,7 @@
 // device every group takes its clusters once: a loop there may not run long, docs/benchmark.md).
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 #include "bin.glsl"
@@ -25,10 +26,27 @@ shared vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
 shared ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];  // x, y, depth bits, flags
 shared uint clusterCounts[CLUSTERS_PER_GROUP][2];                     // invalid, culled
 
+// Where a subgroup is CLUSTER_LANES wide (NVIDIA's warp) each cluster's invocations are one subgroup, whose
+// own barrier is enough between writing the cluster's vertices and reading them: the group's barrier()
+// held each subgroup until the group's slowest cluster was transformed (ncu, sphere 10.2M, CUDA's
+// clusters kernel on the H200: 20% of its stall samples). Elsewhere (a CPU's narrower subgroups) the
+// group's barrier. `subgroupClusters` is the same for the whole dispatch, so both take uniform control flow.
+void clusterBarrier(bool subgroupClusters)
+{
+    if (subgroupClusters) {
+        subgroupMemoryBarrierShared();
+        subgroupBarrier();
+    } else {
+        barrier();
+    }
+}
+
 void main()
 {
-    uint slot = gl_LocalInvocationID.x / uint(CLUSTER_LANES);
-    uint lane = gl_LocalInvocationID.x % uint(CLUSTER_LANES);
+    const bool subgroupClusters =
+        gl_SubgroupSize == uint(CLUSTER_LANES) && gl_NumSubgroups == uint(CLUSTERS_PER_GROUP);
+    uint slot = subgroupClusters ? gl_SubgroupID : gl_LocalInvocationID.x / uint(CLUSTER_LANES);
+    uint lane = subgroupClusters ? gl_SubgroupInvocationID : gl_LocalInvocationID.x % uint(CLUSTER_LANES);
     // With level of detail (lodScale > 0) stage lod_cut listed the clusters to draw in BUF_LOD_CUT, and
     // the groups (LOD_CLUSTER_GROUPS) loop over that list; without, each group takes its clusters once.
     // The loop's bounds are the group's own: every invocation reaches each barrier() alike.
@@ -48,6 +66,13 @@ void main()
             }
         }
         if (lane < 2u) clusterCounts[slot][lane] = 0u;
+        // The lane's first triangle (its input index and corners), fetched before the vertices so that its
+        // load overlaps theirs; each round of the triangle loop then fetches the lane's next one.
+        uint t = lane, tri = 0u, corners = 0u;
+        if (verdict == CLUSTER_DRAWN && t < c.triangleCount) {
+            tri = clusterData[c.triangleOffset + 2u * t];
+            corners = clusterData[c.triangleOffset + 2u * t + 1u];
+        }
         if (verdict == CLUSTER_DRAWN) {
             for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
                 vec4 clip = mulPoint(params.clipFromWorld, positions[clusterData[c.vertexOffset + v]]);
@@ -60,12 +85,15 @@ void main()
 #endif
             }
         }
-        barrier();  // every invocation of the group reaches it: no return above
+        clusterBarrier(subgroupClusters);  // every invocation of the group reaches it: no return above
         uint invalid = 0u, culled = 0u;
         if (verdict == CLUSTER_DRAWN) {
-            for (uint t = lane; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
-                uint tri = clusterData[c.triangleOffset + 2u * t];
-                uint corners = clusterData[c.triangleOffset + 2u * t + 1u];
+            for (; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
+                uint nextTri = 0u, nextCorners = 0u;
+                if (t + uint(CLUSTER_LANES) < c.triangleCount) {
+                    nextTri = clusterData[c.triangleOffset + 2u * (t + uint(CLUSTER_LANES))];
+                    nextCorners = clusterData[c.triangleOffset + 2u * (t + uint(CLUSTER_LANES)) + 1u];
+                }
                 uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u),
                      k2 = clusterCorner(corners, 2u);
 #if RASTER_METHOD == RASTER_FIXED8
@@ -86,15 +114,17 @@ void main()
 #else
                 setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
 #endif
+                tri = nextTri;
+                corners = nextCorners;
             }
         }
         // The cluster's counts, one shared atomic per invocation that has any, one global atomic per cluster.
         if (invalid != 0u) atomicAdd(clusterCounts[slot][0], invalid);
         if (culled != 0u) atomicAdd(clusterCounts[slot][1], culled);
-        barrier();
+        clusterBarrier(subgroupClusters);
         if (lane < 2u && clusterCounts[slot][lane] != 0u)
             atomicAdd(counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
-        // The next round clears clusterCounts again.
-        if (lod) barrier();
+        // The next round clears clusterCounts and writes the vertices again.
+        if (lod) clusterBarrier(subgroupClusters);
     }
 }

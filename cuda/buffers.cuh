@@ -57,8 +57,44 @@ __device__ inline void mergeFragment(const RasterParams& params, const Buffers& 
     if ((params.debugFlags & DEBUG_COUNT_HITS) != 0u) atomicAdd(&b.hitCount[pixel], 1u);
 }
 
+// Element i of a vec4 buffer in one 16-byte load. GLM's vec4 is 4-byte aligned, so `p[i]` compiles to
+// four 32-bit loads, which ptxas spread among the previous corner's arithmetic (setup issued 28 load
+// instructions a triangle, 12 of them the stored-clip path's, predicated off). One load a corner: setup
+// 1-3% faster on the H200's small sweeps, sweep-128px 3.7% (docs/benchmark.md, issue 46's third pass).
+// Every BUF_* buffer is a cudaMalloc of its own, 256-byte aligned, so the float4 view is aligned.
+__device__ inline vec4 loadVec4(const vec4* p, uint i)
+{
+    float4 v = reinterpret_cast<const float4*>(p)[i];
+    return vec4(v.x, v.y, v.z, v.w);
+}
+
+// Element i of a 16-byte aligned ivec4 array (stage clusters' shared vertices) in one 16-byte load.
+__device__ inline ivec4 loadIvec4(const ivec4* p, uint i)
+{
+    int4 v = reinterpret_cast<const int4*>(p)[i];
+    return ivec4(v.x, v.y, v.z, v.w);
+}
+
+// Stores of the same, one 16-byte access each.
+__device__ inline void storeVec4(vec4* p, uint i, vec4 v)
+{
+    reinterpret_cast<float4*>(p)[i] = make_float4(v.x, v.y, v.z, v.w);
+}
+__device__ inline void storeIvec4(ivec4* p, uint i, ivec4 v)
+{
+    reinterpret_cast<int4*>(p)[i] = make_int4(v.x, v.y, v.z, v.w);
+}
+
+// The clip position of vertex v as setup sees it (setupClipPosition: the stored one, or the world position
+// transformed here), read with one 16-byte load.
+__device__ inline vec4 loadClipPosition(const RasterParams& params, const Buffers& b, uint v)
+{
+    return params.transformInSetup != 0u ? mulPoint(params.clipFromWorld, loadVec4(b.positions, v))
+                                         : loadVec4(b.clipPos, v);
+}
+
 // Clip positions of input triangle `tri`'s vertices, as setup sees them (setupClipPosition). False when
-// an index is out of range.
+// an index is out of range. The three corners are loaded before any is used.
 __device__ inline bool loadClipTriangle(const RasterParams& params, const Buffers& b, uint tri, vec4& c0,
                                         vec4& c1, vec4& c2)
 {
@@ -66,10 +102,12 @@ __device__ inline bool loadClipTriangle(const RasterParams& params, const Buffer
     uint i1 = b.indices[3u * tri + 1u];
     uint i2 = b.indices[3u * tri + 2u];
     if (max(i0, max(i1, i2)) >= params.vertexCount) return false;
-    bool stored = params.transformInSetup == 0u;
-    c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
-    c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
-    c2 = setupClipPosition(params, b.positions[i2], stored ? b.clipPos[i2] : vec4(0.0f));
+    const vec4* from = params.transformInSetup != 0u ? b.positions : b.clipPos;
+    // setupClipPosition transforms p (a world position) or returns it (a stored clip position).
+    vec4 p0 = loadVec4(from, i0), p1 = loadVec4(from, i1), p2 = loadVec4(from, i2);
+    c0 = setupClipPosition(params, p0, p0);
+    c1 = setupClipPosition(params, p1, p1);
+    c2 = setupClipPosition(params, p2, p2);
     return true;
 }
 
@@ -80,9 +118,10 @@ __device__ inline bool loadClipLine(const RasterParams& params, const Buffers& b
     uint i0 = b.lines[2u * k];
     uint i1 = b.lines[2u * k + 1u];
     if (max(i0, i1) >= params.vertexCount) return false;
-    bool stored = params.transformInSetup == 0u;
-    c0 = setupClipPosition(params, b.positions[i0], stored ? b.clipPos[i0] : vec4(0.0f));
-    c1 = setupClipPosition(params, b.positions[i1], stored ? b.clipPos[i1] : vec4(0.0f));
+    const vec4* from = params.transformInSetup != 0u ? b.positions : b.clipPos;
+    vec4 p0 = loadVec4(from, i0), p1 = loadVec4(from, i1);
+    c0 = setupClipPosition(params, p0, p0);
+    c1 = setupClipPosition(params, p1, p1);
     return true;
 }
 
@@ -181,15 +220,16 @@ __device__ inline vec4 materialBaseColor(const RasterParams& params, const Buffe
 
 // Emitted colour (linear: emissive factor x emissive texture) of triangle `id` at the surface point s;
 // zero without materials or with a zero factor (the texture is then not read).
-__device__ inline vec3 materialEmissive(const RasterParams& params, const Buffers& b, uint id, uint i0, uint i1,
-                                        uint i2, const SurfacePoint& s)
+__device__ inline vec3 materialEmissive(const RasterParams& params, const Buffers& b, uint id, uint i0,
+                                        uint i1, uint i2, const SurfacePoint& s)
 {
     if (params.materialCount == 0u) return vec3(0.0f);
     GpuMaterial m = b.materials[min(b.triMaterials[id], params.materialCount - 1u)];
     vec3 e = vec3(m.emissive.x, m.emissive.y, m.emissive.z);
     if (m.emissiveTexture >= params.textureCount || (e.x == 0.0f && e.y == 0.0f && e.z == 0.0f)) return e;
     vec2 dx, dy;
-    vec2 uv = surfaceUvOfSet(s, b.texcoords[i0], b.texcoords[i1], b.texcoords[i2], m.emissiveTexCoord, dx, dy);
+    vec2 uv =
+        surfaceUvOfSet(s, b.texcoords[i0], b.texcoords[i1], b.texcoords[i2], m.emissiveTexCoord, dx, dy);
     GpuTexture t = b.textures[m.emissiveTexture];
     vec4 texel = sampleTexture(params, b, t, uv, textureLambda(dx, dy, t.width, t.height));
     return e * vec3(texel.x, texel.y, texel.z);

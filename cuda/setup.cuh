@@ -106,8 +106,7 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
     }
-    vec4 c =
-        setupClipPosition(params, b.positions[v], params.transformInSetup == 0u ? b.clipPos[v] : vec4(0.0f));
+    vec4 c = loadClipPosition(params, b, v);
     if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
         atomicAdd(&b.counters[COUNTER_INVALID], 1u);
         return;
