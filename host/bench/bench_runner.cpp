@@ -338,6 +338,17 @@ Result<Prewarm> prewarm(raster::Session& session, const CameraMatrices& camera,
     return done;
 }
 
+// The run's frames of `session` (settings.warmup and settings.repeat), after its warm-up by time
+// (`warmupMs`, what it drew in `warmed`).
+Result<RenderOutput> warmedRender(raster::Session& session, const CameraMatrices& camera,
+                                  const RenderSettings& settings, double warmupMs, Prewarm& warmed)
+{
+    auto warm = prewarm(session, camera, settings, warmupMs);
+    if (!warm) return warm.error();
+    warmed = *warm;
+    return raster::Internal::renderOutput(session, camera, settings);
+}
+
 // One run of scene s on `backend` through the library, as every front end renders, on a device opened for it
 // alone, so that its peak memory is this run's. For vulkan-graphics `shaded` picks the whole shaded frame
 // (the same shading as the compute backends' shade stage) over the visibility pass: the hardware baseline,
@@ -353,10 +364,7 @@ Result<RenderOutput> renderOn(const std::string& backend, int device, const Benc
     if (!session) return raster::fromPublic(session.error());
     RenderSettings settings = r;
     settings.visibilityOnly = backend == "vulkan-graphics" && !shaded;
-    auto warm = prewarm(*session, s.camera, settings, warmupMs);
-    if (!warm) return warm.error();
-    warmed = *warm;
-    return raster::Internal::renderOutput(*session, s.camera, settings);
+    return warmedRender(*session, s.camera, settings, warmupMs, warmed);
 }
 
 }  // namespace
@@ -423,10 +431,7 @@ Result<nlohmann::json> runBench(const BenchOptions& o)
                                         if (!session) return raster::fromPublic(session.error());
                                         lodSession.emplace(std::move(*session));
                                     }
-                                    auto warm = prewarm(*lodSession, s.camera, r, o.warmupMs);
-                                    if (!warm) return warm.error();
-                                    warmed = *warm;
-                                    out = raster::Internal::renderOutput(*lodSession, s.camera, r);
+                                    out = warmedRender(*lodSession, s.camera, r, o.warmupMs, warmed);
                                 } else {
                                     out = renderOn(backend, o.device, s, scene, r, o.warmupMs, warmed);
                                 }

@@ -44,10 +44,11 @@ struct BenchOptions {
     std::string bunnyPath = "/usr/share/glmark2/models/bunny.obj";
     uint32_t warmup = 3;
     uint32_t repeat = 20;
-    // Before each run's frames (its `warmup` and `repeat`), untimed frames of the same session until this
-    // much wall time has passed, so that a GPU that idled through the scene's generation has its clock up
-    // again when the timed frames start (a few warm-up frames of a tenth of a millisecond may not be
-    // enough); 0: none. Each run reports the frames and the time it took ("prewarm_frames",
+    // Before each run's frames (its `warmup` and `repeat`), untimed frames of the same session: a first one
+    // (the scene's upload), then more until this much wall time has passed after it, so that a GPU that
+    // idled through the scene's generation and upload has its clock up again when the timed frames start
+    // (a few warm-up frames of a tenth of a millisecond may not be enough); 0: none. Each run reports the
+    // frames, the first one's time and the time after it ("prewarm_frames", "prewarm_first_ms",
     // "prewarm_ms").
     double warmupMs = 0.0;
     int device = -1;

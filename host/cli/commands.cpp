@@ -17,7 +17,7 @@ const std::vector<CommandInfo>& commands()
         {"bench",
          "raster bench [--backends cuda,vulkan,vulkan-graphics] [--scenes ...] [--warmup-ms MS] [--json F]",
          "the benchmark suite on several backends in one run; --warmup-ms MS draws untimed frames of each "
-         "run for MS ms first, so that the GPU's clock is up when timing starts"},
+         "run for MS ms after its first, so that the GPU's clock is up when timing starts"},
         {"study", "raster study [--backends vulkan,cuda] [--json F]",
          "speed against accuracy per setting and failures per stress axis (ci/study-chart draws them)"},
         {"batch", "raster batch MANIFEST [--devices all|0,1] [--shard i/N] [SETTINGS]",
