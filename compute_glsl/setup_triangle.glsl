@@ -26,6 +26,11 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 #define STORED_AS_RECORD(clipped) (clipped)
 #endif
 
+// The statistics (COUNTER_SMALL, COUNTER_CULLED, ...) are counted with one atomic on BUF_COUNTERS per
+// primitive here; cuda/setup.cuh counts them per block in shared memory (groupCounts), which this port
+// does not yet: it measured slower on two rows with NVIDIA's Vulkan compiler (docs/benchmark.md, "Fourth
+// pass").
+
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces: a record
 // (BIN_REF_RECORD) when `clipped` (STORED_AS_RECORD: always in the CPU builds), else its input index. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
@@ -34,7 +39,15 @@ void emitTriangle(TriSetup t, bool clipped)
 {
     ivec4 bounds = methodPixelBounds(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
-    if (isSmallTriangle(bounds)) {
+    // With one sample per pixel, a fixed-point method's small triangle whose corners spread too far for
+    // the 32-bit test (smallEdgesFit fails: a sliver reaching far past the viewport) takes the big path,
+    // whose exact test (raster_tiles, methodPixel) gives the same bits, rather than a 64-bit pixel loop
+    // of its own here for that rare case (in CUDA that loop held 24 of setup's 94 registers).
+    bool small = isSmallTriangle(bounds);
+#if METHOD_INTEGER_EDGES
+    small = small && (SAMPLES != 1u || smallEdgesFit(t));
+#endif
+    if (small) {
         atomicAdd(counters[COUNTER_SMALL], 1u);
         // Lines have no alpha test (and no triangle flags).
         bool masked = MATERIALS && params.materialCount != 0u &&
@@ -42,23 +55,20 @@ void emitTriangle(TriSetup t, bool clipped)
                       (triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (SAMPLES == 1u) {
 #if METHOD_INTEGER_EDGES
-            if (smallEdgesFit(t)) {
-                // The fixed-point methods' pixel test in 32-bit integers (SmallEdges): the same bits.
-                SmallEdges s = smallEdges(t, bounds.x, bounds.y);
-                ivec3 row = s.start;
-                for (int y = bounds.y; y <= bounds.w; ++y) {
-                    ivec3 e = row;
-                    for (int x = bounds.x; x <= bounds.z; ++x) {
-                        float depth;
-                        if (smallEdgesPixel(t, s, e, depth) && (!masked || alphaMaskCovers(id, x, y)))
-                            mergeFragment(uint(y) * params.width + uint(x), depth, id);
-                        e += s.stepX;
-                    }
-                    row += s.stepY;
+            // The fixed-point methods' pixel test in 32-bit integers (SmallEdges): the same bits.
+            SmallEdges s = smallEdges(t, bounds.x, bounds.y);
+            ivec3 row = s.start;
+            for (int y = bounds.y; y <= bounds.w; ++y) {
+                ivec3 e = row;
+                for (int x = bounds.x; x <= bounds.z; ++x) {
+                    float depth;
+                    if (smallEdgesPixel(t, s, e, depth) && (!masked || alphaMaskCovers(id, x, y)))
+                        mergeFragment(uint(y) * params.width + uint(x), depth, id);
+                    e += s.stepX;
                 }
-                return;
+                row += s.stepY;
             }
-#endif
+#else
             for (int y = bounds.y; y <= bounds.w; ++y) {
                 for (int x = bounds.x; x <= bounds.z; ++x) {
                     float depth;
@@ -66,6 +76,7 @@ void emitTriangle(TriSetup t, bool clipped)
                         mergeFragment(uint(y) * params.width + uint(x), depth, id);
                 }
             }
+#endif
             return;
         }
         // MSAA, in a build of its own so that the one-sample loop compiles as it did without it: the alpha

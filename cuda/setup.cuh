@@ -12,6 +12,51 @@
 // pointCount - setupFirstPrimitive) / GROUP_SIZE).
 namespace sr {
 
+// The statistics that setup and clusters count for every primitive (COUNTER_SMALL, COUNTER_BIG,
+// COUNTER_SPLIT, COUNTER_CULLED, COUNTER_CLIPPED, COUNTER_INVALID, COUNTER_LINES, COUNTER_POINTS,
+// COUNTER_CLUSTERS_CULLED) are summed per block in shared memory (groupCounts) and added to BUF_COUNTERS
+// once per block at its end (flushGroupCounts). With a global atomic per primitive (the compiler merges a
+// warp's into one) a sweep of a million small triangles sent about 65,000 adds to the same few words, which
+// one L2 slice serves one after another: setup's time did not move when its occupancy rose from 22% to
+// 32%, and fell 45% when they were counted per block (H200; docs/benchmark.md, "Fourth pass").
+// compute_glsl keeps one global atomic per primitive: the same counting there (shared memory, subgroup
+// ballots) ran two rows slower on NVIDIA's Vulkan compiler (sweep-8px +4%, the 100M sphere +7%) though it
+// ran sweep-0.5px 34% faster, so it waits for a profile of that compiler's code.
+__device__ inline uint* groupCounts()
+{
+    __shared__ uint counts[COUNTER_COUNT];
+    return counts;
+}
+
+// Every thread of the block, before any count: zeroes groupCounts.
+__device__ inline void clearGroupCounts()
+{
+    for (uint i = threadIdx.x; i < uint(COUNTER_COUNT); i += blockDim.x) groupCounts()[i] = 0u;
+    __syncthreads();
+}
+
+// Counts one for statistic `counter`: the threads of a warp that reach it together with the same counter
+// add once, their number.
+__device__ inline void countInGroup(uint counter)
+{
+    uint peers = __match_any_sync(__activemask(), counter);
+    if ((threadIdx.x & 31u) == uint(__ffs(peers) - 1))
+        atomicAdd(&groupCounts()[counter], uint(__popc(peers)));
+}
+
+__device__ inline void addInGroup(uint counter, uint n)
+{
+    atomicAdd(&groupCounts()[counter], n);
+}
+
+// Every thread of the block, after its last count: adds the block's counts to BUF_COUNTERS.
+__device__ inline void flushGroupCounts(const Buffers& b)
+{
+    __syncthreads();
+    for (uint i = threadIdx.x; i < uint(COUNTER_COUNT); i += blockDim.x)
+        if (groupCounts()[i] != 0u) atomicAdd(&b.counters[i], groupCounts()[i]);
+}
+
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
@@ -21,14 +66,18 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
 {
     ivec4 bounds = methodPixelBounds<kMethod>(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
-    if (isSmallTriangle(bounds)) {
-        atomicAdd(&b.counters[COUNTER_SMALL], 1u);
+    // With one sample per pixel, a fixed-point method's small triangle whose corners spread too far for
+    // the 32-bit test (smallEdgesFit fails: a sliver reaching far past the viewport) takes the big path,
+    // whose exact test (raster_tiles, methodPixel) gives the same bits. A 64-bit pixel loop of its own
+    // here held 24 of setup's 94 registers in every launch for that rare case (ptxas 13.0, sm_90).
+    if (isSmallTriangle(bounds) && (kMultisample || kMethod >= RASTER_FLOAT || smallEdgesFit(t))) {
+        countInGroup(COUNTER_SMALL);
         // Lines have no alpha test (and no triangle flags).
         bool masked = kMaterials && params.materialCount != 0u &&
                       (!kLinesPoints || id < params.triangleCount) &&
                       (b.triFlags[id] & TRI_FLAG_ALPHA_MASK) != 0u;
         if (!kMultisample) {
-            if (kMethod < RASTER_FLOAT && smallEdgesFit(t)) {
+            if constexpr (kMethod < RASTER_FLOAT) {
                 // The fixed-point methods' pixel test in 32-bit integers (SmallEdges): the same bits.
                 SmallEdges s = smallEdges(t, bounds.x, bounds.y);
                 ivec3 row = s.start;
@@ -43,14 +92,14 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
                     }
                     row += s.stepY;
                 }
-                return;
-            }
-            for (int y = bounds.y; y <= bounds.w; ++y) {
-                for (int x = bounds.x; x <= bounds.z; ++x) {
-                    float depth;
-                    if (methodPixel<kMethod>(t, x, y, depth) &&
-                        (!masked || alphaMaskCovers(params, b, id, x, y)))
-                        mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
+            } else {
+                for (int y = bounds.y; y <= bounds.w; ++y) {
+                    for (int x = bounds.x; x <= bounds.z; ++x) {
+                        float depth;
+                        if (methodPixel<kMethod>(t, x, y, depth) &&
+                            (!masked || alphaMaskCovers(params, b, id, x, y)))
+                            mergeFragment(params, b, uint(y) * params.width + uint(x), depth, id);
+                    }
                 }
             }
         } else {
@@ -72,7 +121,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         }
         return;
     }
-    atomicAdd(&b.counters[COUNTER_BIG], 1u);
+    countInGroup(COUNTER_BIG);
     uint ref = id;
     if (clipped) {
         uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
@@ -91,7 +140,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         binTiles<false, kMethod>(params, b, t, bounds, ref, 0u, tiles);
         return;
     }
-    atomicAdd(&b.counters[COUNTER_SPLIT], 1u);
+    countInGroup(COUNTER_SPLIT);
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
@@ -103,12 +152,12 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
 {
     uint v = b.points[k];
     if (v >= params.vertexCount) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        countInGroup(COUNTER_INVALID);
         return;
     }
     vec4 c = loadClipPosition(params, b, v);
     if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        countInGroup(COUNTER_INVALID);
         return;
     }
     PointSetup pt;
@@ -116,10 +165,10 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
     if (setupPoint(c, params.pointSize, params.width, params.height, pt))
         r = pointPixelBounds(pt, params.width, params.height, params.sampleBounds);
     if (r.x > r.z || r.y > r.w) {
-        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+        countInGroup(COUNTER_CULLED);
         return;
     }
-    atomicAdd(&b.counters[COUNTER_POINTS], 1u);
+    countInGroup(COUNTER_POINTS);
     uint id = params.triangleCount + params.lineCount + k;
     uint samples = kMultisample ? params.sampleCount : 1u;
     for (int y = r.y; y <= r.w; ++y) {
@@ -170,10 +219,10 @@ __device__ inline void setupStageWithLinesPoints(const RasterParams& params, con
                    : PREPARE_INVALID;
     }
     if (kind == PREPARE_INVALID) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        countInGroup(COUNTER_INVALID);
         return;
     }
-    if (kind == PREPARE_CLIPPED) atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+    if (kind == PREPARE_CLIPPED) countInGroup(COUNTER_CLIPPED);
     bool doubleSided = line || (b.triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
@@ -190,9 +239,9 @@ __device__ inline void setupStageWithLinesPoints(const RasterParams& params, con
         }
     }
     if (emitted == 0u)
-        atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+        countInGroup(COUNTER_CULLED);
     else if (line)
-        atomicAdd(&b.counters[COUNTER_LINES], 1u);
+        countInGroup(COUNTER_LINES);
 }
 
 // Input triangle `tri` with clip positions c0, c1, c2: classified, clipped, set up, and each of its
@@ -207,14 +256,14 @@ __device__ inline void setupInputTriangle(const RasterParams& params, const Buff
     uint planes;
     uint kind = classifyTriangle(c0, c1, c2, params.guardBand, planes);
     if (kind == PREPARE_INVALID) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        countInGroup(COUNTER_INVALID);
         return;
     }
     bool clipped = kind == PREPARE_CLIPPED;
     vec4 poly[MAX_CLIP_VERTS];
     uint count = kind == PREPARE_DIRECT ? 3u : 0u;
     if (clipped) {
-        atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+        countInGroup(COUNTER_CLIPPED);
         count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     }
     bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -233,7 +282,7 @@ __device__ inline void setupInputTriangle(const RasterParams& params, const Buff
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u) countInGroup(COUNTER_CULLED);
 }
 
 // A triangle that classifyTriangle found PREPARE_CLIPPED: clipped, and each piece of its fan set up and
@@ -249,7 +298,7 @@ __device__ inline void setupClippedTriangle(const RasterParams& params, const Bu
 {
     uint planes;
     classifyTriangle(c0, c1, c2, params.guardBand, planes);
-    atomicAdd(&b.counters[COUNTER_CLIPPED], 1u);
+    countInGroup(COUNTER_CLIPPED);
     vec4 poly[MAX_CLIP_VERTS];
     uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -262,13 +311,13 @@ __device__ inline void setupClippedTriangle(const RasterParams& params, const Bu
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(&b.counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u) countInGroup(COUNTER_CULLED);
 }
 
 // kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp); the
 // triangle-only build is the code below.
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
-__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
+__device__ inline void setupPrimitive(const RasterParams& params, const Buffers& b)
 {
     if constexpr (kLinesPoints) {
         setupStageWithLinesPoints<kMaterials, kMultisample, kMethod>(params, b);
@@ -278,10 +327,19 @@ __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
     if (tri >= params.triangleCount) return;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
-        atomicAdd(&b.counters[COUNTER_INVALID], 1u);
+        countInGroup(COUNTER_INVALID);
         return;
     }
     setupInputTriangle<kMaterials, kMultisample, kMethod>(params, b, tri, c0, c1, c2);
+}
+
+// The stage: each thread's primitive (setupPrimitive), the block's statistics added once at its end.
+template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
+__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
+{
+    clearGroupCounts();
+    setupPrimitive<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
+    flushGroupCounts(b);
 }
 
 }  // namespace sr

@@ -3,11 +3,13 @@
 // A missing backend fails these tests unless SR_ALLOW_MISSING_BACKENDS names it.
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "raster_shared.h"
 #include "test_util.h"
 
 namespace sr::test {
@@ -134,6 +136,73 @@ TEST_P(RenderTest, HugeTriangleCoversEveryPixelOnce)
         EXPECT_EQ(countId(out.aov, 0), 48u * 32u) << size;
         for (float d : out.aov.depth) ASSERT_EQ(d, 0.25f);
     }
+}
+
+// Small triangles whose corners lie far outside the viewport (a corner of the image cut off by a long
+// sliver): their box in the image is a few pixels, but their corners spread over more than
+// SMALL_EDGE_EXTENT subpixels, too far for setup's 32-bit pixel loop, so they take the big path
+// (docs/architecture.md, setup). Ids and depth are those of the shared maths evaluated here on the host
+// (setupTriangle and rasterPixel at every pixel, the nearest key kept), and the stats count them big, the
+// others small.
+TEST_P(RenderTest, SmallTrianglesWithFarCornersTakeTheBigPathExactly)
+{
+    const uint32_t size = 64;
+    std::mt19937 rng(46);
+    std::uniform_real_distribution<double> inside(0.3, 9.0), far(80.0, 3000.0), lean(0.0, 6.0),
+        depth(0.05, 0.95), pos(4.0, 56.0), step(1.0, 6.0);
+    auto grid = [](double v) { return std::round(v * 256.0) / 256.0; };
+    std::vector<glm::vec4> corners;
+    for (int i = 0; i < 48; ++i) {
+        // A corner of the image cut off: the anchor a few pixels inside it, the other two corners far away
+        // beyond its two sides; then mirrored onto one of the image's four corners.
+        double ax = inside(rng), ay = inside(rng);
+        glm::dvec2 p[3] = {{ax, ay}, {-far(rng), ay - lean(rng)}, {ax - lean(rng), -far(rng)}};
+        float z = float(depth(rng));
+        for (glm::dvec2 q : p) {
+            double x = (i & 1) ? size - q.x : q.x, y = (i & 2) ? size - q.y : q.y;
+            corners.push_back(windowVertex(grid(x), grid(y), size, size, z));
+        }
+    }
+    for (int i = 0; i < 48; ++i) {  // ordinary small triangles, for the count of the other path
+        double x = pos(rng), y = pos(rng);
+        float z = float(depth(rng));
+        for (glm::dvec2 q : {glm::dvec2(x, y), glm::dvec2(x + step(rng), y + lean(rng)),
+                             glm::dvec2(x + lean(rng), y + step(rng))})
+            corners.push_back(windowVertex(grid(q.x), grid(q.y), size, size, z));
+    }
+    std::vector<uint64_t> expected(size_t(size) * size, ~uint64_t(0));
+    uint64_t small = 0, big = 0, farCorners = 0;
+    for (uint32_t id = 0; id < corners.size() / 3; ++id) {
+        TriSetup t;
+        if (!setupTriangle(corners[3 * id], corners[3 * id + 1], corners[3 * id + 2], id, true, CULL_NONE,
+                           size, size, PIXEL_CENTER_BOUNDS, t))
+            continue;
+        ivec4 b = setupPixelBounds(t, size, size, PIXEL_CENTER_BOUNDS);
+        bool fits = smallEdgesFit(t);
+        farCorners += isSmallTriangle(b) && !fits;
+        (isSmallTriangle(b) && fits ? small : big) += 1;
+        for (int y = b.y; y <= b.w; ++y)
+            for (int x = b.x; x <= b.z; ++x) {
+                float d;
+                if (rasterPixel(t, x, y, d))
+                    expected[size_t(y) * size + x] =
+                        std::min(expected[size_t(y) * size + x], packVisibility(d, id));
+            }
+    }
+    ASSERT_GE(farCorners, 40u);  // the scene exercises the path it is about
+    ASSERT_GE(small, 40u);
+    RenderOutput out = render(clipSpaceScene(corners), testSettings(size, size));
+    ASSERT_EQ(out.aov.id.size(), expected.size());
+    size_t covered = 0;
+    for (size_t i = 0; i < expected.size(); ++i) {
+        bool empty = expected[i] == ~uint64_t(0);
+        covered += !empty;
+        ASSERT_EQ(out.aov.id[i], empty ? EMPTY_ID : visibilityId(expected[i])) << "pixel " << i;
+        ASSERT_EQ(out.aov.depth[i], empty ? 1.0f : visibilityDepth(expected[i])) << "pixel " << i;
+    }
+    EXPECT_GT(covered, 400u);
+    EXPECT_EQ(out.stats.smallTris, small);
+    EXPECT_EQ(out.stats.bigTris, big);
 }
 
 TEST_P(RenderTest, NonFiniteVerticesAreDroppedAndTheRestDrawn)
