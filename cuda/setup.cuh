@@ -16,9 +16,9 @@ namespace sr {
 // COUNTER_SPLIT, COUNTER_CULLED, COUNTER_CLIPPED, COUNTER_INVALID, COUNTER_LINES, COUNTER_POINTS,
 // COUNTER_CLUSTERS_CULLED) are summed per block in shared memory (groupCounts) and added to BUF_COUNTERS
 // once per block at its end (flushGroupCounts). With a global atomic per primitive (the compiler merges a
-// warp's into one) a sweep of a million small triangles sent about 65,000 adds to the same few words, which
-// one L2 slice serves one after another: setup's time did not move when its occupancy rose from 22% to
-// 32%, and fell 45% when they were counted per block (H200; docs/benchmark.md, "Fourth pass").
+// warp's into one) a sweep of a million small triangles sent 32,768 adds to one word, which one L2 slice
+// serves one after another: setup's time did not move when its occupancy rose from 22% to 32%, and fell
+// 45% when they were counted per block (H200; docs/benchmark.md, "Fourth pass").
 // compute_glsl keeps one global atomic per primitive: the same counting there (shared memory, subgroup
 // ballots) ran two rows slower on NVIDIA's Vulkan compiler (sweep-8px +4%, the 100M sphere +7%) though it
 // ran sweep-0.5px 34% faster, so it waits for a profile of that compiler's code.
