@@ -85,12 +85,18 @@ __device__ inline void storeIvec4(ivec4* p, uint i, ivec4 v)
     reinterpret_cast<int4*>(p)[i] = make_int4(v.x, v.y, v.z, v.w);
 }
 
-// The clip position of vertex v as setup sees it (setupClipPosition: the stored one, or the world position
-// transformed here), read with one 16-byte load.
+// The buffer setup reads a vertex from: world positions it transforms itself, or the clip positions stage
+// vertex stored. setupClipPosition(params, p, p) then transforms p or returns it.
+__device__ inline const vec4* clipSource(const RasterParams& params, const Buffers& b)
+{
+    return params.transformInSetup != 0u ? b.positions : b.clipPos;
+}
+
+// The clip position of vertex v as setup sees it, read with one 16-byte load.
 __device__ inline vec4 loadClipPosition(const RasterParams& params, const Buffers& b, uint v)
 {
-    return params.transformInSetup != 0u ? mulPoint(params.clipFromWorld, loadVec4(b.positions, v))
-                                         : loadVec4(b.clipPos, v);
+    vec4 p = loadVec4(clipSource(params, b), v);
+    return setupClipPosition(params, p, p);
 }
 
 // Clip positions of input triangle `tri`'s vertices, as setup sees them (setupClipPosition). False when
@@ -102,8 +108,7 @@ __device__ inline bool loadClipTriangle(const RasterParams& params, const Buffer
     uint i1 = b.indices[3u * tri + 1u];
     uint i2 = b.indices[3u * tri + 2u];
     if (max(i0, max(i1, i2)) >= params.vertexCount) return false;
-    const vec4* from = params.transformInSetup != 0u ? b.positions : b.clipPos;
-    // setupClipPosition transforms p (a world position) or returns it (a stored clip position).
+    const vec4* from = clipSource(params, b);
     vec4 p0 = loadVec4(from, i0), p1 = loadVec4(from, i1), p2 = loadVec4(from, i2);
     c0 = setupClipPosition(params, p0, p0);
     c1 = setupClipPosition(params, p1, p1);
@@ -118,7 +123,7 @@ __device__ inline bool loadClipLine(const RasterParams& params, const Buffers& b
     uint i0 = b.lines[2u * k];
     uint i1 = b.lines[2u * k + 1u];
     if (max(i0, i1) >= params.vertexCount) return false;
-    const vec4* from = params.transformInSetup != 0u ? b.positions : b.clipPos;
+    const vec4* from = clipSource(params, b);
     vec4 p0 = loadVec4(from, i0), p1 = loadVec4(from, i1);
     c0 = setupClipPosition(params, p0, p0);
     c1 = setupClipPosition(params, p1, p1);
