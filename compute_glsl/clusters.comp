@@ -6,7 +6,8 @@
 // vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
 // corners (clusterSetupTriangle); a clipped triangle takes setup's setupClippedTriangle, and every triangle
 // of the other raster methods setup's setupInputTriangle (setup_triangle.glsl), from the clip positions.
-// Triangles counted culled or invalid are summed per cluster, not counted with an atomic each.
+// Its triangles are counted in registers, each subgroup adding its sums of a round to BUF_COUNTERS
+// (SETUP_THREAD_COUNTS, setup_triangle.glsl).
 // SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
 // reads records alone).
 // CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP), or with level
@@ -15,16 +16,17 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 #include "bin.glsl"
+#define SETUP_THREAD_COUNTS 1
 
 layout(local_size_x = CLUSTER_LANES * CLUSTERS_PER_GROUP) in;
 #include "setup_triangle.glsl"
 
 shared vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
 shared ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];  // x, y, depth bits, flags
-shared uint clusterCounts[CLUSTERS_PER_GROUP][2];                     // invalid, culled
 
 // Where a subgroup is CLUSTER_LANES wide (NVIDIA's warp) each cluster's invocations are one subgroup, whose
 // own barrier is enough between writing the cluster's vertices and reading them: the group's barrier()
@@ -43,6 +45,8 @@ void clusterBarrier(bool subgroupClusters)
 
 void main()
 {
+    ThreadCounts counts;
+    counts.bits = 0u;
     const bool subgroupClusters =
         gl_SubgroupSize == uint(CLUSTER_LANES) && gl_NumSubgroups == uint(CLUSTERS_PER_GROUP);
     uint slot = subgroupClusters ? gl_SubgroupID : gl_LocalInvocationID.x / uint(CLUSTER_LANES);
@@ -65,7 +69,6 @@ void main()
                 atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
             }
         }
-        if (lane < 2u) clusterCounts[slot][lane] = 0u;
         // The lane's first triangle (its input index and corners), fetched before the vertices so that its
         // load overlaps theirs; each round of the triangle loop then fetches the lane's next one.
         uint t = lane, tri = 0u, corners = 0u;
@@ -86,7 +89,6 @@ void main()
             }
         }
         clusterBarrier(subgroupClusters);  // every invocation of the group reaches it: no return above
-        uint invalid = 0u, culled = 0u;
         if (verdict == CLUSTER_DRAWN) {
             for (; t < c.triangleCount; t += uint(CLUSTER_LANES)) {
                 uint nextTri = 0u, nextCorners = 0u;
@@ -105,26 +107,25 @@ void main()
                     uintBitsToFloat(uint(s2.z)), tri, (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
                     params.cullMode, params.width, params.height, params.sampleBounds, setup);
                 if (kind == PREPARE_DIRECT)
-                    emitTriangle(setup, STORED_AS_RECORD(false));
+                    emitTriangle(setup, STORED_AS_RECORD(false), counts);
                 else if (kind == PREPARE_CLIPPED)
                     setupClippedTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1],
-                                         clusterClip[slot][k2]);
-                invalid += kind == PREPARE_INVALID ? 1u : 0u;
-                culled += kind == PREPARE_CULLED ? 1u : 0u;
+                                         clusterClip[slot][k2], counts);
+                else if (kind == PREPARE_CULLED)
+                    countPrimitive(counts, COUNTER_CULLED);
+                else
+                    countPrimitive(counts, COUNTER_INVALID);
 #else
-                setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2]);
+                setupInputTriangle(tri, clusterClip[slot][k0], clusterClip[slot][k1], clusterClip[slot][k2],
+                                   counts);
 #endif
                 tri = nextTri;
                 corners = nextCorners;
             }
         }
-        // The cluster's counts, one shared atomic per invocation that has any, one global atomic per cluster.
-        if (invalid != 0u) atomicAdd(clusterCounts[slot][0], invalid);
-        if (culled != 0u) atomicAdd(clusterCounts[slot][1], culled);
-        clusterBarrier(subgroupClusters);
-        if (lane < 2u && clusterCounts[slot][lane] != 0u)
-            atomicAdd(counters[lane == 0u ? COUNTER_INVALID : COUNTER_CULLED], clusterCounts[slot][lane]);
-        // The next round clears clusterCounts and writes the vertices again.
+        // The subgroups' counts of this round (every invocation is here).
+        addThreadCounts(counts);
+        // The next round writes the vertices again.
         if (lod) clusterBarrier(subgroupClusters);
     }
 }

@@ -22,16 +22,16 @@ layout(local_size_x = GROUP_SIZE) in;
 #if SETUP_LINES_POINTS
 // Rasterizes point k (primitive triangleCount + lineCount + k) by its invocation: every sample of the pixels its
 // square reaches, merged like a small triangle's. Points are opaque and have no facing.
-void rasterPoint(uint k)
+void rasterPoint(uint k, inout ThreadCounts counts)
 {
     uint v = points[k];
     if (v >= params.vertexCount) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
     vec4 c = setupClipPosition(params, positions[v], params.transformInSetup == 0u ? clipPos[v] : vec4(0.0f));
     if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
     PointSetup pt;
@@ -39,10 +39,10 @@ void rasterPoint(uint k)
     if (setupPoint(c, params.pointSize, params.width, params.height, pt))
         r = pointPixelBounds(pt, params.width, params.height, params.sampleBounds);
     if (r.x > r.z || r.y > r.w) {
-        atomicAdd(counters[COUNTER_CULLED], 1u);
+        countPrimitive(counts, COUNTER_CULLED);
         return;
     }
-    atomicAdd(counters[COUNTER_POINTS], 1u);
+    countPrimitive(counts, COUNTER_POINTS);
     uint id = params.triangleCount + params.lineCount + k;
     for (int y = r.y; y <= r.w; ++y) {
         for (int x = r.x; x <= r.z; ++x) {
@@ -56,21 +56,21 @@ void rasterPoint(uint k)
 
 // Sets up line segment k (primitive triangleCount + k): clipped like a triangle, snapped, and drawn as
 // its rectangle's two triangles, which are never named by input index (they are not input triangles).
-void setupLineSegment(uint k)
+void setupLineSegment(uint k, inout ThreadCounts counts)
 {
     vec4 c0, c1;
     if (!loadClipLine(k, c0, c1)) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
     vec4 a, b;
     vec2 u;
     uint kind = prepareLine(c0, c1, params.guardBand, a, b, u);
     if (kind == PREPARE_INVALID) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
-    if (kind == PREPARE_CLIPPED) atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    if (kind == PREPARE_CLIPPED) countPrimitive(counts, COUNTER_CLIPPED);
     LineQuad q;
     uint emitted = 0u;
     if (kind != PREPARE_CULLED &&
@@ -79,17 +79,19 @@ void setupLineSegment(uint k)
             TriSetup t;
             if (methodLineTriangle(q, side, params.triangleCount + k, params.width, params.height,
                                   params.sampleBounds, t)) {
-                emitTriangle(t, true);
+                emitTriangle(t, true, counts);
                 ++emitted;
             }
         }
     }
-    atomicAdd(counters[emitted == 0u ? COUNTER_CULLED : COUNTER_LINES], 1u);
+    countPrimitive(counts, emitted == 0u ? COUNTER_CULLED : COUNTER_LINES);
 }
 #endif
 
 void main()
 {
+    ThreadCounts counts;  // unused: setup counts with an atomic each (SETUP_THREAD_COUNTS 0)
+    counts.bits = 0u;
     uint tri = gl_GlobalInvocationID.x;
 #if SETUP_LINES_POINTS
     tri += params.setupFirstPrimitive;
@@ -98,16 +100,16 @@ void main()
 #if SETUP_LINES_POINTS
         uint k = tri - params.triangleCount;
         if (k < params.lineCount)
-            setupLineSegment(k);
+            setupLineSegment(k, counts);
         else if (k < params.lineCount + params.pointCount)
-            rasterPoint(k - params.lineCount);
+            rasterPoint(k - params.lineCount, counts);
 #endif
         return;
     }
     vec4 c0, c1, c2;
     if (!loadClipTriangle(tri, c0, c1, c2)) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
-    setupInputTriangle(tri, c0, c1, c2);
+    setupInputTriangle(tri, c0, c1, c2, counts);
 }

@@ -26,16 +26,73 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 #define STORED_AS_RECORD(clipped) (clipped)
 #endif
 
-// The statistics (COUNTER_SMALL, COUNTER_CULLED, ...) are counted with one atomic on BUF_COUNTERS per
-// primitive here; cuda/setup.cuh counts them per block in shared memory (groupCounts), which this port
-// does not yet: it measured slower on two rows with NVIDIA's Vulkan compiler (docs/benchmark.md, "Fourth
-// pass").
+// The statistics that setup and clusters count for every primitive (COUNTER_SMALL, COUNTER_BIG,
+// COUNTER_CULLED, COUNTER_SPLIT, COUNTER_CLIPPED, COUNTER_INVALID, COUNTER_LINES, COUNTER_POINTS), through
+// countPrimitive. In setup (SETUP_THREAD_COUNTS 0) each is one atomic on BUF_COUNTERS. In clusters
+// (SETUP_THREAD_COUNTS 1) the three that nearly every triangle reaches, small, big and culled, are counted
+// in the invocation's ThreadCounts and each subgroup adds its sums of a round once (addThreadCounts): the
+// 10.2M-triangle sphere 14% faster, the 100M one 2.5% (H200; docs/benchmark.md, "Fifth pass"); the rare
+// others stay one atomic each. cuda/setup.cuh sums them per block in shared memory instead; here that ran
+// the sweeps of small triangles 12-35% faster but sweep-8px 4-5% slower in setup, and the 100M sphere 7-8%
+// slower in clusters, so neither stage does it.
+#ifndef SETUP_THREAD_COUNTS
+#define SETUP_THREAD_COUNTS 0
+#endif
+
+// Small, big and culled in 10-bit fields of one register. Between two addThreadCounts an invocation counts
+// one cluster's share of triangles (ceil(CLUSTER_MAX_TRIANGLES / CLUSTER_LANES) = 4), each at most
+// MAX_CLIP_VERTS - 2 = 7 sub-triangles: 28, far below a field's 1023.
+#define THREAD_COUNT_SMALL 0
+#define THREAD_COUNT_BIG 10
+#define THREAD_COUNT_CULLED 20
+struct ThreadCounts {
+    uint bits;
+};
+
+uint threadCount(ThreadCounts counts, uint field)
+{
+    return (counts.bits >> field) & 1023u;
+}
+
+// Counts one primitive for statistic `counter` (a constant at every call site).
+void countPrimitive(inout ThreadCounts counts, uint counter)
+{
+#if SETUP_THREAD_COUNTS
+    if (counter == COUNTER_SMALL)
+        counts.bits += 1u << THREAD_COUNT_SMALL;
+    else if (counter == COUNTER_BIG)
+        counts.bits += 1u << THREAD_COUNT_BIG;
+    else if (counter == COUNTER_CULLED)
+        counts.bits += 1u << THREAD_COUNT_CULLED;
+    else
+        atomicAdd(counters[counter], 1u);
+#else
+    atomicAdd(counters[counter], 1u);
+#endif
+}
+
+#if SETUP_THREAD_COUNTS
+// Every invocation of a subgroup together: adds the subgroup's ThreadCounts to BUF_COUNTERS, one atomic
+// per statistic it has, and zeroes them. The including shader enables GL_KHR_shader_subgroup_arithmetic.
+void addThreadCounts(inout ThreadCounts counts)
+{
+    uint small = subgroupAdd(threadCount(counts, THREAD_COUNT_SMALL));
+    uint big = subgroupAdd(threadCount(counts, THREAD_COUNT_BIG));
+    uint culled = subgroupAdd(threadCount(counts, THREAD_COUNT_CULLED));
+    if (subgroupElect()) {
+        if (small != 0u) atomicAdd(counters[COUNTER_SMALL], small);
+        if (big != 0u) atomicAdd(counters[COUNTER_BIG], big);
+        if (culled != 0u) atomicAdd(counters[COUNTER_CULLED], culled);
+    }
+    counts.bits = 0u;
+}
+#endif
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces: a record
 // (BIN_REF_RECORD) when `clipped` (STORED_AS_RECORD: always in the CPU builds), else its input index. A full
 // list still counts the appends, so the host sees the overflow, grows the lists and redraws; nothing is
 // written past a capacity.
-void emitTriangle(TriSetup t, bool clipped)
+void emitTriangle(TriSetup t, bool clipped, inout ThreadCounts counts)
 {
     ivec4 bounds = methodPixelBounds(t, params.width, params.height, params.sampleBounds);
     uint id = setupTriId(t);
@@ -48,7 +105,7 @@ void emitTriangle(TriSetup t, bool clipped)
     small = small && (SAMPLES != 1u || smallEdgesFit(t));
 #endif
     if (small) {
-        atomicAdd(counters[COUNTER_SMALL], 1u);
+        countPrimitive(counts, COUNTER_SMALL);
         // Lines have no alpha test (and no triangle flags).
         bool masked = MATERIALS && params.materialCount != 0u &&
                       (SETUP_LINES_POINTS == 0 || id < params.triangleCount) &&
@@ -95,7 +152,7 @@ void emitTriangle(TriSetup t, bool clipped)
         }
         return;
     }
-    atomicAdd(counters[COUNTER_BIG], 1u);
+    countPrimitive(counts, COUNTER_BIG);
     uint ref = id;
     if (clipped) {
         uint slot = atomicAdd(counters[COUNTER_SETUP], 1u);
@@ -114,7 +171,7 @@ void emitTriangle(TriSetup t, bool clipped)
         binTiles(t, bounds, ref, 0u, tiles, false);
         return;
     }
-    atomicAdd(counters[COUNTER_SPLIT], 1u);
+    countPrimitive(counts, COUNTER_SPLIT);
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
@@ -123,19 +180,19 @@ void emitTriangle(TriSetup t, bool clipped)
 // (sub-)triangles rasterized or binned. Stage clusters calls it too, with the positions it transformed
 // once per cluster: the same function, the same bits. A triangle that needs no clipping is set up from
 // c0, c1, c2 directly; only a clipped one fills the polygon (local memory on GPUs).
-void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
+void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2, inout ThreadCounts counts)
 {
     uint planes;
     uint kind = classifyTriangle(c0, c1, c2, params.guardBand, planes);
     if (kind == PREPARE_INVALID) {
-        atomicAdd(counters[COUNTER_INVALID], 1u);
+        countPrimitive(counts, COUNTER_INVALID);
         return;
     }
     bool clipped = kind == PREPARE_CLIPPED;
     vec4 poly[MAX_CLIP_VERTS];
     uint count = kind == PREPARE_DIRECT ? 3u : 0u;
     if (clipped) {
-        atomicAdd(counters[COUNTER_CLIPPED], 1u);
+        countPrimitive(counts, COUNTER_CLIPPED);
         count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     }
     bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -150,11 +207,11 @@ void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
         TriSetup t;
         if (methodSetupTriangle(a, p1, p2, tri, doubleSided, params.cullMode, params.width, params.height,
                                 params.sampleBounds, t)) {
-            emitTriangle(t, STORED_AS_RECORD(clipped));
+            emitTriangle(t, STORED_AS_RECORD(clipped), counts);
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u) countPrimitive(counts, COUNTER_CULLED);
 }
 
 // A triangle that classifyTriangle found PREPARE_CLIPPED: clipped, and each piece of its fan set up and
@@ -162,11 +219,11 @@ void setupInputTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
 // its snapped-once path (cuda/setup.cuh: the CUDA twin kept clustersKernel at 96 registers this way).
 // setupInputTriangle keeps its own fan loop: calling this function from it (a second emitTriangle site)
 // ran layers-16's setup three times as slow on the H100 (0.044 -> 0.137 ms).
-void setupClippedTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
+void setupClippedTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2, inout ThreadCounts counts)
 {
     uint planes;
     classifyTriangle(c0, c1, c2, params.guardBand, planes);
-    atomicAdd(counters[COUNTER_CLIPPED], 1u);
+    countPrimitive(counts, COUNTER_CLIPPED);
     vec4 poly[MAX_CLIP_VERTS];
     uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     bool doubleSided = (triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -175,11 +232,11 @@ void setupClippedTriangle(uint tri, vec4 c0, vec4 c1, vec4 c2)
         TriSetup t;
         if (methodSetupTriangle(poly[0], poly[k], poly[k + 1u], tri, doubleSided, params.cullMode,
                                 params.width, params.height, params.sampleBounds, t)) {
-            emitTriangle(t, STORED_AS_RECORD(true));
+            emitTriangle(t, STORED_AS_RECORD(true), counts);
             ++emitted;
         }
     }
-    if (emitted == 0u) atomicAdd(counters[COUNTER_CULLED], 1u);
+    if (emitted == 0u) countPrimitive(counts, COUNTER_CULLED);
 }
 
 #endif  // RASTER_SETUP_TRIANGLE_GLSL

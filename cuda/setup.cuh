@@ -19,9 +19,10 @@ namespace sr {
 // warp's into one) a sweep of a million small triangles sent 32,768 adds to one word, which one L2 slice
 // serves one after another: setup's time did not move when its occupancy rose from 22% to 32%, and fell
 // 45% when they were counted per block (H200; docs/benchmark.md, "Fourth pass").
-// compute_glsl keeps one global atomic per primitive: the same counting there (shared memory, subgroup
-// ballots) ran two rows slower on NVIDIA's Vulkan compiler (sweep-8px +4%, the 100M sphere +7%) though it
-// ran sweep-0.5px 34% faster, so it waits for a profile of that compiler's code.
+// Counting small, big and culled in a register per thread, summed per warp into the block's sums (as
+// compute_glsl's clusters does, straight to BUF_COUNTERS), measured flat here: the warp vote of
+// countInGroup is not what the block sums cost. compute_glsl counts differently (setup_triangle.glsl says
+// how and why; docs/benchmark.md, "Fifth pass").
 __device__ inline uint* groupCounts()
 {
     __shared__ uint counts[COUNTER_COUNT];
