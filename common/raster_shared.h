@@ -46,7 +46,7 @@ SR_NAMESPACE_BEGIN
 #define BUF_SCAN_SUMS 10     // uint per scan block of tiles: block total, scanned to its base offset
 #define BUF_BIN_ENTRIES 11   // uint bin refs, grouped by screen tile (the tile's range is in BUF_TILE_BINS)
 #define BUF_ACTIVE_TILES 12  // uint: the screen tiles whose bin is not empty, in no particular order
-#define BUF_COUNTERS 13      // uint[COUNTER_COUNT]: list lengths and statistics
+#define BUF_COUNTERS 13      // uint[COUNTER_WORDS]: list lengths and statistics, and their shards
 #define BUF_VISIBILITY \
     14  // uint64 per sample, sample s of pixel p at s * samplePlane + p: depth bits << 32 |
         // primitive id, ~0 = empty
@@ -125,6 +125,19 @@ SR_NAMESPACE_BEGIN
 #define COUNTER_LOD_TRIANGLES 15    // triangles of the clusters the level-of-detail cut draws (lodScale > 0)
 #define COUNTER_LOD_CLUSTERS 16     // entries of BUF_LOD_CUT: the clusters the cut draws
 #define COUNTER_COUNT 17
+// The statistics that setup and clusters count for nearly every primitive are not added to the words
+// above but to COUNTER_SHARDS copies of them, COUNTER_SHARD_STRIDE words (a 128-byte cache line) apart
+// after the first line: a warp (subgroup) adds its sums to the copy of its index modulo COUNTER_SHARDS, and
+// the host adds the copies to the words above when it reads them back (foldCounters). One word served
+// every warp's adds of a frame, one after another in one L2 slice (docs/benchmark.md, "Sixth pass").
+// BUF_COUNTERS holds COUNTER_WORDS words; the clear stage zeroes them all.
+#define COUNTER_SHARDS 64
+#define COUNTER_SHARD_STRIDE 32
+#define COUNTER_SHARD_BASE 32
+#define COUNTER_WORDS (COUNTER_SHARD_BASE + COUNTER_SHARDS * COUNTER_SHARD_STRIDE)
+// Copy `shard` (any uint: taken modulo COUNTER_SHARDS) of statistic `counter`.
+#define COUNTER_SHARD_WORD(shard, counter) \
+    (COUNTER_SHARD_BASE + ((shard) & (COUNTER_SHARDS - 1)) * COUNTER_SHARD_STRIDE + (counter))
 
 // Stages: their ids (STAGE_*), names, group sizes and launch kinds are the stage table,
 // shared/stages.h (C++ and CUDA only, included at the end of this file).
@@ -470,6 +483,20 @@ static_assert(sizeof(GpuCluster) == 64, "GpuCluster must match std430");
 static_assert(sizeof(GpuMaterial) == 96, "GpuMaterial must match std430");
 static_assert(sizeof(GpuTexture) == 32, "GpuTexture must match std430");
 static_assert(sizeof(TriSetup) == 48, "TriSetup must match std430");
+static_assert(COUNTER_COUNT <= COUNTER_SHARD_BASE && COUNTER_COUNT <= COUNTER_SHARD_STRIDE &&
+                  (COUNTER_SHARDS & (COUNTER_SHARDS - 1)) == 0,
+              "each shard of the counters fits its stride, their number a power of two");
+
+// The counters as the host reads them: BUF_COUNTERS' first COUNTER_COUNT words (`words`, COUNTER_WORDS
+// of them) with every shard's copy added, into `counters` (COUNTER_COUNT).
+inline void foldCounters(const uint* words, uint* counters)
+{
+    for (uint c = 0u; c < uint(COUNTER_COUNT); ++c) {
+        uint sum = words[c];
+        for (uint s = 0u; s < uint(COUNTER_SHARDS); ++s) sum += words[COUNTER_SHARD_WORD(s, c)];
+        counters[c] = sum;
+    }
+}
 #endif
 
 SR_NAMESPACE_END

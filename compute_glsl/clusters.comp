@@ -6,8 +6,8 @@
 // vertex is also classified and snapped once (clusterVertex) and each triangle set up from its snapped
 // corners (clusterSetupTriangle); a clipped triangle takes setup's setupClippedTriangle, and every triangle
 // of the other raster methods setup's setupInputTriangle (setup_triangle.glsl), from the clip positions.
-// Its triangles are counted in registers, each subgroup adding its sums of a round to BUF_COUNTERS
-// (SETUP_THREAD_COUNTS, setup_triangle.glsl).
+// Its triangles are counted in registers, each subgroup adding its sums of a round to its shard of the
+// statistics (addThreadCounts, setup_triangle.glsl).
 // SR_CPU_BUILD stores every big triangle as a record, as setup's CPU build does (raster_tiles' CPU build
 // reads records alone).
 // CLUSTERS_PER_GROUP clusters per group; groups = ceil(clusterCount / CLUSTERS_PER_GROUP), or with level
@@ -20,7 +20,6 @@
 #include "raster_shared.h"
 #include "buffers.glsl"
 #include "bin.glsl"
-#define SETUP_THREAD_COUNTS 1
 
 layout(local_size_x = CLUSTER_LANES * CLUSTERS_PER_GROUP) in;
 #include "setup_triangle.glsl"
@@ -65,8 +64,8 @@ void main()
             c = clusters[lod ? lodCut[entry] : entry];
             verdict = clusterCull(params, c);
             if (verdict != CLUSTER_DRAWN && lane == 0u) {
-                atomicAdd(counters[COUNTER_CULLED], c.triangleCount);
-                atomicAdd(counters[COUNTER_CLUSTERS_CULLED], 1u);
+                atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), COUNTER_CULLED)], c.triangleCount);
+                atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), COUNTER_CLUSTERS_CULLED)], 1u);
             }
         }
         // The lane's first triangle (its input index and corners), fetched before the vertices so that its

@@ -12,6 +12,8 @@
 // pointCount - setupFirstPrimitive) / GROUP_SIZE).
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "raster_shared.h"
 #include "buffers.glsl"
 #include "bin.glsl"
@@ -88,17 +90,12 @@ void setupLineSegment(uint k, inout ThreadCounts counts)
 }
 #endif
 
-void main()
+// Sets up primitive `primitive` (a triangle, a line segment or a point), counting into `counts`.
+void setupPrimitive(uint primitive, inout ThreadCounts counts)
 {
-    ThreadCounts counts;  // unused: setup counts with an atomic each (SETUP_THREAD_COUNTS 0)
-    counts.bits = 0u;
-    uint tri = gl_GlobalInvocationID.x;
+    if (primitive >= params.triangleCount) {
 #if SETUP_LINES_POINTS
-    tri += params.setupFirstPrimitive;
-#endif
-    if (tri >= params.triangleCount) {
-#if SETUP_LINES_POINTS
-        uint k = tri - params.triangleCount;
+        uint k = primitive - params.triangleCount;
         if (k < params.lineCount)
             setupLineSegment(k, counts);
         else if (k < params.lineCount + params.pointCount)
@@ -107,9 +104,21 @@ void main()
         return;
     }
     vec4 c0, c1, c2;
-    if (!loadClipTriangle(tri, c0, c1, c2)) {
+    if (!loadClipTriangle(primitive, c0, c1, c2)) {
         countPrimitive(counts, COUNTER_INVALID);
         return;
     }
-    setupInputTriangle(tri, c0, c1, c2, counts);
+    setupInputTriangle(primitive, c0, c1, c2, counts);
+}
+
+void main()
+{
+    ThreadCounts counts;
+    counts.bits = 0u;
+    uint primitive = gl_GlobalInvocationID.x;
+#if SETUP_LINES_POINTS
+    primitive += params.setupFirstPrimitive;
+#endif
+    setupPrimitive(primitive, counts);
+    addThreadCounts(counts);  // every invocation of the subgroup is here
 }

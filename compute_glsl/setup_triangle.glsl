@@ -28,20 +28,23 @@ layout(constant_id = SPEC_SAMPLES) const uint SAMPLES = 1u;
 
 // The statistics that setup and clusters count for every primitive (COUNTER_SMALL, COUNTER_BIG,
 // COUNTER_CULLED, COUNTER_SPLIT, COUNTER_CLIPPED, COUNTER_INVALID, COUNTER_LINES, COUNTER_POINTS), through
-// countPrimitive. In setup (SETUP_THREAD_COUNTS 0) each is one atomic on BUF_COUNTERS. In clusters
-// (SETUP_THREAD_COUNTS 1) the three that nearly every triangle reaches, small, big and culled, are counted
-// in the invocation's ThreadCounts and each subgroup adds its sums of a round once (addThreadCounts): the
-// 10.2M-triangle sphere 14% faster, the 100M one 2.5% (H200; docs/benchmark.md, "Fifth pass"); the rare
-// others stay one atomic each. cuda/setup.cuh sums them per block in shared memory instead; here that ran
-// the sweeps of small triangles 12-35% faster but sweep-8px 4-5% slower in setup, and the 100M sphere 7-8%
-// slower in clusters, so neither stage does it.
-#ifndef SETUP_THREAD_COUNTS
-#define SETUP_THREAD_COUNTS 0
-#endif
+// countPrimitive, go to the subgroup's shard of them (COUNTER_SHARD_WORD, raster_shared.h), which the host
+// folds into one. The three that nearly every triangle reaches, small, big and culled, are counted in the
+// invocation's ThreadCounts, and each subgroup adds its sums once (addThreadCounts: at the end of setup's
+// invocation, after each round of clusters); the rare others are one atomic each. Every subgroup's adds
+// to one word were served one after another by one L2 slice (cuda/setup.cuh; docs/benchmark.md, "Fourth
+// pass" to "Sixth pass"). The including shader enables GL_KHR_shader_subgroup_basic and
+// GL_KHR_shader_subgroup_arithmetic.
+
+// The subgroup's shard: its index in the dispatch (COUNTER_SHARD_WORD takes it modulo COUNTER_SHARDS).
+uint statShard()
+{
+    return gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
+}
 
 // Small, big and culled in 10-bit fields of one register. Between two addThreadCounts an invocation counts
-// one cluster's share of triangles (ceil(CLUSTER_MAX_TRIANGLES / CLUSTER_LANES) = 4), each at most
-// MAX_CLIP_VERTS - 2 = 7 sub-triangles: 28, far below a field's 1023.
+// one primitive in setup, or one cluster's share of triangles in clusters (ceil(CLUSTER_MAX_TRIANGLES /
+// CLUSTER_LANES) = 4), each at most MAX_CLIP_VERTS - 2 = 7 sub-triangles: 28, far below a field's 1023.
 #define THREAD_COUNT_SMALL 0
 #define THREAD_COUNT_BIG 10
 #define THREAD_COUNT_CULLED 20
@@ -57,7 +60,6 @@ uint threadCount(ThreadCounts counts, uint field)
 // Counts one primitive for statistic `counter` (a constant at every call site).
 void countPrimitive(inout ThreadCounts counts, uint counter)
 {
-#if SETUP_THREAD_COUNTS
     if (counter == COUNTER_SMALL)
         counts.bits += 1u << THREAD_COUNT_SMALL;
     else if (counter == COUNTER_BIG)
@@ -65,28 +67,24 @@ void countPrimitive(inout ThreadCounts counts, uint counter)
     else if (counter == COUNTER_CULLED)
         counts.bits += 1u << THREAD_COUNT_CULLED;
     else
-        atomicAdd(counters[counter], 1u);
-#else
-    atomicAdd(counters[counter], 1u);
-#endif
+        atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), counter)], 1u);
 }
 
-#if SETUP_THREAD_COUNTS
-// Every invocation of a subgroup together: adds the subgroup's ThreadCounts to BUF_COUNTERS, one atomic
-// per statistic it has, and zeroes them. The including shader enables GL_KHR_shader_subgroup_arithmetic.
+// Every invocation of a subgroup together: adds the subgroup's ThreadCounts to its shard, one atomic per
+// statistic it has, and zeroes them.
 void addThreadCounts(inout ThreadCounts counts)
 {
     uint small = subgroupAdd(threadCount(counts, THREAD_COUNT_SMALL));
     uint big = subgroupAdd(threadCount(counts, THREAD_COUNT_BIG));
     uint culled = subgroupAdd(threadCount(counts, THREAD_COUNT_CULLED));
     if (subgroupElect()) {
-        if (small != 0u) atomicAdd(counters[COUNTER_SMALL], small);
-        if (big != 0u) atomicAdd(counters[COUNTER_BIG], big);
-        if (culled != 0u) atomicAdd(counters[COUNTER_CULLED], culled);
+        uint shard = statShard();
+        if (small != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_SMALL)], small);
+        if (big != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_BIG)], big);
+        if (culled != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_CULLED)], culled);
     }
     counts.bits = 0u;
 }
-#endif
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces: a record
 // (BIN_REF_RECORD) when `clipped` (STORED_AS_RECORD: always in the CPU builds), else its input index. A full

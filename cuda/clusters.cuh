@@ -6,7 +6,7 @@
 // What the warp saves is setup's per-corner work: with fixed8 each vertex is also classified and snapped
 // once (clusterVertex) where setup snaps every corner of every triangle (about six times per vertex of a
 // closed mesh), and a triangle's three indices and 48 bytes of clip positions become two words. The
-// triangles that setup would count culled or invalid are counted per thread, then per block (groupCounts).
+// triangles that setup would count culled or invalid are counted per thread, then per warp (countStat).
 // A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
 // setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
 // 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP),
@@ -20,7 +20,6 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
     // that a vertex is one 16-byte access (loadVec4, loadIvec4).
     __shared__ __align__(16) vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
     __shared__ __align__(16) ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
-    clearGroupCounts();  // the block's statistics (setup.cuh), added to BUF_COUNTERS at its end
     uint slot = threadIdx.x / uint(CLUSTER_LANES);
     uint lane = threadIdx.x % uint(CLUSTER_LANES);
     // With level of detail (lodScale > 0) stage lod_cut listed the clusters to draw in BUF_LOD_CUT, and
@@ -36,8 +35,8 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
             c = b.clusters[lod ? b.lodCut[entry] : entry];
             verdict = clusterCull(params, c);
             if (verdict != CLUSTER_DRAWN && lane == 0u) {
-                addInGroup(COUNTER_CULLED, c.triangleCount);
-                addInGroup(COUNTER_CLUSTERS_CULLED, 1u);
+                addStat(b, COUNTER_CULLED, c.triangleCount);
+                addStat(b, COUNTER_CLUSTERS_CULLED, 1u);
             }
         }
         // The lane's first triangle (its input index and corners), fetched before the vertices so that its
@@ -101,13 +100,16 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
                 corners = nextCorners;
             }
         }
-        // The thread's counts, one shared atomic each where it has any.
-        if (invalid != 0u) addInGroup(COUNTER_INVALID, invalid);
-        if (culled != 0u) addInGroup(COUNTER_CULLED, culled);
+        // The warp's counts of this round, one atomic each where it has any (every thread is here).
+        invalid = warpSum(invalid);
+        culled = warpSum(culled);
+        if (lane == 0u) {
+            if (invalid != 0u) addStat(b, COUNTER_INVALID, invalid);
+            if (culled != 0u) addStat(b, COUNTER_CULLED, culled);
+        }
         // The next round writes the vertices again.
         if (lod) __syncwarp();
     }
-    flushGroupCounts(b);  // every thread reaches it: the loop's bounds are the block's own
 }
 
 }  // namespace sr

@@ -14,48 +14,40 @@ namespace sr {
 
 // The statistics that setup and clusters count for every primitive (COUNTER_SMALL, COUNTER_BIG,
 // COUNTER_SPLIT, COUNTER_CULLED, COUNTER_CLIPPED, COUNTER_INVALID, COUNTER_LINES, COUNTER_POINTS,
-// COUNTER_CLUSTERS_CULLED) are summed per block in shared memory (groupCounts) and added to BUF_COUNTERS
-// once per block at its end (flushGroupCounts). With a global atomic per primitive (the compiler merges a
-// warp's into one) a sweep of a million small triangles sent 32,768 adds to one word, which one L2 slice
-// serves one after another: setup's time did not move when its occupancy rose from 22% to 32%, and fell
-// 45% when they were counted per block (H200; docs/benchmark.md, "Fourth pass").
-// Counting small, big and culled in a register per thread, summed per warp into the block's sums (as
-// compute_glsl's clusters does, straight to BUF_COUNTERS), measured flat here: the warp vote of
-// countInGroup is not what the block sums cost. compute_glsl counts differently (setup_triangle.glsl says
-// how and why; docs/benchmark.md, "Fifth pass").
-__device__ inline uint* groupCounts()
+// COUNTER_CLUSTERS_CULLED) go to the warp's shard of them (COUNTER_SHARD_WORD, raster_shared.h), which the
+// host folds into one. Every warp's adds to one word were served one after another by one L2 slice: with
+// a million small triangles setup's time did not move when its occupancy rose from 22% to 32%, and fell 45%
+// when they were summed per block in shared memory and added once per block (H200; docs/benchmark.md,
+// "Fourth pass"); the shards spread the adds without the block's sums and barriers ("Sixth pass").
+__device__ inline uint* statCounter(const Buffers& b, uint counter)
 {
-    __shared__ uint counts[COUNTER_COUNT];
-    return counts;
-}
-
-// Every thread of the block, before any count: zeroes groupCounts.
-__device__ inline void clearGroupCounts()
-{
-    for (uint i = threadIdx.x; i < uint(COUNTER_COUNT); i += blockDim.x) groupCounts()[i] = 0u;
-    __syncthreads();
+    uint warp = (blockIdx.x * blockDim.x + threadIdx.x) >> 5;
+    return &b.counters[COUNTER_SHARD_WORD(warp, counter)];
 }
 
 // Counts one for statistic `counter`: the threads of a warp that reach it together with the same counter
 // add once, their number.
-__device__ inline void countInGroup(uint counter)
+__device__ inline void countStat(const Buffers& b, uint counter)
 {
     uint peers = __match_any_sync(__activemask(), counter);
     if ((threadIdx.x & 31u) == uint(__ffs(peers) - 1))
-        atomicAdd(&groupCounts()[counter], uint(__popc(peers)));
+        atomicAdd(statCounter(b, counter), uint(__popc(peers)));
 }
 
-__device__ inline void addInGroup(uint counter, uint n)
+__device__ inline void addStat(const Buffers& b, uint counter, uint n)
 {
-    atomicAdd(&groupCounts()[counter], n);
+    atomicAdd(statCounter(b, counter), n);
 }
 
-// Every thread of the block, after its last count: adds the block's counts to BUF_COUNTERS.
-__device__ inline void flushGroupCounts(const Buffers& b)
+// The sum of `n` over the 32 threads of the warp, all of which call it.
+__device__ inline uint warpSum(uint n)
 {
-    __syncthreads();
-    for (uint i = threadIdx.x; i < uint(COUNTER_COUNT); i += blockDim.x)
-        if (groupCounts()[i] != 0u) atomicAdd(&b.counters[i], groupCounts()[i]);
+#if __CUDA_ARCH__ >= 800
+    return __reduce_add_sync(0xffffffffu, n);
+#else
+    for (int d = 16; d > 0; d >>= 1) n += __shfl_xor_sync(0xffffffffu, n, d);
+    return n;
+#endif
 }
 
 // Rasterizes a small triangle (every sample of its bbox) or appends a big one's pieces. A full
@@ -72,7 +64,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
     // whose exact test (raster_tiles, methodPixel) gives the same bits. A 64-bit pixel loop of its own
     // here held 24 of setup's 94 registers in every launch for that rare case (ptxas 13.0, sm_90).
     if (isSmallTriangle(bounds) && (kMultisample || kMethod >= RASTER_FLOAT || smallEdgesFit(t))) {
-        countInGroup(COUNTER_SMALL);
+        countStat(b, COUNTER_SMALL);
         // Lines have no alpha test (and no triangle flags).
         bool masked = kMaterials && params.materialCount != 0u &&
                       (!kLinesPoints || id < params.triangleCount) &&
@@ -122,7 +114,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         }
         return;
     }
-    countInGroup(COUNTER_BIG);
+    countStat(b, COUNTER_BIG);
     uint ref = id;
     if (clipped) {
         uint slot = atomicAdd(&b.counters[COUNTER_SETUP], 1u);
@@ -141,7 +133,7 @@ __device__ inline void emitTriangle(const RasterParams& params, const Buffers& b
         binTiles<false, kMethod>(params, b, t, bounds, ref, 0u, tiles);
         return;
     }
-    countInGroup(COUNTER_SPLIT);
+    countStat(b, COUNTER_SPLIT);
     for (uint k = 0u; k < n && base + k < params.pieceCapacity; ++k)
         b.pieces[base + k] = uvec2(ref, k * pieceTiles(tiles));
 }
@@ -153,12 +145,12 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
 {
     uint v = b.points[k];
     if (v >= params.vertexCount) {
-        countInGroup(COUNTER_INVALID);
+        countStat(b, COUNTER_INVALID);
         return;
     }
     vec4 c = loadClipPosition(params, b, v);
     if (!isFinite(c.x) || !isFinite(c.y) || !isFinite(c.z) || !isFinite(c.w)) {
-        countInGroup(COUNTER_INVALID);
+        countStat(b, COUNTER_INVALID);
         return;
     }
     PointSetup pt;
@@ -166,10 +158,10 @@ __device__ inline void rasterPoint(const RasterParams& params, const Buffers& b,
     if (setupPoint(c, params.pointSize, params.width, params.height, pt))
         r = pointPixelBounds(pt, params.width, params.height, params.sampleBounds);
     if (r.x > r.z || r.y > r.w) {
-        countInGroup(COUNTER_CULLED);
+        countStat(b, COUNTER_CULLED);
         return;
     }
-    countInGroup(COUNTER_POINTS);
+    countStat(b, COUNTER_POINTS);
     uint id = params.triangleCount + params.lineCount + k;
     uint samples = kMultisample ? params.sampleCount : 1u;
     for (int y = r.y; y <= r.w; ++y) {
@@ -220,10 +212,10 @@ __device__ inline void setupStageWithLinesPoints(const RasterParams& params, con
                    : PREPARE_INVALID;
     }
     if (kind == PREPARE_INVALID) {
-        countInGroup(COUNTER_INVALID);
+        countStat(b, COUNTER_INVALID);
         return;
     }
-    if (kind == PREPARE_CLIPPED) countInGroup(COUNTER_CLIPPED);
+    if (kind == PREPARE_CLIPPED) countStat(b, COUNTER_CLIPPED);
     bool doubleSided = line || (b.triFlags[prim] & TRI_FLAG_DOUBLE_SIDED) != 0u;
     uint emitted = 0u;
     for (uint k = 1u; k + 1u < count; ++k) {
@@ -240,9 +232,9 @@ __device__ inline void setupStageWithLinesPoints(const RasterParams& params, con
         }
     }
     if (emitted == 0u)
-        countInGroup(COUNTER_CULLED);
+        countStat(b, COUNTER_CULLED);
     else if (line)
-        countInGroup(COUNTER_LINES);
+        countStat(b, COUNTER_LINES);
 }
 
 // Input triangle `tri` with clip positions c0, c1, c2: classified, clipped, set up, and each of its
@@ -257,14 +249,14 @@ __device__ inline void setupInputTriangle(const RasterParams& params, const Buff
     uint planes;
     uint kind = classifyTriangle(c0, c1, c2, params.guardBand, planes);
     if (kind == PREPARE_INVALID) {
-        countInGroup(COUNTER_INVALID);
+        countStat(b, COUNTER_INVALID);
         return;
     }
     bool clipped = kind == PREPARE_CLIPPED;
     vec4 poly[MAX_CLIP_VERTS];
     uint count = kind == PREPARE_DIRECT ? 3u : 0u;
     if (clipped) {
-        countInGroup(COUNTER_CLIPPED);
+        countStat(b, COUNTER_CLIPPED);
         count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     }
     bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -283,7 +275,7 @@ __device__ inline void setupInputTriangle(const RasterParams& params, const Buff
             ++emitted;
         }
     }
-    if (emitted == 0u) countInGroup(COUNTER_CULLED);
+    if (emitted == 0u) countStat(b, COUNTER_CULLED);
 }
 
 // A triangle that classifyTriangle found PREPARE_CLIPPED: clipped, and each piece of its fan set up and
@@ -299,7 +291,7 @@ __device__ inline void setupClippedTriangle(const RasterParams& params, const Bu
 {
     uint planes;
     classifyTriangle(c0, c1, c2, params.guardBand, planes);
-    countInGroup(COUNTER_CLIPPED);
+    countStat(b, COUNTER_CLIPPED);
     vec4 poly[MAX_CLIP_VERTS];
     uint count = clipTriangle(c0, c1, c2, planes, params.guardBand, poly);
     bool doubleSided = (b.triFlags[tri] & TRI_FLAG_DOUBLE_SIDED) != 0u;
@@ -312,7 +304,7 @@ __device__ inline void setupClippedTriangle(const RasterParams& params, const Bu
             ++emitted;
         }
     }
-    if (emitted == 0u) countInGroup(COUNTER_CULLED);
+    if (emitted == 0u) countStat(b, COUNTER_CULLED);
 }
 
 // kLinesPoints: whether the line and point paths are built in (SETUP_LINES_POINTS of setup.comp); the
@@ -328,19 +320,17 @@ __device__ inline void setupPrimitive(const RasterParams& params, const Buffers&
     if (tri >= params.triangleCount) return;
     vec4 c0, c1, c2;
     if (!loadClipTriangle(params, b, tri, c0, c1, c2)) {
-        countInGroup(COUNTER_INVALID);
+        countStat(b, COUNTER_INVALID);
         return;
     }
     setupInputTriangle<kMaterials, kMultisample, kMethod>(params, b, tri, c0, c1, c2);
 }
 
-// The stage: each thread's primitive (setupPrimitive), the block's statistics added once at its end.
+// The stage: each thread's primitive.
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __device__ inline void setupStage(const RasterParams& params, const Buffers& b)
 {
-    clearGroupCounts();
     setupPrimitive<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
-    flushGroupCounts(b);
 }
 
 }  // namespace sr

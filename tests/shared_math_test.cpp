@@ -545,5 +545,37 @@ TEST(SharedMath, SetupTriangleEqualsSetupOfTheSnappedCorners)
     EXPECT_GT(agreed, 500);
 }
 
+// The statistics' shards (COUNTER_SHARD_WORD): each copy of a counter lies past the list counters' words,
+// inside BUF_COUNTERS, in a 128-byte line of its own shard (the point of the shards: adds to different
+// shards never share a cache line), and the shard index wraps modulo COUNTER_SHARDS. foldCounters adds
+// every copy to its counter, checked against sums taken by byte offset.
+TEST(SharedMath, CounterShardsAreCacheLinesApartAndFoldIntoTheirCounters)
+{
+    std::vector<uint> seen(COUNTER_WORDS, 0u);
+    for (uint shard = 0u; shard < uint(COUNTER_SHARDS); ++shard) {
+        for (uint c = 0u; c < uint(COUNTER_COUNT); ++c) {
+            const uint word = COUNTER_SHARD_WORD(shard, c);
+            ASSERT_GE(word, uint(COUNTER_COUNT));
+            ASSERT_LT(word, uint(COUNTER_WORDS));
+            EXPECT_EQ(word * 4u / 128u, 1u + shard) << "shard " << shard << " counter " << c;
+            EXPECT_EQ(COUNTER_SHARD_WORD(shard + uint(COUNTER_SHARDS) * 7u, c), word);
+            ++seen[word];
+        }
+    }
+    for (uint w = 0u; w < uint(COUNTER_WORDS); ++w) ASSERT_LE(seen[w], 1u) << "word " << w;
+
+    std::vector<uint> words(COUNTER_WORDS);
+    std::mt19937 rng(46);
+    for (uint& w : words) w = rng() & 0xFFFFu;
+    std::vector<uint> folded(COUNTER_COUNT, 0u);
+    foldCounters(words.data(), folded.data());
+    for (uint c = 0u; c < uint(COUNTER_COUNT); ++c) {
+        uint expected = words[c];
+        for (uint shard = 0u; shard < uint(COUNTER_SHARDS); ++shard)
+            expected += words[(128u + 128u * shard + 4u * c) / 4u];
+        EXPECT_EQ(folded[c], expected) << "counter " << c;
+    }
+}
+
 }  // namespace
 }  // namespace sr::test

@@ -183,8 +183,8 @@ TEST_F(VulkanDeviceTest, ClearEmptiesVisibilityAndCounters)
     const uint32_t width = 37;
     const uint32_t height = 23;  // 851 pixels: the last group is partly idle
     const size_t pixels = size_t(width) * height;
-    const size_t slack = 64;         // entries past the image, which clear must leave alone
-    const size_t counterSlots = 16;  // more than COUNTER_COUNT, for the same reason
+    const size_t slack = 64;  // entries past the image, which clear must leave alone
+    const size_t counterSlots = COUNTER_WORDS + slack;  // the counters and their shards, then slack
 
     std::vector<uint64_t> visibility(pixels + slack);
     for (size_t i = 0; i < visibility.size(); ++i) visibility[i] = 0x0123456789abcdefull ^ (i * 977);
@@ -216,7 +216,7 @@ TEST_F(VulkanDeviceTest, ClearEmptiesVisibilityAndCounters)
     std::vector<uint32_t> clearedCounters(counters.size());
     ASSERT_TRUE(device_->download(BUF_COUNTERS, clearedCounters.data(), counterBytes).ok());
     for (size_t i = 0; i < counters.size(); ++i)
-        EXPECT_EQ(clearedCounters[i], i < COUNTER_COUNT ? 0u : counters[i]) << "counter " << i;
+        EXPECT_EQ(clearedCounters[i], i < COUNTER_WORDS ? 0u : counters[i]) << "counter " << i;
 }
 
 TEST_F(VulkanDeviceTest, RunTimesEveryDispatchIncludingEmptyOnes)
@@ -226,13 +226,17 @@ TEST_F(VulkanDeviceTest, RunTimesEveryDispatchIncludingEmptyOnes)
     RasterParams params{};
     params.width = 8;
     params.height = 8;
-    // Zero groups of a stage that would read unset buffers: it must not run, but is still timed.
+    // Zero groups of a stage that would read unset buffers: it must not run, and takes no time.
     const std::vector<Dispatch> dispatches = {{STAGE_CLEAR, 1}, {STAGE_VERTEX, 0}, {STAGE_CLEAR, 1}};
     std::vector<double> gpuMs = {42.0};
     Status status = device_->run(params, dispatches, gpuMs);
     ASSERT_TRUE(status.ok()) << status.error().message;
     ASSERT_EQ(gpuMs.size(), dispatches.size());
     for (double ms : gpuMs) EXPECT_GE(ms, 0.0);
+    EXPECT_EQ(gpuMs[1], 0.0);
+    // Nothing to run at all.
+    ASSERT_TRUE(device_->run(params, {{STAGE_VERTEX, 0}}, gpuMs).ok());
+    EXPECT_EQ(gpuMs, std::vector<double>{0.0});
 
     ASSERT_TRUE(device_->run(params, {}, gpuMs).ok());
     EXPECT_TRUE(gpuMs.empty());

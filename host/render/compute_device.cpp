@@ -40,8 +40,9 @@ Status ComputeDevice::runViews(const std::vector<RasterParams>& params,
     for (size_t b = first; b < first + count; ++b) {
         SR_TRY(uploadView(views, b));
         SR_TRY(run(params[params.size() == 1 ? 0 : b - first], dispatches, ms));
-        SR_TRY(
-            download(BUF_COUNTERS, counters + (b - first) * COUNTER_COUNT, COUNTER_COUNT * sizeof(uint32_t)));
+        uint32_t words[COUNTER_WORDS];
+        SR_TRY(download(BUF_COUNTERS, words, sizeof words));
+        foldCounters(words, counters + (b - first) * COUNTER_COUNT);
         for (const ViewCopy& c : copies) SR_TRY(copyView(c, b));
     }
     return okStatus();

@@ -106,9 +106,9 @@ public:
 
     // Views first .. first + count - 1, each as: its positions copied in (none where views.positions is
     // null: the scene's stay), the dispatches run with its parameters (params[b - first], or params[0]
-    // for every view), BUF_COUNTERS copied to counters + (b - first) * COUNTER_COUNT and the copies
-    // made; returns when all are done. No GPU times. The base class does it view by view with the calls
-    // above (one wait per view); CUDA queues every view at once and waits once.
+    // for every view), BUF_COUNTERS folded (foldCounters) into counters + (b - first) * COUNTER_COUNT
+    // and the copies made; returns when all are done. No GPU times. The base class does it view by view
+    // with the calls above (one wait per view); CUDA queues every view at once and waits once.
     virtual Status runViews(const std::vector<RasterParams>& params, const std::vector<Dispatch>& dispatches,
                             const ViewInputs& views, size_t first, size_t count,
                             const std::vector<ViewCopy>& copies, uint32_t* counters);

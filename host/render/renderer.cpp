@@ -75,7 +75,7 @@ std::vector<Dispatch> frameDispatches(const RasterParams& p, const FrameWork& wo
 
     std::vector<Dispatch> dispatches = {
         {STAGE_CLEAR,
-         groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_COUNT}), GROUP_SIZE * CLEAR_SPAN)},
+         groupsFor(std::max<uint64_t>({samples, tiles, COUNTER_WORDS}), GROUP_SIZE * CLEAR_SPAN)},
         {STAGE_VERTEX, p.transformInSetup ? 0u : groupsFor(p.vertexCount, GROUP_SIZE)},
         {STAGE_LOD_CUT, p.lodScale > 0.0f ? groupsFor(p.clusterCount, GROUP_SIZE) : 0u},
         // With level of detail a GPU's groups loop over the cut. On a CPU device (rasterChunk != 0) each
@@ -252,7 +252,7 @@ Status RenderSession::upload()
     // A vertex buffer of clip positions pays off only when vertices are shared; a triangle soup (every
     // corner its own vertex) is transformed in setup instead, and the buffer costs nothing.
     SR_TRY(ensureSize(BUF_CLIP_POS, transformsInSetup(scene) ? 16 : scene.vertexCount() * sizeof(glm::vec4)));
-    SR_TRY(ensureSize(BUF_COUNTERS, COUNTER_COUNT * sizeof(uint32_t)));
+    SR_TRY(ensureSize(BUF_COUNTERS, COUNTER_WORDS * sizeof(uint32_t)));
     alphaTest_ =
         !scene.materials.empty() && std::any_of(scene.triFlags.begin(), scene.triFlags.end(),
                                                 [](uint32_t f) { return (f & TRI_FLAG_ALPHA_MASK) != 0u; });
@@ -555,7 +555,10 @@ Status RenderSession::runFrame(FrameState& f, std::vector<Dispatch>& dispatches,
     SR_TRY(device_->run(f.params, frame, frameMs));
     dispatches.insert(dispatches.end(), frame.begin(), frame.end());
     gpuMs.insert(gpuMs.end(), frameMs.begin(), frameMs.end());
-    return device_->download(BUF_COUNTERS, f.counters, sizeof f.counters);
+    uint32_t words[COUNTER_WORDS];
+    SR_TRY(device_->download(BUF_COUNTERS, words, sizeof words));
+    foldCounters(words, f.counters);
+    return okStatus();
 }
 
 // tess_count and the scans, in a submission of their own (dispatches, gpuMs); then the totals, the
