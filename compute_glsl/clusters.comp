@@ -64,8 +64,8 @@ void main()
             c = clusters[lod ? lodCut[entry] : entry];
             verdict = clusterCull(params, c);
             if (verdict != CLUSTER_DRAWN && lane == 0u) {
-                atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), COUNTER_CULLED)], c.triangleCount);
-                atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), COUNTER_CLUSTERS_CULLED)], 1u);
+                addStat(COUNTER_CULLED, c.triangleCount);
+                addStat(COUNTER_CLUSTERS_CULLED, 1u);
             }
         }
         // The lane's first triangle (its input index and corners), fetched before the vertices so that its

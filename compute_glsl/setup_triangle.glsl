@@ -42,6 +42,12 @@ uint statShard()
     return gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
 }
 
+// Adds `n` to statistic `counter` in the subgroup's shard (cuda/setup.cuh's addStat).
+void addStat(uint counter, uint n)
+{
+    atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), counter)], n);
+}
+
 // Small, big and culled in 10-bit fields of one register. Between two addThreadCounts an invocation counts
 // one primitive in setup, or one cluster's share of triangles in clusters (ceil(CLUSTER_MAX_TRIANGLES /
 // CLUSTER_LANES) = 4), each at most MAX_CLIP_VERTS - 2 = 7 sub-triangles: 28, far below a field's 1023.
@@ -67,7 +73,7 @@ void countPrimitive(inout ThreadCounts counts, uint counter)
     else if (counter == COUNTER_CULLED)
         counts.bits += 1u << THREAD_COUNT_CULLED;
     else
-        atomicAdd(counters[COUNTER_SHARD_WORD(statShard(), counter)], 1u);
+        addStat(counter, 1u);
 }
 
 // Every invocation of a subgroup together: adds the subgroup's ThreadCounts to its shard, one atomic per
@@ -78,10 +84,9 @@ void addThreadCounts(inout ThreadCounts counts)
     uint big = subgroupAdd(threadCount(counts, THREAD_COUNT_BIG));
     uint culled = subgroupAdd(threadCount(counts, THREAD_COUNT_CULLED));
     if (subgroupElect()) {
-        uint shard = statShard();
-        if (small != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_SMALL)], small);
-        if (big != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_BIG)], big);
-        if (culled != 0u) atomicAdd(counters[COUNTER_SHARD_WORD(shard, COUNTER_CULLED)], culled);
+        if (small != 0u) addStat(COUNTER_SMALL, small);
+        if (big != 0u) addStat(COUNTER_BIG, big);
+        if (culled != 0u) addStat(COUNTER_CULLED, culled);
     }
     counts.bits = 0u;
 }

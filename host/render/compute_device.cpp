@@ -40,11 +40,17 @@ Status ComputeDevice::runViews(const std::vector<RasterParams>& params,
     for (size_t b = first; b < first + count; ++b) {
         SR_TRY(uploadView(views, b));
         SR_TRY(run(params[params.size() == 1 ? 0 : b - first], dispatches, ms));
-        uint32_t words[COUNTER_WORDS];
-        SR_TRY(download(BUF_COUNTERS, words, sizeof words));
-        foldCounters(words, counters + (b - first) * COUNTER_COUNT);
+        SR_TRY(downloadCounters(counters + (b - first) * COUNTER_COUNT));
         for (const ViewCopy& c : copies) SR_TRY(copyView(c, b));
     }
+    return okStatus();
+}
+
+Status ComputeDevice::downloadCounters(uint32_t* counters)
+{
+    uint32_t words[COUNTER_WORDS];
+    SR_TRY(download(BUF_COUNTERS, words, sizeof words));
+    foldCounters(words, counters);
     return okStatus();
 }
 

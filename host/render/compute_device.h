@@ -91,6 +91,9 @@ public:
     virtual Status upload(uint32_t buffer, const void* data, size_t bytes) = 0;
     // Copies `bytes` from `offset` bytes into `buffer` to `data`.
     virtual Status download(uint32_t buffer, void* data, size_t bytes, size_t offset = 0) = 0;
+    // BUF_COUNTERS as the host reads it: its COUNTER_WORDS words folded (foldCounters) into `counters`
+    // (COUNTER_COUNT).
+    Status downloadCounters(uint32_t* counters);
 
     // Memory for a caller's images (raster::Memory), freed when the last pointer goes: host memory,
     // page-locked where the device copies into it directly (CUDA: no staging through the driver's own

@@ -555,10 +555,7 @@ Status RenderSession::runFrame(FrameState& f, std::vector<Dispatch>& dispatches,
     SR_TRY(device_->run(f.params, frame, frameMs));
     dispatches.insert(dispatches.end(), frame.begin(), frame.end());
     gpuMs.insert(gpuMs.end(), frameMs.begin(), frameMs.end());
-    uint32_t words[COUNTER_WORDS];
-    SR_TRY(device_->download(BUF_COUNTERS, words, sizeof words));
-    foldCounters(words, f.counters);
-    return okStatus();
+    return device_->downloadCounters(f.counters);
 }
 
 // tess_count and the scans, in a submission of their own (dispatches, gpuMs); then the totals, the

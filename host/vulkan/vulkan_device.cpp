@@ -722,7 +722,8 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     // the frame's time (docs/benchmark.md, "Sixth pass").
     uint32_t pairs = 0;
     for (const Dispatch& d : dispatches) pairs += d.groups > 0 ? 1u : 0u;
-    SR_TRY(context_.ensureQueryPool(2 * std::max(pairs, 1u)));
+    const uint32_t queries = 2 * std::max(pairs, 1u);  // a pool of at least one pair
+    SR_TRY(context_.ensureQueryPool(queries));
     SR_TRY(ensureBindings());
     // Nothing submitted earlier still reads the uniform buffer, so it is overwritten in place.
     std::memcpy(buffers_[BUF_PARAMS].mapped, &params, sizeof params);
@@ -731,7 +732,7 @@ Status VulkanDevice::runDispatches(const RasterParams& params, const std::vector
     VkCommandBuffer cmd = context_.commandBuffer();
     VkQueryPool queryPool = context_.queryPool();
     VkDescriptorSet set = context_.descriptorSet();
-    vkCmdResetQueryPool(cmd, queryPool, 0, 2 * std::max(pairs, 1u));
+    vkCmdResetQueryPool(cmd, queryPool, 0, queries);
     // All pipelines share one layout, so the set stays bound across the pipeline switches below.
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, context_.pipelineLayout(), 0, 1, &set, 0,
                             nullptr);
