@@ -5,8 +5,12 @@
 // triangles are rasterized and big ones binned exactly as setup would.
 // What the warp saves is setup's per-corner work: with fixed8 each vertex is also classified and snapped
 // once (clusterVertex) where setup snaps every corner of every triangle (about six times per vertex of a
-// closed mesh), and a triangle's three indices and 48 bytes of clip positions become two words. The
-// triangles that setup would count culled or invalid are counted per thread, then per warp (countStat).
+// closed mesh), and a triangle's three indices and 48 bytes of clip positions become two words. With
+// fixed8 the triangles go in two passes: the first ends those that the corners' flags or an empty sample
+// box decide (on a dense mesh most: clusterTriangleKind) and queues the others in shared memory; the
+// second sets those up and rasterizes or bins them, a lane each, so that those with a sample no longer
+// hold the warp's other lanes idle in every round. The triangles that setup would count culled or invalid
+// are counted per thread, then per warp.
 // A clipped triangle takes setup's setupClippedTriangle, and every triangle of the other raster methods
 // setup's setupInputTriangle, from the clip positions. A culled cluster costs one 64-byte record for up to
 // 124 triangles. CLUSTERS_PER_GROUP clusters per block; blocks = ceil(clusterCount / CLUSTERS_PER_GROUP),
@@ -20,6 +24,9 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
     // that a vertex is one 16-byte access (loadVec4, loadIvec4).
     __shared__ __align__(16) vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
     __shared__ __align__(16) ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
+    // fixed8: the triangles (input index, corners) that pass 1 leaves to pass 2, and their number.
+    __shared__ uvec2 clusterQueue[CLUSTERS_PER_GROUP][CLUSTER_MAX_TRIANGLES];
+    __shared__ uint clusterQueued[CLUSTERS_PER_GROUP];
     uint slot = threadIdx.x / uint(CLUSTER_LANES);
     uint lane = threadIdx.x % uint(CLUSTER_LANES);
     // With level of detail (lodScale > 0) stage lod_cut listed the clusters to draw in BUF_LOD_CUT, and
@@ -46,10 +53,30 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
             tri = b.clusterData[c.triangleOffset + 2u * t];
             corners = b.clusterData[c.triangleOffset + 2u * t + 1u];
         }
+        if (lane == 0u) clusterQueued[slot] = 0u;
         if (verdict == CLUSTER_DRAWN) {
-            for (uint v = lane; v < c.vertexCount; v += uint(CLUSTER_LANES)) {
-                vec4 clip =
-                    mulPoint(params.clipFromWorld, loadVec4(b.positions, b.clusterData[c.vertexOffset + v]));
+            // A vertex is two dependent loads (its scene index, then its position); a lane's vertices
+            // (CLUSTER_MAX_VERTICES = 2 x CLUSTER_LANES) are all requested before any is transformed, so
+            // that the lane waits for two loads in a row and not for four (the 100M sphere -9%, H200).
+            // compute_glsl requests the indices before the cull; here that ran the 10.2M sphere 3% slower.
+            constexpr uint kVertexRounds = (CLUSTER_MAX_VERTICES + CLUSTER_LANES - 1) / CLUSTER_LANES;
+            uint index[kVertexRounds];
+            vec4 world[kVertexRounds];
+#pragma unroll
+            for (uint r = 0u; r < kVertexRounds; ++r) {
+                uint v = lane + r * uint(CLUSTER_LANES);
+                index[r] = v < c.vertexCount ? b.clusterData[c.vertexOffset + v] : 0u;
+            }
+#pragma unroll
+            for (uint r = 0u; r < kVertexRounds; ++r) {
+                uint v = lane + r * uint(CLUSTER_LANES);
+                world[r] = v < c.vertexCount ? loadVec4(b.positions, index[r]) : vec4(0.0f);
+            }
+#pragma unroll
+            for (uint r = 0u; r < kVertexRounds; ++r) {
+                uint v = lane + r * uint(CLUSTER_LANES);
+                if (v >= c.vertexCount) break;
+                vec4 clip = mulPoint(params.clipFromWorld, world[r]);
                 storeVec4(clusterClip[slot], v, clip);
                 if constexpr (kMethod == RASTER_FIXED8) {
                     ivec2 xy;
@@ -75,20 +102,15 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
                 uint k0 = clusterCorner(corners, 0u), k1 = clusterCorner(corners, 1u),
                      k2 = clusterCorner(corners, 2u);
                 if constexpr (kMethod == RASTER_FIXED8) {
+                    // Pass 1: the triangles that end at their corners' flags or an empty sample box are
+                    // counted here; the others wait in the cluster's queue for pass 2.
                     ivec4 s0 = loadIvec4(clusterSnap[slot], k0), s1 = loadIvec4(clusterSnap[slot], k1),
                           s2 = loadIvec4(clusterSnap[slot], k2);
-                    TriSetup setup;
-                    uint kind = clusterSetupTriangle(
-                        uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y),
-                        ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)),
-                        uintBitsToFloat(uint(s2.z)), tri, (corners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
-                        params.cullMode, params.width, params.height, params.sampleBounds, setup);
-                    if (kind == PREPARE_DIRECT)
-                        emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, setup, false);
-                    else if (kind == PREPARE_CLIPPED)
-                        setupClippedTriangle<kMaterials, kMultisample, kMethod>(
-                            params, b, tri, loadVec4(clusterClip[slot], k0), loadVec4(clusterClip[slot], k1),
-                            loadVec4(clusterClip[slot], k2));
+                    uint kind = clusterTriangleKind(uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y),
+                                                    ivec2(s1.x, s1.y), ivec2(s2.x, s2.y), params.width,
+                                                    params.height, params.sampleBounds);
+                    if (kind == PREPARE_DIRECT || kind == PREPARE_CLIPPED)
+                        clusterQueue[slot][atomicAdd(&clusterQueued[slot], 1u)] = uvec2(tri, corners);
                     invalid += kind == PREPARE_INVALID ? 1u : 0u;
                     culled += kind == PREPARE_CULLED ? 1u : 0u;
                 } else {
@@ -98,6 +120,38 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
                 }
                 tri = nextTri;
                 corners = nextCorners;
+            }
+        }
+        if constexpr (kMethod == RASTER_FIXED8) {
+            // Pass 2: the queued triangles set up, rasterized or binned, clipped where they need it, with
+            // every lane busy. In one pass their lanes ran this part in nearly every round, beside lanes
+            // whose triangles were done: on the 10.2M sphere one drawn triangle in eight has a sample in
+            // its box. Alone the split measured -1.5% (10.2M sphere) and +2% (100M) on the H200; it is what
+            // lets the 72-register build (kernels.cuh) pay, its loop keeping less alive than the whole
+            // setup inside the triangle loop did (docs/benchmark.md, "Seventh pass"). compute_glsl keeps
+            // one pass: there NVIDIA's Vulkan compiler ran the split 16-23% slower.
+            __syncwarp();
+            uint queued = verdict == CLUSTER_DRAWN ? clusterQueued[slot] : 0u;
+            for (uint q = lane; q < queued; q += uint(CLUSTER_LANES)) {
+                uvec2 entry = clusterQueue[slot][q];
+                uint qTri = entry.x, qCorners = entry.y;
+                uint k0 = clusterCorner(qCorners, 0u), k1 = clusterCorner(qCorners, 1u),
+                     k2 = clusterCorner(qCorners, 2u);
+                ivec4 s0 = loadIvec4(clusterSnap[slot], k0), s1 = loadIvec4(clusterSnap[slot], k1),
+                      s2 = loadIvec4(clusterSnap[slot], k2);
+                TriSetup setup;
+                uint kind = clusterSetupTriangle(
+                    uint(s0.w), uint(s1.w), uint(s2.w), ivec2(s0.x, s0.y), ivec2(s1.x, s1.y),
+                    ivec2(s2.x, s2.y), uintBitsToFloat(uint(s0.z)), uintBitsToFloat(uint(s1.z)),
+                    uintBitsToFloat(uint(s2.z)), qTri, (qCorners & CLUSTER_TRI_DOUBLE_SIDED) != 0u,
+                    params.cullMode, params.width, params.height, params.sampleBounds, setup);
+                if (kind == PREPARE_DIRECT)
+                    emitTriangle<kMaterials, kMultisample, false, kMethod>(params, b, setup, false);
+                else if (kind == PREPARE_CLIPPED)
+                    setupClippedTriangle<kMaterials, kMultisample, kMethod>(
+                        params, b, qTri, loadVec4(clusterClip[slot], k0), loadVec4(clusterClip[slot], k1),
+                        loadVec4(clusterClip[slot], k2));
+                culled += kind == PREPARE_CULLED ? 1u : 0u;
             }
         }
         // The warp's counts of this round, one atomic each where it has any (every thread is here).

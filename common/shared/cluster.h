@@ -196,20 +196,37 @@ SR_FN uint clusterVertex(vec4 c, vec4 guardBand, uint width, uint height, SR_OUT
     return flags;
 }
 
-// What setup decides for a triangle from its corners' clusterVertex results, in prepareTriangle's order:
-// PREPARE_INVALID (a coordinate is not finite), PREPARE_CULLED (outside one viewport plane, or set up to
-// nothing: zero area, the culled facing, no sample), PREPARE_CLIPPED (it needs the clipper: set it up from
-// the clip positions), or PREPARE_DIRECT with `t` set up, bit for bit setupTriangle's (the same snapped
-// corners through the same steps, setupSnappedTriangle).
-SR_FN uint clusterSetupTriangle(uint f0, uint f1, uint f2, ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1,
-                                float z2, uint triId, bool doubleSided, uint cullMode, uint width,
-                                uint height, uint bounds, SR_OUT(TriSetup) t)
+// The first part of what setup decides for a triangle from its corners' clusterVertex results, in
+// prepareTriangle's and setupTriangle's order, from the corners' flags and snapped x, y alone:
+// PREPARE_INVALID (a coordinate is not finite), PREPARE_CULLED (outside one viewport plane, not snapped, or
+// no sample inside its bounding box), PREPARE_CLIPPED (it needs the clipper), or PREPARE_DIRECT where the
+// rest of setupSnappedTriangle (area, facing) decides. On a dense mesh most triangles end here: of the
+// triangles in the drawn clusters of the 10.2M-triangle sphere at 1920x1080, one in eight has a sample in
+// its box.
+SR_FN uint clusterTriangleKind(uint f0, uint f1, uint f2, ivec2 v0, ivec2 v1, ivec2 v2, uint width,
+                               uint height, uint bounds)
 {
     uint all = f0 & f1 & f2;
     if ((all & CLUSTER_VERTEX_FINITE) == 0u) return PREPARE_INVALID;
     if ((all & 63u) != 0u) return PREPARE_CULLED;
     if ((((f0 | f1 | f2) >> 8u) & 63u) != 0u) return PREPARE_CLIPPED;
     if ((all & CLUSTER_VERTEX_SNAPPED) == 0u) return PREPARE_CULLED;
+    ivec2 spanX = sampleSpan(min(v0.x, min(v1.x, v2.x)), max(v0.x, max(v1.x, v2.x)), width, boundsX(bounds));
+    ivec2 spanY = sampleSpan(min(v0.y, min(v1.y, v2.y)), max(v0.y, max(v1.y, v2.y)), height, boundsY(bounds));
+    if (spanX.x > spanX.y || spanY.x > spanY.y) return PREPARE_CULLED;
+    return PREPARE_DIRECT;
+}
+
+// What setup decides for a triangle from its corners' clusterVertex results: clusterTriangleKind's verdict,
+// and where that is PREPARE_DIRECT the rest of setupSnappedTriangle, PREPARE_DIRECT with `t` set up, bit
+// for bit setupTriangle's (the same snapped corners through the same steps), or PREPARE_CULLED (zero area,
+// the culled facing).
+SR_FN uint clusterSetupTriangle(uint f0, uint f1, uint f2, ivec2 v0, ivec2 v1, ivec2 v2, float z0, float z1,
+                                float z2, uint triId, bool doubleSided, uint cullMode, uint width,
+                                uint height, uint bounds, SR_OUT(TriSetup) t)
+{
+    uint kind = clusterTriangleKind(f0, f1, f2, v0, v1, v2, width, height, bounds);
+    if (kind != PREPARE_DIRECT) return kind;
     return setupSnappedTriangle(v0, v1, v2, z0, z1, z2, triId, doubleSided, cullMode, width, height, bounds,
                                 t)
                ? PREPARE_DIRECT
