@@ -127,7 +127,7 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
             // every lane busy. In one pass their lanes ran this part in nearly every round, beside lanes
             // whose triangles were done: on the 10.2M sphere one drawn triangle in eight has a sample in
             // its box. Alone the split measured -1.5% (10.2M sphere) and +2% (100M) on the H200; it is what
-            // lets the 72-register build (kernels.cuh) pay, its loop keeping less alive than the whole
+            // lets the 64-register build (kernels.cuh) pay, its loop keeping less alive than the whole
             // setup inside the triangle loop did (docs/benchmark.md, "Seventh pass"). compute_glsl keeps
             // one pass: there NVIDIA's Vulkan compiler ran the split 16-23% slower.
             __syncwarp();

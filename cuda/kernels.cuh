@@ -29,12 +29,13 @@ __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams par
     setupStage<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
 }
 // clusters has setup's triangle builds: with and without the alpha test, with and without MSAA. The plain
-// fixed8 build is held to 7 blocks a SM (72 registers and 44% occupancy instead of 80 and 37.5%, 84 bytes
-// spilled): with clusters' two passes that ran the 10.2M and 100M spheres 6-7% faster on the H200, with
-// one pass 5-8% slower (docs/benchmark.md, "Seventh pass"). 0 leaves the other builds to ptxas as before.
+// fixed8 build is held to 8 blocks a SM (64 registers and 50% occupancy instead of 80 and 37.5%, 144
+// bytes spilled): with clusters' two passes that ran the 10.2M and 100M spheres 4% and 6% faster on the
+// H200 than 72 registers, which ran them 6-7% faster than 80 (with one pass both caps were slower:
+// docs/benchmark.md, "Seventh pass"). 0 leaves the other builds to ptxas as before.
 template <bool kMaterials, bool kMultisample, uint kMethod>
 __global__ void __launch_bounds__(CLUSTER_LANES* CLUSTERS_PER_GROUP,
-                                  (!kMaterials && !kMultisample && kMethod == RASTER_FIXED8) ? 7 : 0)
+                                  (!kMaterials && !kMultisample && kMethod == RASTER_FIXED8) ? 8 : 0)
     clustersKernel(const RasterParams params, const Buffers b)
 {
     clustersStage<kMaterials, kMultisample, kMethod>(params, b);
