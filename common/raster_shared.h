@@ -150,9 +150,11 @@ SR_NAMESPACE_BEGIN
 #define SMALL_TRI_SPAN 12    // triangles whose pixel bbox is at most this wide and high are small
 #define TILES_PER_PIECE 16   // bbox tiles one bin_count / bin_fill thread walks for a big triangle...
 #define MAX_PIECES 1024      // ...unless that would make more pieces than this; then pieces grow
-#define CLUSTER_MAX_VERTICES 64    // vertices per cluster: a warp transforms them in two passes
+#define CLUSTER_MAX_VERTICES 64    // vertices per cluster: a warp transforms them in two rounds
 #define CLUSTER_MAX_TRIANGLES 124  // triangles per cluster (as hardware mesh shaders)
 #define CLUSTER_LANES 32           // invocations per cluster in stage clusters (a warp on NVIDIA)
+// The vertices each of a cluster's CLUSTER_LANES invocations takes (lane, lane + CLUSTER_LANES, ...).
+#define CLUSTER_VERTEX_ROUNDS ((CLUSTER_MAX_VERTICES + CLUSTER_LANES - 1) / CLUSTER_LANES)
 #define CLUSTERS_PER_GROUP 4       // clusters per clusters group: CLUSTER_LANES x this invocations
 #define LOD_CLUSTER_GROUPS 2048    // clusters groups with level of detail on a GPU (they loop over the cut)
 #define CLUSTER_PLANE_COUNT 10     // RasterParams.clusterPlanes the culling tests (shared/cluster.h)

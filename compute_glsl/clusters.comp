@@ -25,8 +25,6 @@
 layout(local_size_x = CLUSTER_LANES * CLUSTERS_PER_GROUP) in;
 #include "setup_triangle.glsl"
 
-// The rounds in which a cluster's CLUSTER_LANES invocations take its vertices.
-const uint CLUSTER_VERTEX_ROUNDS = (CLUSTER_MAX_VERTICES + CLUSTER_LANES - 1) / CLUSTER_LANES;
 shared vec4 clusterClip[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];
 shared ivec4 clusterSnap[CLUSTERS_PER_GROUP][CLUSTER_MAX_VERTICES];  // x, y, depth bits, flags
 

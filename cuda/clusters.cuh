@@ -59,21 +59,20 @@ __device__ inline void clustersStage(const RasterParams& params, const Buffers& 
             // (CLUSTER_MAX_VERTICES = 2 x CLUSTER_LANES) are all requested before any is transformed, so
             // that the lane waits for two loads in a row and not for four (the 100M sphere -9%, H200).
             // compute_glsl requests the indices before the cull; here that ran the 10.2M sphere 3% slower.
-            constexpr uint kVertexRounds = (CLUSTER_MAX_VERTICES + CLUSTER_LANES - 1) / CLUSTER_LANES;
-            uint index[kVertexRounds];
-            vec4 world[kVertexRounds];
+            uint index[CLUSTER_VERTEX_ROUNDS];
+            vec4 world[CLUSTER_VERTEX_ROUNDS];
 #pragma unroll
-            for (uint r = 0u; r < kVertexRounds; ++r) {
+            for (uint r = 0u; r < uint(CLUSTER_VERTEX_ROUNDS); ++r) {
                 uint v = lane + r * uint(CLUSTER_LANES);
                 index[r] = v < c.vertexCount ? b.clusterData[c.vertexOffset + v] : 0u;
             }
 #pragma unroll
-            for (uint r = 0u; r < kVertexRounds; ++r) {
+            for (uint r = 0u; r < uint(CLUSTER_VERTEX_ROUNDS); ++r) {
                 uint v = lane + r * uint(CLUSTER_LANES);
                 world[r] = v < c.vertexCount ? loadVec4(b.positions, index[r]) : vec4(0.0f);
             }
 #pragma unroll
-            for (uint r = 0u; r < kVertexRounds; ++r) {
+            for (uint r = 0u; r < uint(CLUSTER_VERTEX_ROUNDS); ++r) {
                 uint v = lane + r * uint(CLUSTER_LANES);
                 if (v >= c.vertexCount) break;
                 vec4 clip = mulPoint(params.clipFromWorld, world[r]);

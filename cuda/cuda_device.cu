@@ -165,8 +165,8 @@ public:
         CUDA_TRY(cudaStreamSynchronize(stream_));
         gpuMs.assign(dispatches.size(), 0.0);
         for (size_t i = 0; i < dispatches.size(); ++i) {
-            float ms = 0.0f;
             if (dispatches[i].groups == 0) continue;
+            float ms = 0.0f;
             CUDA_TRY(cudaEventElapsedTime(&ms, events_[2 * i], events_[2 * i + 1]));
             gpuMs[i] = ms;
         }

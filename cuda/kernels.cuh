@@ -26,7 +26,7 @@ namespace sr {
 template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
 __global__ void __launch_bounds__(GROUP_SIZE) setupKernel(const RasterParams params, const Buffers b)
 {
-    setupStage<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
+    setupPrimitive<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
 }
 // clusters has setup's triangle builds: with and without the alpha test, with and without MSAA. The plain
 // fixed8 build is held to 8 blocks a SM (64 registers and 50% occupancy instead of 80 and 37.5%, 144

@@ -326,11 +326,4 @@ __device__ inline void setupPrimitive(const RasterParams& params, const Buffers&
     setupInputTriangle<kMaterials, kMultisample, kMethod>(params, b, tri, c0, c1, c2);
 }
 
-// The stage: each thread's primitive.
-template <bool kMaterials, bool kMultisample, bool kLinesPoints, uint kMethod>
-__device__ inline void setupStage(const RasterParams& params, const Buffers& b)
-{
-    setupPrimitive<kMaterials, kMultisample, kLinesPoints, kMethod>(params, b);
-}
-
 }  // namespace sr
